@@ -1,0 +1,165 @@
+"""Subcommands of the symbolic core: ``states``, ``rules`` and ``plan``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from csql_sim.errors import CsqlError
+from csql_sim.messages import action_code, format_action_message, format_state_message, parse_state_arg
+from csql_sim.planner import BfsPolicy
+from csql_sim.policy import PairResult, Policy, QPolicy, check_all_pairs, rollout
+from csql_sim.rules import r_classifiers
+from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS, BlocksWorld, State, WorldError
+
+
+def blocks_arg(text: str) -> int:
+    """Argparse type for --blocks: an integer 2..6."""
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer {MIN_BLOCKS}..{MAX_BLOCKS}, got {text!r}") from None
+    if not MIN_BLOCKS <= n <= MAX_BLOCKS:
+        raise argparse.ArgumentTypeError(f"must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {n}")
+    return n
+
+
+def read_task(start: str, goal: str, n: int | None) -> tuple[State, State]:
+    """Parse a start and goal configuration (or n=3 state messages) of one world."""
+    s = parse_state_arg(start, n)
+    g = parse_state_arg(goal, n if n is not None else s.n)
+    if s.n != g.n:
+        raise WorldError(f"start {start!r} has {s.n} blocks but goal {goal!r} has {g.n}")
+    return s, g
+
+
+def load_rule_policy(path: str) -> tuple[QPolicy, int]:
+    """A greedy policy over the Q-classifiers of a rule-base file, and its n."""
+    from csql_sim.classifiers import ClassifierList
+    from csql_sim.rulebase import load
+
+    rb = load(path)
+    return QPolicy(ClassifierList(rb.classifiers), rb.blocks), rb.blocks
+
+
+# ------------------------------------------------------------------ states
+def cmd_states(args: argparse.Namespace) -> int:
+    world = BlocksWorld.of(args.blocks)
+    rows = [
+        {"index": i, "notation": s.notation(), "message": format_state_message(s, i)}
+        for i, s in enumerate(world.states)
+    ]
+    if args.json:
+        print(json.dumps({"blocks": args.blocks, "count": len(rows), "states": rows}, indent=1))
+        return 0
+    print(f"{len(rows)} states for {args.blocks} blocks (message goal field = the state's own code)")
+    for r in rows:
+        print(f"{r['index']:>5}  {r['notation']:<14} {r['message']}")
+    return 0
+
+
+# ------------------------------------------------------------------ rules
+def cmd_rules(args: argparse.Namespace) -> int:
+    rules = r_classifiers(args.blocks)
+    if args.json:
+        print(json.dumps([{"kind": c.kind, "condition": c.condition, "action": c.action} for c in rules], indent=1))
+        return 0
+    for c in rules:
+        print(f"{c.kind} {c.condition} {c.action}")
+    return 0
+
+
+# ------------------------------------------------------------------ plan
+def _plan_json(start: State, goal: State, actions) -> dict:
+    n = start.n
+    return {
+        "start": start.notation(),
+        "goal": goal.notation(),
+        "plan": [
+            {"code": action_code(a, n), "name": a.name(), "message": format_action_message(a, n)} for a in actions
+        ],
+        "length": len(actions),
+    }
+
+
+def _policy_for(args: argparse.Namespace) -> tuple[Policy, int | None]:
+    planner = args.planner or ("rules" if args.rules else "bfs")
+    if planner == "rules":
+        if not args.rules:
+            raise CsqlError("--planner rules needs --rules FILE")
+        policy, n = load_rule_policy(args.rules)
+        if args.blocks is not None and args.blocks != n:
+            raise CsqlError(f"--blocks {args.blocks} disagrees with {args.rules}, which has {n} blocks")
+        return policy, n
+    return BfsPolicy(), args.blocks
+
+
+def _summary_json(results: list[PairResult]) -> dict:
+    return {
+        "pairs": len(results),
+        "covered": sum(r.rollout.reached for r in results),
+        "optimal": sum(r.optimal for r in results),
+        "plans": [
+            {
+                "start": r.start.notation(),
+                "goal": r.goal.notation(),
+                "length": r.length,
+                "optimal_length": r.optimal_length,
+                "plan": [a.name() for a in r.rollout.actions] if r.rollout.reached else None,
+            }
+            for r in results
+        ],
+    }
+
+
+def cmd_plan(args: argparse.Namespace) -> int:
+    policy, n = _policy_for(args)
+    if args.all:
+        if args.start or args.goal:
+            raise CsqlError("--all plans every pair; do not give --start or --goal")
+        results = check_all_pairs(policy, n or 3)
+        summary = _summary_json(results)
+        if args.json:
+            print(json.dumps(summary, indent=1))
+        else:
+            print(f"pairs: {summary['pairs']}  covered: {summary['covered']}  optimal: {summary['optimal']}")
+            bad = [r for r in results if not r.optimal][:5]
+            for r in bad:
+                what = r.rollout.reason or f"length {r.length}, optimal {r.optimal_length}"
+                print(f"  {r.start.notation()} -> {r.goal.notation()}: {what}")
+        return 0 if summary["optimal"] == summary["pairs"] else 1
+    if not args.start or not args.goal:
+        raise CsqlError("plan needs --start and --goal (or --all)")
+    start, goal = read_task(args.start, args.goal, n)
+    result = rollout(policy, start, goal)
+    if not result.reached:
+        raise CsqlError(f"no plan from {start.notation()} to {goal.notation()}: {result.reason}")
+    if args.json:
+        print(json.dumps(_plan_json(start, goal, result.actions), indent=1))
+    else:
+        for a in result.actions:
+            print(a.name())
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``states``, ``rules`` and ``plan`` to the subparsers."""
+    p = sub.add_parser("states", help="list every state of the n-block world")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_states)
+
+    p = sub.add_parser("rules", help="print the R-classifiers (Figure 5 for n=3)")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_rules)
+
+    p = sub.add_parser("plan", help="plan from a start to a goal configuration")
+    p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C), or an n=3 state message")
+    p.add_argument("--goal", help="goal configuration, e.g. BAC")
+    p.add_argument("--blocks", type=blocks_arg, help="number of blocks (default: from the configuration)")
+    p.add_argument("--planner", choices=("bfs", "rules"), help="bfs (default) or rules (default with --rules)")
+    p.add_argument("--rules", help="a rule base from 'csql-sim train': plan greedily from its Q-classifiers")
+    p.add_argument("--all", action="store_true", help="plan every ordered pair of distinct states; print a summary")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_plan)
