@@ -1,0 +1,58 @@
+from collections import deque
+
+import pytest
+
+from csql_sim.planner import BfsPolicy, bfs_plan, distance
+from csql_sim.world import BlocksWorld, legal_actions, parse_config, successor
+
+
+def _forward_bfs(start, goal):
+    frontier, seen = deque([(start, 0)]), {start}
+    while frontier:
+        s, d = frontier.popleft()
+        if s == goal:
+            return d
+        for a in legal_actions(s):
+            t = successor(s, a)
+            if t not in seen:
+                seen.add(t)
+                frontier.append((t, d + 1))
+    raise AssertionError("unreachable")
+
+
+def test_mean_optimal_length_over_462_pairs():
+    states = BlocksWorld.of(3).states
+    lengths = [distance(s, g) for s in states for g in states if s != g]
+    assert len(lengths) == 462
+    assert sum(lengths) / 462 == pytest.approx(4.428571, abs=1e-6)
+    assert max(lengths) == 8
+    longest = [(s, g) for s in states for g in states if distance(s, g) == 8]
+    assert (parse_config("CBA"), parse_config("BAC")) in longest
+
+
+def test_test_task_plan_is_the_papers():
+    plan = bfs_plan(parse_config("CBA"), parse_config("BAC"))
+    assert [a.name() for a in plan] == [
+        "unstack(A,B)", "putdown(A)", "unstack(B,C)", "putdown(B)",
+        "pickup(A)", "stack(A,B)", "pickup(C)", "stack(C,A)",
+    ]
+
+
+@pytest.mark.parametrize("n", [3, 4])
+def test_plans_are_valid_and_optimal(n):
+    states = BlocksWorld.of(n).states
+    pairs = [(s, g) for s in states[::3] for g in states[::5] if s != g]
+    for s, g in pairs:
+        plan = bfs_plan(s, g)
+        state = s
+        for a in plan:
+            state = successor(state, a)
+        assert state == g
+        assert len(plan) == distance(s, g) == _forward_bfs(s, g)
+
+
+def test_bfs_policy():
+    policy = BfsPolicy()
+    goal = parse_config("BAC")
+    assert policy.act(goal, goal) is None
+    assert policy.act(parse_config("CBA"), goal).name() == "unstack(A,B)"
