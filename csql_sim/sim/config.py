@@ -17,6 +17,7 @@ class PhysicsConfig:
     cube_friction: float = 1.0  # lateral friction of cubes
     cube_spinning_friction: float = 0.001  # keeps resting cubes from spinning
     finger_friction: float = 1.5  # lateral friction of the finger pads
+    finger_spinning_friction: float = 0.1  # torsional friction: a gripped cube does not pivot
     table_friction: float = 0.8  # lateral friction of the table top
     table_half_extents: tuple[float, float, float] = (0.45, 0.55, 0.02)  # m
     table_centre: tuple[float, float, float] = (0.45, 0.0, -0.02)  # top surface at z=0
@@ -48,9 +49,12 @@ class ControlConfig:
     ik_iterations: int = 60  # calculateInverseKinematics iterations
     ik_threshold: float = 1e-5  # IK residual, m
     reach_tolerance: float = 0.002  # end-effector distance counted as arrived, m
+    arrive_speed: float = 0.05  # grasp point slower than this (m/s) counts as arrived
     check_every: int = 4  # steps between guard / arrival checks
-    move_steps: int = 120  # step cap of one free move
-    descend_steps: int = 70  # step cap of one guarded descent
+    move_speed: float = 0.9  # mean grasp-point speed of free moves, m/s
+    descend_speed: float = 0.45  # mean grasp-point speed of descents and lifts, m/s
+    move_steps: int = 150  # step cap of one free move
+    descend_steps: int = 100  # step cap of one guarded descent
     grip_steps: int = 30  # step cap of closing or opening the fingers
     settle_steps: int = 150  # step cap while waiting for the scene to settle
     settle_min_steps: int = 8  # always step at least this long when settling

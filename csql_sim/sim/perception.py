@@ -1,0 +1,175 @@
+"""Perception: from block poses (or a camera) to the symbolic state and its message.
+
+One small predicate per relation, each with named tolerances in :class:`Tolerances`.
+Both perception modes produce an :class:`Observation` (estimated cube centres and the
+gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.world.State`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pybullet
+
+from csql_sim.messages import format_state_message
+from csql_sim.sim.robot import Panda
+from csql_sim.sim.scene import Scene
+from csql_sim.world import BLOCK_NAMES, HAND, TABLE, BlocksWorld, State, WorldError
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Named tolerances of the perception predicates (metres, radians, per second)."""
+
+    stack_z: float = 0.010  # |z(x) - z(y) - size| allowed for on(x, y)
+    stack_xy: float = 0.022  # horizontal offset allowed for on(x, y)
+    table_z: float = 0.010  # |z(x) - size/2| allowed for on-table(x)
+    tilt: float = 0.25  # rad away from lying flat on a face
+    hold_dist: float = 0.025  # cube centre to grasp point for holding(x)
+    hold_width: float = 0.010  # finger opening beyond the cube size still counted as gripping
+    off_table_z: float = -0.03  # a cube centre below this has fallen off the table
+    settle_linear: float = 0.01  # m/s: a slower cube counts as settled
+    settle_angular: float = 0.15  # rad/s
+
+
+TOLERANCES = Tolerances()
+
+
+@dataclass(frozen=True)
+class BlockObs:
+    """What perception knows about one cube.
+
+    Attributes:
+        position: estimated centre, m.
+        tilt: angle between the nearest face normal and the vertical (None if unknown).
+        yaw: rotation about the vertical, modulo 90 degrees, rad.
+        visible: False if the camera saw none of it.
+    """
+
+    position: tuple[float, float, float]
+    tilt: float | None
+    yaw: float
+    visible: bool = True
+
+
+@dataclass(frozen=True)
+class Observation:
+    """Cubes plus the gripper's proprioception."""
+
+    blocks: tuple[BlockObs, ...]
+    grasp_point: tuple[float, float, float]
+    finger_width: float
+    size: float
+
+
+@dataclass(frozen=True)
+class Perceived:
+    """The result of interpreting an observation: a state, or the reason there is none."""
+
+    state: State | None
+    reason: str = ""
+
+
+def tilt_and_yaw(orientation: tuple[float, float, float, float]) -> tuple[float, float]:
+    """Tilt from lying on a face, and yaw modulo 90 degrees, of a cube's orientation."""
+    rot = np.array(pybullet.getMatrixFromQuaternion(orientation)).reshape(3, 3)
+    k = int(np.argmax(np.abs(rot[2, :])))
+    tilt = math.acos(min(1.0, abs(rot[2, k])))
+    other = (k + 1) % 3
+    yaw = math.atan2(rot[1, other], rot[0, other])
+    return tilt, wrap_quarter(yaw)
+
+
+def wrap_quarter(yaw: float) -> float:
+    """Map an angle to [-pi/4, pi/4) (a cube looks the same every 90 degrees)."""
+    return (yaw + math.pi / 4) % (math.pi / 2) - math.pi / 4
+
+
+def observe_poses(scene: Scene, panda: Panda) -> Observation:
+    """Pose-mode observation: the cubes' simulated poses and the gripper's joints."""
+    blocks = []
+    for i in range(scene.n):
+        pose = scene.block_pose(i)
+        tilt, yaw = tilt_and_yaw(pose.orientation)
+        blocks.append(BlockObs(pose.position, tilt, yaw))
+    return Observation(tuple(blocks), tuple(panda.ee_position()), panda.finger_width(),
+                       scene.config.physics.cube_size)
+
+
+# ---------------------------------------------------------------- predicates
+
+
+def _flat(b: BlockObs, tol: Tolerances) -> bool:
+    return b.tilt is None or b.tilt < tol.tilt
+
+
+def holding(obs: Observation, x: int, tol: Tolerances = TOLERANCES) -> bool:
+    """Cube x sits between closed fingers at the grasp point."""
+    d = np.linalg.norm(np.subtract(obs.blocks[x].position, obs.grasp_point))
+    return bool(d < tol.hold_dist and obs.finger_width < obs.size + tol.hold_width)
+
+
+def on_table(obs: Observation, x: int, tol: Tolerances = TOLERANCES) -> bool:
+    """Cube x rests flat on the table."""
+    b = obs.blocks[x]
+    return abs(b.position[2] - obs.size / 2) < tol.table_z and _flat(b, tol)
+
+
+def on(obs: Observation, x: int, y: int, tol: Tolerances = TOLERANCES) -> bool:
+    """Cube x rests flat on cube y."""
+    bx, by = obs.blocks[x], obs.blocks[y]
+    dz = bx.position[2] - by.position[2] - obs.size
+    dxy = math.hypot(bx.position[0] - by.position[0], bx.position[1] - by.position[1])
+    return abs(dz) < tol.stack_z and dxy < tol.stack_xy and _flat(bx, tol)
+
+
+def clear(obs: Observation, x: int, tol: Tolerances = TOLERANCES) -> bool:
+    """Nothing rests on cube x and it is not held."""
+    n = len(obs.blocks)
+    return not holding(obs, x, tol) and not any(on(obs, y, x, tol) for y in range(n) if y != x)
+
+
+def interpret(obs: Observation, tol: Tolerances = TOLERANCES) -> Perceived:
+    """The symbolic state of an observation, or why there is none."""
+    n = len(obs.blocks)
+    support: list[int] = []
+    for x in range(n):
+        pos = obs.blocks[x].position
+        if pos[2] < tol.off_table_z:
+            return Perceived(None, f"block {BLOCK_NAMES[x]} fell off the table")
+        if holding(obs, x, tol):
+            support.append(HAND)
+        elif on_table(obs, x, tol):
+            support.append(TABLE)
+        else:
+            below = [y for y in range(n) if y != x and on(obs, x, y, tol)]
+            if len(below) != 1:
+                where = ", ".join(f"{v:.3f}" for v in pos)
+                return Perceived(None, f"block {BLOCK_NAMES[x]} is not resting flat anywhere (at {where})")
+            support.append(below[0])
+    try:
+        state = State(tuple(support))
+    except WorldError as exc:
+        return Perceived(None, f"impossible scene: {exc}")
+    for x in range(n):
+        if state.is_clear(x) != clear(obs, x, tol):
+            return Perceived(None, f"clear({BLOCK_NAMES[x]}) disagrees with on")
+    return Perceived(state)
+
+
+def settled(scene: Scene, panda: Panda, tol: Tolerances = TOLERANCES) -> bool:
+    """True when every cube not in the gripper is at rest."""
+    for i in range(scene.n):
+        lin, ang = scene.block_speed(i)
+        if lin > tol.settle_linear or ang > tol.settle_angular:
+            if panda.grips(scene.block_body(i)):
+                continue
+            return False
+    return True
+
+
+def state_message(state: State, goal: State, action_code: int = 0) -> str:
+    """The paper's state message of a perceived state with the goal's code."""
+    return format_state_message(state, BlocksWorld.of(state.n).state_index(goal), action_code)

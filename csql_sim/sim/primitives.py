@@ -1,0 +1,171 @@
+"""Pick and place primitives with real contact grasping (ravens style).
+
+Each primitive is a small callable: move above, descend with a guard, close or open the
+fingers, lift, retreat (the lift ends at the carry height, out of the camera's way).
+It returns a :class:`Status`. Nothing attaches a cube to the gripper and no cube pose is
+ever set: cubes move only through contact. Step caps count simulation steps.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from csql_sim.sim.perception import Observation, settled, wrap_quarter
+from csql_sim.sim.robot import Panda
+from csql_sim.sim.scene import Scene
+from csql_sim.world import BLOCK_NAMES, Action, ActionKind
+
+
+@dataclass(frozen=True)
+class ApproachOffsets:
+    """Named offsets of the approach, in metres."""
+
+    carry_clearance: float = 0.035  # held cube bottom / fingertips above the highest cube
+    grasp_above_centre: float = 0.002  # grasp point above the cube centre (fingertips clear the cube below)
+    place_gap: float = 0.004  # held cube bottom above its support when released
+    descend_stop_early: float = 0.012  # a guard stop further than this from target is a failure
+    spot_jitter: float = 0.0  # reserved: no jitter of putdown spots
+
+
+OFFSETS = ApproachOffsets()
+
+
+@dataclass(frozen=True)
+class Status:
+    """Outcome of one primitive.
+
+    Attributes:
+        ok: True when the motion completed as intended.
+        reason: why not, else empty.
+        steps: simulation steps the primitive took.
+    """
+
+    ok: bool
+    reason: str = ""
+    steps: int = 0
+
+
+CarryHook = Callable[[float], None]
+
+
+def carry_height(obs: Observation, exclude: int | None, offsets: ApproachOffsets = OFFSETS) -> float:
+    """Grasp-point height that clears every cube except ``exclude`` (the held one)."""
+    tops = [b.position[2] + obs.size / 2 for i, b in enumerate(obs.blocks) if i != exclude]
+    return max(tops + [0.0]) + obs.size / 2 + offsets.carry_clearance
+
+
+def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generator) -> tuple[float, float] | None:
+    """A random table spot at least ``free_clearance`` from every other cube."""
+    lay = scene.config.layout
+    others = [b.position for i, b in enumerate(obs.blocks) if i != held]
+    spots = [(x, y) for x in lay.free_x for y in lay.free_y
+             if all(math.hypot(x - p[0], y - p[1]) >= lay.free_clearance for p in others)]
+    if not spots:
+        return None
+    return spots[int(rng.integers(len(spots)))]
+
+
+class Pick:
+    """Pick a cube up (pickup from the table and unstack from a cube move alike)."""
+
+    def __init__(self, block: int, offsets: ApproachOffsets = OFFSETS) -> None:
+        self.block = block
+        self.offsets = offsets
+
+    def __call__(self, scene: Scene, panda: Panda, obs: Observation, rng: np.random.Generator,
+                 carry_hook: CarryHook | None = None) -> Status:
+        start = scene.steps
+        cc = scene.config.control
+        body = scene.block_body(self.block)
+        target = obs.blocks[self.block]
+        yaw = panda.yaw + wrap_quarter(target.yaw - panda.yaw)
+        x, y, z = target.position
+        high = carry_height(obs, None, self.offsets)
+        panda.open()
+        panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
+        goal_z = z + self.offsets.grasp_above_centre
+        arrived = panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
+                                guard=lambda: bool(panda.touching() - {body}))
+        if arrived == "guard" and panda.ee_position()[2] - goal_z > self.offsets.descend_stop_early:
+            panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+            return Status(False, f"collision while descending onto {BLOCK_NAMES[self.block]}", scene.steps - start)
+        if not panda.close(body):
+            panda.open()
+            panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+            return Status(False, f"grasp of {BLOCK_NAMES[self.block]} missed", scene.steps - start)
+        panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+        if not panda.grips(body):
+            return Status(False, f"{BLOCK_NAMES[self.block]} slipped out while lifting", scene.steps - start)
+        return Status(True, "", scene.steps - start)
+
+
+class Place:
+    """Put the held cube on the table (``onto`` None) or on another cube."""
+
+    def __init__(self, block: int, onto: int | None, offsets: ApproachOffsets = OFFSETS) -> None:
+        self.block = block
+        self.onto = onto
+        self.offsets = offsets
+
+    def __call__(self, scene: Scene, panda: Panda, obs: Observation, rng: np.random.Generator,
+                 carry_hook: CarryHook | None = None) -> Status:
+        start = scene.steps
+        cc = scene.config.control
+        size = obs.size
+        body = scene.block_body(self.block)
+        if not panda.grips(body):
+            return Status(False, f"{BLOCK_NAMES[self.block]} is not in the gripper", 0)
+        held = obs.blocks[self.block]
+        gp = np.asarray(obs.grasp_point)
+        offset = np.asarray(held.position[:2]) - gp[:2]  # where the cube hangs relative to the grasp point
+        if self.onto is None:
+            spot = free_spot(obs, self.block, scene, rng)
+            if spot is None:
+                return Status(False, "no free spot on the table", 0)
+            tx, ty, support_top, yaw = spot[0], spot[1], 0.0, panda.yaw
+        else:
+            below = obs.blocks[self.onto]
+            tx, ty = below.position[0], below.position[1]
+            support_top = below.position[2] + size / 2
+            relative = wrap_quarter(held.yaw - panda.yaw)  # cube yaw in the gripper
+            yaw = panda.yaw + wrap_quarter(below.yaw - relative - panda.yaw)
+        turn = yaw - panda.yaw
+        c, s = math.cos(turn), math.sin(turn)
+        offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
+        hang = gp[2] - held.position[2]  # grasp point above the cube centre
+        x, y = tx - offset[0], ty - offset[1]
+        high = carry_height(obs, self.block, self.offsets)
+        panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps, during=carry_hook)
+        if not panda.grips(body):
+            return Status(False, f"{BLOCK_NAMES[self.block]} dropped during the carry", scene.steps - start)
+        goal_z = support_top + size / 2 + self.offsets.place_gap + hang
+        others = {scene.bodies["table"]} | {scene.block_body(i) for i in range(scene.n) if i != self.block}
+        panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
+                      guard=lambda: bool(scene.contact_bodies(body) & others))
+        panda.open()
+        panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+        settle(scene, panda)
+        return Status(True, "", scene.steps - start)
+
+
+def settle(scene: Scene, panda: Panda) -> int:
+    """Step until every free cube is at rest (or the settle cap); returns steps taken."""
+    cc = scene.config.control
+    start = scene.steps
+    scene.step(cc.settle_min_steps)
+    while scene.steps - start < cc.settle_steps and not settled(scene, panda):
+        scene.step(cc.check_every)
+    return scene.steps - start
+
+
+def primitive_for(action: Action, offsets: ApproachOffsets = OFFSETS) -> Pick | Place:
+    """The primitive that executes ``action``."""
+    if action.kind in (ActionKind.PICKUP, ActionKind.UNSTACK):
+        return Pick(action.block, offsets)
+    if action.kind is ActionKind.PUTDOWN:
+        return Place(action.block, None, offsets)
+    return Place(action.block, action.target, offsets)

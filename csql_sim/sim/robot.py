@@ -1,0 +1,175 @@
+"""The Franka Panda: inverse kinematics, joint position control and the gripper."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+
+import numpy as np
+import pybullet
+
+from csql_sim.sim.scene import Scene, Vec3
+
+ARM_JOINTS = (0, 1, 2, 3, 4, 5, 6)
+FINGER_JOINTS = (9, 10)
+EE_LINK = 11  # panda_grasptarget: between the fingertips
+LOWER = (-2.9671, -1.8326, -2.9671, -3.1416, -2.9671, -0.0873, -2.9671)
+UPPER = (2.9671, 1.8326, 2.9671, 0.0, 2.9671, 3.8223, 2.9671)
+
+Guard = Callable[[], bool]
+
+
+class Panda:
+    """Controller of the scene's Panda (all calls on the scene's own client)."""
+
+    def __init__(self, scene: Scene) -> None:
+        self.scene = scene
+        self.body = scene.bodies["panda"]
+        self.cc = scene.config.control
+        self.yaw = 0.0  # last commanded gripper yaw, rad
+
+    # ------------------------------------------------------------ state
+
+    def ee_position(self) -> np.ndarray:
+        """World position of the grasp point between the fingertips."""
+        st = pybullet.getLinkState(self.body, EE_LINK, computeForwardKinematics=True,
+                                   physicsClientId=self.scene.client)
+        return np.array(st[4])
+
+    def finger_width(self) -> float:
+        """Distance between the two fingers, m."""
+        cid = self.scene.client
+        return sum(pybullet.getJointState(self.body, j, physicsClientId=cid)[0] for j in FINGER_JOINTS)
+
+    def finger_contacts(self) -> tuple[set[int], set[int]]:
+        """Bodies touching the left and the right finger."""
+        return (self.scene.contact_bodies(self.body, FINGER_JOINTS[0]),
+                self.scene.contact_bodies(self.body, FINGER_JOINTS[1]))
+
+    def grips(self, body: int) -> bool:
+        """True when both fingers touch ``body``."""
+        left, right = self.finger_contacts()
+        return body in left and body in right
+
+    def touching(self) -> set[int]:
+        """Bodies touching any link of the arm or hand."""
+        return self.scene.contact_bodies(self.body)
+
+    # ------------------------------------------------------------ motion
+
+    def ik(self, position: Vec3, yaw: float) -> list[float]:
+        """Joint angles placing the grasp point at ``position``, pointing down, rotated by ``yaw``."""
+        orn = pybullet.getQuaternionFromEuler((math.pi, 0.0, yaw))
+        rest = list(self.cc.home_joints)
+        rest[6] = self.cc.home_joints[6] + yaw
+        q = pybullet.calculateInverseKinematics(
+            self.body, EE_LINK, position, orn,
+            lowerLimits=LOWER, upperLimits=UPPER,
+            jointRanges=[u - lo for lo, u in zip(LOWER, UPPER, strict=True)], restPoses=rest,
+            maxNumIterations=self.cc.ik_iterations, residualThreshold=self.cc.ik_threshold,
+            physicsClientId=self.scene.client)
+        return list(q[:7])
+
+    def command_arm(self, q: list[float]) -> None:
+        """Set joint position targets (velocity-capped motors)."""
+        cid = self.scene.client
+        for j, target, force in zip(ARM_JOINTS, q, self.cc.arm_forces, strict=True):
+            pybullet.setJointMotorControl2(
+                self.body, j, pybullet.POSITION_CONTROL, targetPosition=target, force=force,
+                maxVelocity=self.cc.arm_max_velocity, positionGain=self.cc.arm_position_gain,
+                physicsClientId=cid)
+
+    def joints(self) -> np.ndarray:
+        """Current arm joint positions."""
+        cid = self.scene.client
+        return np.array([pybullet.getJointState(self.body, j, physicsClientId=cid)[0] for j in ARM_JOINTS])
+
+    def move_to(self, position: Vec3, yaw: float, speed: float, max_steps: int, guard: Guard | None = None,
+                during: Callable[[float], None] | None = None) -> str:
+        """Drive the grasp point to ``position`` along a smooth joint-space path.
+
+        Args:
+            position: target of the grasp point, m.
+            yaw: gripper rotation about the vertical, rad.
+            speed: mean Cartesian speed of the grasp point, m/s.
+            max_steps: step cap, including the final wait for arrival.
+            guard: checked every ``check_every`` steps; True stops the motion.
+            during: called with the fraction of the path done, at every check.
+
+        Returns:
+            ``"reached"``, ``"guard"`` or ``"timeout"``.
+        """
+        cc = self.cc
+        dt = self.scene.config.physics.time_step
+        target = np.asarray(position, dtype=float)
+        self.yaw = yaw
+        q0 = self.joints()
+        q1 = np.array(self.ik(position, yaw))
+        dist = float(np.linalg.norm(target - self.ee_position()))
+        joint_dist = float(np.max(np.abs(q1 - q0)))
+        every = cc.check_every
+        duration = max(dist / speed, joint_dist / cc.arm_max_velocity, every * dt)
+        total = min(every * math.ceil(duration / dt / every), max_steps)
+        done = 0
+        while done < total:
+            frac = min(1.0, (done + every) / total)
+            s = 0.5 - 0.5 * math.cos(math.pi * frac)
+            self.command_arm(list(q0 + s * (q1 - q0)))
+            self.scene.step(every)
+            done += every
+            if during is not None:
+                during(frac)
+            if guard is not None and guard():
+                self.hold_here(yaw)
+                return "guard"
+        self.command_arm(self.ik(position, yaw))
+        while done < max_steps:
+            if self.arrived(target):
+                return "reached"
+            self.scene.step(every)
+            done += every
+            if guard is not None and guard():
+                self.hold_here(yaw)
+                return "guard"
+        return "timeout"
+
+    def arrived(self, target: np.ndarray) -> bool:
+        """Grasp point within reach_tolerance of ``target`` and nearly at rest."""
+        st = pybullet.getLinkState(self.body, EE_LINK, computeLinkVelocity=True, computeForwardKinematics=True,
+                                   physicsClientId=self.scene.client)
+        return bool(np.linalg.norm(np.subtract(st[4], target)) < self.cc.reach_tolerance
+                    and np.linalg.norm(st[6]) < self.cc.arrive_speed)
+
+    def hold_here(self, yaw: float) -> None:
+        """Freeze the arm at its current grasp-point position."""
+        self.command_arm(self.ik(tuple(self.ee_position()), yaw))
+
+    def set_fingers(self, width: float) -> None:
+        """Command both fingers towards half of ``width`` each."""
+        cid = self.scene.client
+        for j in FINGER_JOINTS:
+            pybullet.setJointMotorControl2(
+                self.body, j, pybullet.POSITION_CONTROL, targetPosition=width / 2,
+                force=self.cc.finger_force, maxVelocity=self.cc.finger_max_velocity, physicsClientId=cid)
+
+    def close(self, body: int | None) -> bool:
+        """Close the fingers; stops once both touch ``body`` and are still. True if they grip it."""
+        self.set_fingers(0.0)
+        every = self.cc.check_every
+        last = self.finger_width()
+        for _ in range(0, self.cc.grip_steps, every):
+            self.scene.step(every)
+            width = self.finger_width()
+            if body is not None and self.grips(body) and abs(width - last) < 1e-4:
+                return True
+            last = width
+        return body is not None and self.grips(body)
+
+    def open(self) -> None:
+        """Open the fingers fully."""
+        self.set_fingers(2 * self.cc.finger_open)
+        every = self.cc.check_every
+        for _ in range(0, self.cc.grip_steps, every):
+            self.scene.step(every)
+            if self.finger_width() > 2 * self.cc.finger_open - 0.004:
+                return

@@ -1,0 +1,227 @@
+"""The physical scene: one pybullet DIRECT client, a table, a Franka Panda and n cubes.
+
+:class:`Scene` is the only owner of a pybullet client. Every call passes
+``physicsClientId`` explicitly; bodies are looked up by name in :attr:`Scene.bodies`
+(``"table"``, ``"panda"``, ``"A"``, ``"B"``, ...).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import pybullet
+import pybullet_data
+
+from csql_sim.sim.config import COLOURS, DEFAULT_CONFIG, SimConfig
+from csql_sim.world import BLOCK_NAMES, State, check_n
+
+Vec3 = tuple[float, float, float]
+Quat = tuple[float, float, float, float]
+
+
+@dataclass(frozen=True)
+class Pose:
+    """Position and orientation quaternion (x, y, z, w) of a body."""
+
+    position: Vec3
+    orientation: Quat
+
+
+class Scene:
+    """A pybullet world with its own DIRECT client.
+
+    Args:
+        n: number of cubes.
+        config: geometry, physics and control settings.
+        physics: False builds a replay-only scene for rendering (bodies, no stepping).
+    """
+
+    def __init__(self, n: int, config: SimConfig = DEFAULT_CONFIG, physics: bool = True) -> None:
+        self.n = check_n(n)
+        self.config = config
+        self.client = pybullet.connect(pybullet.DIRECT)
+        self.steps = 0
+        self._step_hooks: list[Callable[[Scene], None]] = []
+        self._physics = physics
+        pc = self.config.physics
+        cid = self.client
+        pybullet.setAdditionalSearchPath(pybullet_data.getDataPath(), physicsClientId=cid)
+        pybullet.setTimeStep(pc.time_step, physicsClientId=cid)
+        pybullet.setPhysicsEngineParameter(numSolverIterations=pc.solver_iterations, physicsClientId=cid)
+        pybullet.setGravity(0, 0, pc.gravity, physicsClientId=cid)
+        self.bodies: dict[str, int] = {}
+        self._load_table()
+        self._load_panda()
+        for i in range(n):
+            self._load_cube(BLOCK_NAMES[i], COLOURS[i])
+
+    # ------------------------------------------------------------ construction
+
+    def _load_table(self) -> None:
+        pc = self.config.physics
+        cid = self.client
+        col = pybullet.createCollisionShape(
+            pybullet.GEOM_BOX, halfExtents=pc.table_half_extents, physicsClientId=cid)
+        vis = pybullet.createVisualShape(
+            pybullet.GEOM_BOX, halfExtents=pc.table_half_extents, rgbaColor=(0.72, 0.6, 0.45, 1.0),
+            physicsClientId=cid)
+        body = pybullet.createMultiBody(0.0, col, vis, basePosition=pc.table_centre, physicsClientId=cid)
+        pybullet.changeDynamics(body, -1, lateralFriction=pc.table_friction, physicsClientId=cid)
+        self.bodies["table"] = body
+
+    def _load_panda(self) -> None:
+        cid = self.client
+        body = pybullet.loadURDF(
+            "franka_panda/panda.urdf", basePosition=(0.0, 0.0, 0.0), useFixedBase=True,
+            flags=pybullet.URDF_USE_SELF_COLLISION_EXCLUDE_PARENT, physicsClientId=cid)
+        self.bodies["panda"] = body
+        for link in (9, 10):
+            pybullet.changeDynamics(body, link, lateralFriction=self.config.physics.finger_friction,
+                                    spinningFriction=self.config.physics.finger_spinning_friction,
+                                    physicsClientId=cid)
+        # couple the two fingers so that they stay symmetric about the hand's axis
+        gear = pybullet.createConstraint(body, 9, body, 10, pybullet.JOINT_GEAR, (1, 0, 0), (0, 0, 0), (0, 0, 0),
+                                         physicsClientId=cid)
+        pybullet.changeConstraint(gear, gearRatio=-1, erp=0.1, maxForce=50, physicsClientId=cid)
+        for j, q in enumerate(self.config.control.home_joints):
+            pybullet.resetJointState(body, j, q, physicsClientId=cid)
+        for j in (9, 10):
+            pybullet.resetJointState(body, j, self.config.control.finger_open, physicsClientId=cid)
+
+    def _load_cube(self, name: str, rgba: tuple[float, float, float, float]) -> None:
+        pc = self.config.physics
+        cid = self.client
+        half = (pc.cube_size / 2,) * 3
+        col = pybullet.createCollisionShape(pybullet.GEOM_BOX, halfExtents=half, physicsClientId=cid)
+        vis = pybullet.createVisualShape(pybullet.GEOM_BOX, halfExtents=half, rgbaColor=rgba,
+                                         physicsClientId=cid)
+        body = pybullet.createMultiBody(pc.cube_mass, col, vis, basePosition=(0.0, 0.0, -1.0),
+                                        physicsClientId=cid)
+        pybullet.changeDynamics(body, -1, lateralFriction=pc.cube_friction,
+                                spinningFriction=pc.cube_spinning_friction, rollingFriction=0.0,
+                                physicsClientId=cid)
+        self.bodies[name] = body
+
+    def close(self) -> None:
+        """Disconnect the client (idempotent)."""
+        if self.client >= 0:
+            pybullet.disconnect(physicsClientId=self.client)
+            self.client = -1
+
+    def __enter__(self) -> Scene:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    # ------------------------------------------------------------ stepping
+
+    @property
+    def sim_time(self) -> float:
+        """Simulated seconds since the scene was built."""
+        return self.steps * self.config.physics.time_step
+
+    def add_step_hook(self, hook: Callable[[Scene], None]) -> None:
+        """Call ``hook(scene)`` after every simulation step (e.g. a pose recorder)."""
+        self._step_hooks.append(hook)
+
+    def step(self, count: int = 1) -> None:
+        """Advance the physics by ``count`` steps."""
+        cid = self.client
+        hooks = self._step_hooks
+        for _ in range(count):
+            pybullet.stepSimulation(physicsClientId=cid)
+            self.steps += 1
+            for hook in hooks:
+                hook(self)
+
+    # ------------------------------------------------------------ bodies
+
+    def block_body(self, i: int) -> int:
+        """The body id of block ``i``."""
+        return self.bodies[BLOCK_NAMES[i]]
+
+    def pose(self, name: str) -> Pose:
+        """The base pose of the named body."""
+        pos, orn = pybullet.getBasePositionAndOrientation(self.bodies[name], physicsClientId=self.client)
+        return Pose(tuple(pos), tuple(orn))
+
+    def block_pose(self, i: int) -> Pose:
+        """The pose of block ``i``."""
+        return self.pose(BLOCK_NAMES[i])
+
+    def block_speed(self, i: int) -> tuple[float, float]:
+        """Linear (m/s) and angular (rad/s) speed of block ``i``."""
+        lin, ang = pybullet.getBaseVelocity(self.block_body(i), physicsClientId=self.client)
+        return float(np.linalg.norm(lin)), float(np.linalg.norm(ang))
+
+    def contact_bodies(self, body: int, link: int | None = None) -> set[int]:
+        """Ids of bodies touching ``body`` (optionally only its link ``link``)."""
+        kwargs = {} if link is None else {"linkIndexA": link}
+        pts = pybullet.getContactPoints(bodyA=body, physicsClientId=self.client, **kwargs)
+        return {p[2] for p in pts}
+
+    def tower_slot(self, k: int, count: int) -> tuple[float, float]:
+        """The xy of the k-th of ``count`` start towers."""
+        lay = self.config.layout
+        return lay.tower_x, (k - (count - 1) / 2) * lay.tower_spacing
+
+    def place_towers(self, state: State, rng: np.random.Generator | None = None, jitter: bool = False) -> None:
+        """Build the hand-empty part of ``state`` by placing cubes (scene construction only).
+
+        A held block is left aside on the table at a free spot; the caller grasps it.
+
+        Args:
+            state: the configuration to build.
+            rng: the generator for jitter and for the held block's spot.
+            jitter: offset every cube by up to LayoutConfig.jitter_xy / jitter_yaw.
+        """
+        lay = self.config.layout
+        size = self.config.physics.cube_size
+        towers = list(state.towers())
+        held = state.held
+        slots = len(towers) + (1 if held is not None else 0)
+        placed: list[tuple[int, float, float, float, float]] = []
+        for k, tower in enumerate(towers):
+            x, y = self.tower_slot(k, slots)
+            for level, block in enumerate(tower):
+                dx = dy = yaw = 0.0
+                if jitter and rng is not None:
+                    dx, dy = rng.uniform(-lay.jitter_xy, lay.jitter_xy, size=2)
+                    yaw = rng.uniform(-lay.jitter_yaw, lay.jitter_yaw)
+                placed.append((block, x + dx, y + dy, size / 2 + level * size + 1e-4, yaw))
+        if held is not None:
+            x, y = self.tower_slot(slots - 1, slots)
+            placed.append((held, x, y, size / 2 + 1e-4, 0.0))
+        cid = self.client
+        for block, x, y, z, yaw in placed:
+            orn = pybullet.getQuaternionFromEuler((0.0, 0.0, yaw))
+            pybullet.resetBasePositionAndOrientation(self.block_body(block), (x, y, z), orn, physicsClientId=cid)
+            pybullet.resetBaseVelocity(self.block_body(block), (0, 0, 0), (0, 0, 0), physicsClientId=cid)
+
+    # ------------------------------------------------------------ snapshot for replay
+
+    def snapshot(self) -> tuple[tuple[Pose, ...], tuple[float, ...]]:
+        """Every cube's pose and every Panda joint position (for recording)."""
+        cid = self.client
+        poses = tuple(self.block_pose(i) for i in range(self.n))
+        panda = self.bodies["panda"]
+        joints = tuple(pybullet.getJointState(panda, j, physicsClientId=cid)[0] for j in range(11))
+        return poses, joints
+
+    def apply_snapshot(self, poses: tuple[Pose, ...], joints: tuple[float, ...]) -> None:
+        """Set a recorded snapshot (replay-only scenes, never during a physics episode)."""
+        if self._physics:
+            raise RuntimeError("apply_snapshot is for replay scenes only")
+        cid = self.client
+        for i, pose in enumerate(poses):
+            pybullet.resetBasePositionAndOrientation(self.block_body(i), pose.position, pose.orientation,
+                                                     physicsClientId=cid)
+        panda = self.bodies["panda"]
+        for j, q in enumerate(joints):
+            pybullet.resetJointState(panda, j, q, physicsClientId=cid)
+
+
+__all__ = ["Pose", "Scene"]
