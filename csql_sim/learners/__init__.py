@@ -1,0 +1,122 @@
+"""The paper's four learners (section 6) and the functions the CLI and demo call.
+
+* ``lt-ql``: :class:`TabularQ`, Q-learning over a look-up table of all actions;
+* ``cs-ql``: :class:`CSQL`, Q-learning through the classifier system;
+* ``cs-bb-bz`` / ``cs-bb-rw``: :class:`BucketBrigade` / :class:`BucketBrigadeRoulette`.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from csql_sim.learners.base import Curve, Learner, TrialResult
+from csql_sim.learners.bucket_brigade import BucketBrigade, BucketBrigadeRoulette
+from csql_sim.learners.csql import CSQL, ClassifierSystemLearner
+from csql_sim.learners.params import (
+    PARAMS_BY_METHOD,
+    BucketBrigadeParams,
+    CommonParams,
+    CSQLParams,
+    ParamsError,
+    TabularParams,
+    load_params,
+    resolve_params,
+)
+from csql_sim.learners.report import count_q, figure6_table, greedy_path, prune
+from csql_sim.learners.tabular import TabularQ
+from csql_sim.rulebase import RuleBase
+from csql_sim.world import check_n
+
+LEARNERS: dict[str, type[Learner]] = {
+    "lt-ql": TabularQ,
+    "cs-ql": CSQL,
+    "cs-bb-bz": BucketBrigade,
+    "cs-bb-rw": BucketBrigadeRoulette,
+}
+METHODS = tuple(LEARNERS)
+
+
+def make_learner(
+    method: str,
+    n: int = 3,
+    params: CommonParams | dict | str | os.PathLike | None = None,
+    rng: np.random.Generator | None = None,
+    seed: int = 0,
+) -> Learner:
+    """A fresh learner of ``method``; ``rng`` defaults to ``default_rng(seed)``."""
+    if method not in LEARNERS:
+        raise ParamsError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    check_n(n)
+    resolved = resolve_params(method, params)
+    return LEARNERS[method](n, resolved, rng if rng is not None else np.random.default_rng(seed))
+
+
+def train(
+    method: str = "cs-ql",
+    trials: int = 2500,
+    seed: int = 0,
+    n: int = 3,
+    params: CommonParams | dict | str | os.PathLike | None = None,
+    progress: bool = False,
+) -> RuleBase:
+    """Train one agent and return its whole classifier list (R and Q).
+
+    Runs ``trials`` random tasks with the test task every 50 (see
+    :meth:`Learner.run`), then, for CS-QL with ``sweep`` on, the final planning sweep.
+
+    Args:
+        method: one of :data:`METHODS`.
+        trials: number of random training trials.
+        seed: seed of the one ``numpy.random.Generator``.
+        n: number of blocks.
+        params: parameters (dataclass, dict of overrides, YAML path, or None).
+        progress: show a tqdm bar on stderr.
+
+    """
+    if not isinstance(trials, int) or trials < 0:
+        raise ParamsError(f"trials must be a non-negative integer, got {trials!r}")
+    learner = make_learner(method, n, params, seed=seed)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=trials, desc=method, unit="trial", leave=False)
+    learner.run(trials, on_trial=(lambda _k: bar.update()) if bar is not None else None)
+    if bar is not None:
+        bar.close()
+    swept = 0
+    if isinstance(learner, CSQL) and learner.params.sweep:
+        swept = learner.sweep()
+        start, goal = learner.test_task()
+        learner.run_trial(start, goal, 0.0)  # end on the test task, as Figure 6 was taken
+    meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept}
+    return learner.rulebase(meta)
+
+
+__all__ = [
+    "CSQL",
+    "LEARNERS",
+    "METHODS",
+    "PARAMS_BY_METHOD",
+    "BucketBrigade",
+    "BucketBrigadeParams",
+    "BucketBrigadeRoulette",
+    "CSQLParams",
+    "ClassifierSystemLearner",
+    "CommonParams",
+    "Curve",
+    "Learner",
+    "ParamsError",
+    "TabularParams",
+    "TabularQ",
+    "TrialResult",
+    "count_q",
+    "figure6_table",
+    "greedy_path",
+    "load_params",
+    "make_learner",
+    "prune",
+    "train",
+]

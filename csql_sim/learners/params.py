@@ -1,0 +1,195 @@
+"""Learner parameters: one frozen dataclass per learner, overridable from YAML.
+
+Symbols follow the paper: gamma (eq. 2), eta (eq. 1), T (eq. 3). The temperature
+schedule is per trial: ``T_k = max(T_min, T0 * decay**k)`` for training trial ``k``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import yaml
+
+from csql_sim.errors import CsqlError
+
+
+class ParamsError(CsqlError):
+    """A bad parameter file or value."""
+
+
+@dataclass(frozen=True)
+class CommonParams:
+    """Parameters every learner shares (trial structure and temperature schedule).
+
+    Attributes:
+        t0: T at trial 0 (eq. 3); Q-values lie in [0, 1], so 0.5 is close to uniform.
+        t_decay: T shrinks by this factor per training trial.
+        t_min: floor of T (near-greedy; keeps exp() finite).
+        step_cap: a trial ends unreached after this many steps. Random walks need 168
+            (legal actions) and 1584 (all 18) steps on the test task, so the cap only
+            trims the rare very long walks of the first trials.
+        age_unit: steps per unit of age. Figure 6's ages (~3.2 after 2500 trials of about
+            13 steps) read as 10,000 steps per unit.
+
+    """
+
+    t0: float = 0.5  # T_0
+    t_decay: float = 0.996  # T_{k+1} = T_k * decay
+    t_min: float = 0.0005  # T floor
+    step_cap: int = 10000  # steps per trial
+    age_unit: float = 10000.0  # steps per unit of age (Figure 6)
+
+    def temperature(self, trial: int) -> float:
+        """T for training trial ``trial`` (eq. 3's T)."""
+        return max(self.t_min, self.t0 * self.t_decay**trial)
+
+
+@dataclass(frozen=True)
+class TabularParams(CommonParams):
+    """LT-QL: Q-learning over a look-up table of all states x all actions.
+
+    Attributes:
+        gamma: discount gamma (eq. 2); Figure 6's Q-values are powers of 0.95.
+        eta: step size eta (eq. 1).
+        payoff: r on reaching the goal (0 otherwise).
+        q0: initial Q-hat.
+        error_increment: growth of |epsilon| per step since last active (for the
+            strength 1 - |epsilon| of the exported table entries).
+
+    """
+
+    gamma: float = 0.95  # gamma, eq. 2
+    eta: float = 0.5  # eta, eq. 1
+    payoff: float = 1.0  # r_{t+1} at the goal
+    q0: float = 0.0  # initial Q-hat(x, a)
+    error_increment: float = 0.0002  # growth of |epsilon| per step (strength, eq. 4)
+
+
+@dataclass(frozen=True)
+class CSQLParams(TabularParams):
+    """CS-QL: Q-learning over Q-classifiers (eq. 1-4).
+
+    ``error_increment`` (inherited): |epsilon| grows by this much per step since a
+    classifier was last active (section 4; Figure 6's PredErr column steps by 0.0002).
+
+    Attributes:
+        sweep: after the trials, one greedy planning pass over every (start, goal) pair
+            on the world model (the add-delete R-classifiers), updating with eq. 1-2. Each
+            pair's greedy classifier is then active within one pass (~2,000 steps) with a
+            small |epsilon|, so pruning at 0.1 keeps exactly one per pair. False is the paper-faithful variant.
+        sweep_passes: the most passes of the sweep.
+        sweep_tolerance: the sweep stops after a pass whose largest |epsilon| is at most
+            this (Q-values then agree with eq. 2 along every greedy path).
+
+    """
+
+    sweep: bool = True  # final planning sweep (ours; False = paper)
+    sweep_passes: int = 50  # at most this many passes
+    sweep_tolerance: float = 0.001  # stop when every |epsilon| of a pass is below
+
+
+@dataclass(frozen=True)
+class BucketBrigadeParams(CommonParams):
+    """CS-BB-BZ / CS-BB-RW: Holland's bucket brigade, no discounting.
+
+    Each step the active classifier pays a bid ``bid * S`` to the classifier active one
+    step before it; at the goal it receives ``bid * payoff`` (the payoff enters through the
+    same bucket, as in Wilson's ZCS, so strengths tend to the payoff 1 and are comparable
+    with Q-values in Figure 7(b)). Matched candidates that were not selected pay a tax
+    ``tax * S``.
+
+    Attributes:
+        bid: bid coefficient (fraction of strength bid by the active classifier).
+        tax: tax rate on matched, not selected candidates.
+        payoff: payoff at the goal.
+        s0: initial strength (positive, for the roulette wheel).
+
+    """
+
+    bid: float = 0.2  # bid coefficient c_bid
+    tax: float = 0.0  # bid tax on unselected candidates
+    payoff: float = 1.0  # payoff at the goal
+    s0: float = 0.01  # initial strength
+
+
+PARAMS_BY_METHOD: dict[str, type[CommonParams]] = {
+    "lt-ql": TabularParams,
+    "cs-ql": CSQLParams,
+    "cs-bb-bz": BucketBrigadeParams,
+    "cs-bb-rw": BucketBrigadeParams,
+}
+
+
+def default_params(method: str) -> CommonParams:
+    """The default parameters of a method."""
+    try:
+        return PARAMS_BY_METHOD[method]()
+    except KeyError:
+        raise ParamsError(f"unknown method {method!r}; choose from {', '.join(PARAMS_BY_METHOD)}") from None
+
+
+def with_overrides(params: CommonParams, overrides: dict, source: str = "parameters") -> CommonParams:
+    """Replace fields of ``params``; an unknown key or a wrong type is a ParamsError."""
+    known = {f.name: f for f in fields(params)}
+    clean = {}
+    for key, value in overrides.items():
+        if key not in known:
+            raise ParamsError(f"{source}: unknown parameter {key!r} for {type(params).__name__}")
+        current = getattr(params, key)
+        if isinstance(current, bool):
+            ok = isinstance(value, bool)
+        elif isinstance(current, int):
+            ok = isinstance(value, int) and not isinstance(value, bool)
+        else:
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+            value = float(value) if ok else value
+        if not ok:
+            raise ParamsError(f"{source}: {key} must be {type(current).__name__}, got {value!r}")
+        clean[key] = value
+    return dataclasses.replace(params, **clean)
+
+
+def load_params(path: str | os.PathLike, method: str) -> CommonParams:
+    """Defaults of ``method`` overridden by a YAML mapping.
+
+    The file is either a flat mapping of parameters, or a mapping from method names to
+    such mappings (only ``method``'s entry is applied).
+    """
+    p = Path(path)
+    try:
+        doc = yaml.safe_load(p.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ParamsError(f"{p}: no such parameter file") from None
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise ParamsError(f"{p}: cannot read parameters ({exc.__class__.__name__})") from None
+    if doc is None:
+        doc = {}
+    if not isinstance(doc, dict):
+        raise ParamsError(f"{p}: expected a mapping of parameter names to values")
+    if any(k in PARAMS_BY_METHOD for k in doc):
+        stray = [k for k in doc if k not in PARAMS_BY_METHOD]
+        if stray:
+            raise ParamsError(f"{p}: unknown method {stray[0]!r}")
+        doc = doc.get(method) or {}
+        if not isinstance(doc, dict):
+            raise ParamsError(f"{p}: the entry for {method} must be a mapping")
+    return with_overrides(default_params(method), doc, source=str(p))
+
+
+def resolve_params(method: str, params: CommonParams | dict | str | os.PathLike | None) -> CommonParams:
+    """Parameters from None (defaults), a dataclass, a dict of overrides or a YAML path."""
+    if params is None:
+        return default_params(method)
+    if isinstance(params, CommonParams):
+        expected = PARAMS_BY_METHOD.get(method)
+        if expected is None:
+            default_params(method)
+        if type(params) is not expected:
+            raise ParamsError(f"{method} needs {expected.__name__}, got {type(params).__name__}")
+        return params
+    if isinstance(params, dict):
+        return with_overrides(default_params(method), params)
+    return load_params(params, method)

@@ -1,0 +1,119 @@
+import numpy as np
+import pytest
+
+from csql_sim.classifiers import ClassifierList, Q
+from csql_sim.learners import CSQL, count_q, figure6_table, greedy_path, make_learner, prune, train
+from csql_sim.messages import format_state_message, parse_state_message
+from csql_sim.policy import QPolicy, check_all_pairs
+from csql_sim.rulebase import dumps
+from csql_sim.world import BlocksWorld, parse_config
+
+
+def all_optimal(rb) -> int:
+    return sum(r.optimal for r in check_all_pairs(QPolicy(ClassifierList(rb.classifiers), rb.blocks), rb.blocks))
+
+
+@pytest.fixture(scope="module")
+def trained():
+    return train("cs-ql", 2500, seed=0)
+
+
+def test_cs_ql_2500_trials_optimal_for_all_462_pairs(trained):
+    assert count_q(trained) == 882  # 22 goals x 42 legal pairs - 42 in the goal state
+    assert sum(c.kind == "R" for c in trained.classifiers) == 36
+    assert all_optimal(trained) == 462
+
+
+def test_pruning_leaves_exactly_one_optimal_classifier_per_pair(trained):
+    pruned = prune(trained, 0.1)
+    assert count_q(pruned) == 462
+    assert sum(c.kind == "R" for c in pruned.classifiers) == 36
+    conditions = {c.condition for c in pruned.classifiers if c.kind == Q}
+    assert len(conditions) == 462
+    assert all_optimal(pruned) == 462
+
+
+def test_paper_faithful_variant_prunes_some_needed_classifiers():
+    rb = train("cs-ql", 2500, seed=0, params={"sweep": False})
+    assert all_optimal(rb) == 462
+    kept = count_q(prune(rb, 0.1))
+    assert 400 < kept < 462  # the paper got 446: rarely visited pairs decay below 0.1
+
+
+def test_same_seed_same_rule_file_different_seed_differs(trained):
+    assert dumps(train("cs-ql", 2500, seed=0)) == dumps(trained)
+    assert dumps(train("cs-ql", 300, seed=1)) != dumps(train("cs-ql", 300, seed=2))
+
+
+def test_world_model_predictions_equal_the_world():
+    learner = make_learner("cs-ql", seed=3)
+    learner.run(200)
+    world = BlocksWorld.of(3)
+    checked = 0
+    for node in list(learner._nodes.values()):
+        parsed = parse_state_message(node.message, 3)
+        s = world.state_index(parsed.state)
+        assert sorted(int(c.action[1], 36) - 1 for c in node.qs) == list(world.legal[s])
+        for i, c in enumerate(node.qs):
+            nxt = learner.successor(node, i)
+            a = int(c.action[1], 36) - 1
+            want = world.next_state[s][a]
+            if nxt is None:
+                assert want == node.goal
+            else:
+                assert nxt.message == format_state_message(world.states[want], node.goal)
+                checked += 1
+    assert checked > 100
+
+
+def test_classifiers_only_created_by_cover_and_never_in_goal_state():
+    learner = make_learner("cs-ql", seed=0)
+    learner.run_trial(0, 12, 0.5)
+    qs = [c for c in learner.classifiers if c.kind == Q]
+    assert qs and all(c.condition != format_state_message(BlocksWorld.of(3).states[12], 12) for c in qs)
+    assert len(qs) == sum(len(n.qs) for n in learner._nodes.values())
+
+
+def test_error_grows_lazily_and_resets_on_activation():
+    learner = make_learner("cs-ql", seed=0)
+    assert isinstance(learner, CSQL)
+    learner.run_trial(0, 12, 0.5)
+    c = next(c for c in learner.classifiers if c.kind == Q)
+    before = learner.error(c)
+    learner.t += 1000
+    assert learner.error(c) == pytest.approx(before + 0.2)
+    assert learner.strength(c) == pytest.approx(1 - before - 0.2)
+
+
+def test_q_update_follows_eq1_and_eq2():
+    learner = make_learner("cs-ql", seed=0, params={"eta": 0.5})
+    node = learner.node(0, 1)
+    nxt = learner.successor(node, 0)
+    c = node.qs[0]
+    if nxt is not None:
+        for d in nxt.qs:
+            d.q = 0.4
+    c.q = 0.1
+    learner.t = 7
+    learner.update(node, 0, nxt)
+    target = 1.0 if nxt is None else 0.95 * 0.4
+    assert c.q == pytest.approx(0.1 + 0.5 * (target - 0.1))
+    assert c.error == pytest.approx(abs(target - 0.1)) and c.last_active == 7
+
+
+def test_figure6_table_for_the_test_task(trained):
+    start, goal = parse_config("CBA"), parse_config("BAC")
+    path = greedy_path(trained, start, goal)
+    assert len(path) == 8
+    assert [c.q for c in path] == pytest.approx([0.95**k for k in range(7, -1, -1)], abs=1e-3)
+    assert path[0].condition == "S0100000bct0000C" and path[-1].action == "AH0000000100ca00"
+    table = figure6_table(trained, start, goal).splitlines()
+    assert table[0].split() == ["T", "Condition", "Action", "Strength", "Q-value", "Age", "PredErr"]
+    assert len(table) == 9 and table[-1].split()[-1] == "0.000000"
+    assert len(figure6_table(trained).splitlines()) == 883
+
+
+def test_generator_is_the_only_randomness():
+    a = make_learner("cs-ql", rng=np.random.default_rng(5)).run(100)
+    b = make_learner("cs-ql", rng=np.random.default_rng(5)).run(100)
+    assert a == b
