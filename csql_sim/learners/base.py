@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -28,10 +29,11 @@ TEST_START = "CBA"
 TEST_GOAL = "BAC"
 """The test task's goal: C on A on B (goal code ``C``)."""
 TEST_EVERY = 50
+UNSEEN = object()
+"""Marks a successor a node has not computed yet (``node.next[i]``)."""
 
 
-@dataclass(frozen=True)
-class TrialResult:
+class TrialResult(NamedTuple):
     """One trial: steps taken, whether the goal was reached, mean value per step."""
 
     steps: int
@@ -75,6 +77,7 @@ class Learner:
         self.t = 0
         self._buf: list[float] = []
         self._pos = 0
+        self._has_begin = type(self).begin_trial is not Learner.begin_trial
 
     # -- randomness ----------------------------------------------------------------
     def uniform(self) -> float:
@@ -89,8 +92,13 @@ class Learner:
     def random_task(self) -> tuple[int, int]:
         """A random (start, goal) pair of distinct state indices."""
         count = len(self.world.states)
-        start = min(int(self.uniform() * count), count - 1)
-        goal = min(int(self.uniform() * (count - 1)), count - 2)
+        if self._pos + 2 > len(self._buf):
+            self._buf = self._buf[self._pos :] + self.rng.random(BATCH).tolist()
+            self._pos = 0
+        u, v = self._buf[self._pos], self._buf[self._pos + 1]
+        self._pos += 2
+        start = min(int(u * count), count - 1)
+        goal = min(int(v * (count - 1)), count - 2)
         return start, goal + (goal >= start)
 
     # -- the four steps, supplied by each learner ------------------------------------
@@ -110,47 +118,63 @@ class Learner:
         raise NotImplementedError
 
     def successor(self, node, i: int):
-        """The node after taking candidate ``i``; ``None`` when it reaches the goal."""
+        """Compute, store in ``node.next[i]`` and return the node after candidate ``i``.
+
+        ``None`` when it reaches the goal.
+        """
         raise NotImplementedError
 
-    def update(self, node, i: int, nxt) -> None:
-        """Credit assignment for candidate ``i`` of ``node`` (next node ``nxt``)."""
+    def update(self, node, i: int, nxt, t: int) -> None:
+        """Credit assignment for candidate ``i`` of ``node`` (next node ``nxt``) at step ``t``."""
         raise NotImplementedError
 
     # -- the shared loop ---------------------------------------------------------------
-    def run_trial(self, start: int, goal: int, temperature: float, cap: int | None = None) -> TrialResult:
+    def run_trial(
+        self, start: int, goal: int, temperature: float, cap: int | None = None, track: bool = True
+    ) -> TrialResult:
         """One trial from ``start`` to ``goal``, learning at every step.
+
+        Nodes keep their successors in ``node.next`` (:data:`UNSEEN` until first
+        predicted), so the loop follows a known successor without a call.
 
         Args:
             start: start state index.
             goal: goal state index (distinct from ``start``).
             temperature: T of eq. 3 for the whole trial (0 = greedy).
             cap: step cap (default ``params.step_cap``).
+            track: accumulate the chosen candidates' values (for the test task).
 
         """
-        cap = self.params.step_cap if cap is None else cap
-        self.begin_trial()
+        if cap is None:
+            cap = self.params.step_cap
+        if self._has_begin:
+            self.begin_trial()
         node = self.node(start, goal)
         select, value, successor, update = self.select, self.value, self.successor, self.update
         buf, pos = self._buf, self._pos
         value_sum = 0.0
-        steps = 0
+        t0 = t = self.t
+        end = t0 + cap
         reached = False
-        while steps < cap:
+        while t < end:
             if pos >= len(buf):
                 buf, pos = self.rng.random(BATCH).tolist(), 0
             i = select(node, temperature, buf[pos])
             pos += 1
-            value_sum += value(node, i)
-            nxt = successor(node, i)
-            self.t += 1
-            update(node, i, nxt)
-            steps += 1
+            if track:
+                value_sum += value(node, i)
+            nxt = node.next[i]
+            if nxt is UNSEEN:
+                self.t = t
+                nxt = successor(node, i)
+            t += 1
+            update(node, i, nxt, t)
             if nxt is None:
                 reached = True
                 break
             node = nxt
-        self._buf, self._pos = buf, pos
+        self._buf, self._pos, self.t = buf, pos, t
+        steps = t - t0
         return TrialResult(steps, reached, value_sum / steps if steps else 0.0)
 
     def test_task(self) -> tuple[int, int]:
@@ -187,7 +211,7 @@ class Learner:
             if k == trials:
                 break
             start, goal = self.random_task()
-            self.run_trial(start, goal, temperature)
+            self.run_trial(start, goal, temperature, track=False)
             if on_trial is not None:
                 on_trial(k)
         return Curve(tuple(marks), tuple(steps), tuple(values))

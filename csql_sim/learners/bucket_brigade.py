@@ -44,7 +44,7 @@ class BucketBrigade(ClassifierSystemLearner):
         """Boltzmann over the candidates' strengths."""
         return boltzmann([c.strength for c in node.qs], temperature, u)
 
-    def update(self, node: Node, i: int, nxt: Node | None) -> None:
+    def update(self, node: Node, i: int, nxt: Node | None, t: int) -> None:
         """The bucket brigade: pay the bid to the predecessor; collect payoff at the goal."""
         p = self.params
         c = node.qs[i]
@@ -58,7 +58,7 @@ class BucketBrigade(ClassifierSystemLearner):
             for j, other in enumerate(node.qs):
                 if j != i:
                     other.strength -= p.tax * other.strength
-        c.last_active = self.t
+        c.last_active = t
         self._previous = c
 
     def settle(self) -> None:

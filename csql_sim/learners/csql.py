@@ -14,7 +14,9 @@ The processing block (Figure 1) retrieves classifiers through the :class:`Classi
 index, never by scanning the list. It memoizes its retrievals per message in a
 :class:`Node` (the candidates' Q-classifiers and, once predicted, the successor node of
 each), because the retrieval for a message never changes while nothing is removed:
-the same classifier objects are found, and the same add-delete rule fires.
+the same classifier objects are found, and the same add-delete rule fires. The
+R-classifiers have ``#`` in the goal field (checked when the learner is built), so their
+match and prediction results are memoized per message body, shared by all goals.
 """
 
 from __future__ import annotations
@@ -22,15 +24,14 @@ from __future__ import annotations
 import numpy as np
 
 from csql_sim.classifiers import Classifier, ClassifierList, Q
-from csql_sim.learners.base import Learner
+from csql_sim.learners.base import UNSEEN, Learner
 from csql_sim.learners.params import CommonParams, CSQLParams
 from csql_sim.learners.selection import boltzmann
 from csql_sim.messages import format_state_message, layout
 from csql_sim.rulebase import RuleBase
 from csql_sim.rules import domain_knowledge
 
-_UNSEEN = object()
-"""Marks a successor the world model has not predicted yet."""
+INF = float("inf")
 
 
 class Node:
@@ -50,7 +51,7 @@ class Node:
         self.message = message
         self.goal = goal
         self.qs = qs
-        self.next: list = [_UNSEEN] * len(qs)
+        self.next: list = [UNSEEN] * len(qs)
 
 
 class ClassifierSystemLearner(Learner):
@@ -67,14 +68,31 @@ class ClassifierSystemLearner(Learner):
         self.classifiers: ClassifierList = domain_knowledge(n)
         self._nodes: dict[str, Node] = {}
         self._born: dict[int, int] = {}
-        self._width = layout(n).action_width
+        lay = layout(n)
+        self._width = lay.action_width
+        self._goal_at = lay.goal_start
+        # The R-classifiers neither read nor write the goal field ('#' there in every
+        # condition and add-delete output), so match and predict results depend on the
+        # rest of the message only: memoize them per message body. Checked, not assumed.
+        self._goal_blind = all(
+            set(c.condition[self._goal_at :]) == {"#"}
+            and (c.action[0] != "S" or set(c.action[self._goal_at :]) == {"#"})
+            for c in self.classifiers.of_kind("R")
+        )
+        self._matched: dict[str, list[str]] = {}
+        self._predicted: dict[str, str] = {}
         states = self.world.states
         self._goal_messages = [format_state_message(s, g) for g, s in enumerate(states)]
+        self._posted: dict[tuple[int, int], Node] = {}
 
     # -- Figure 2, steps 1-4 -----------------------------------------------------------
     def node(self, state: int, goal: int) -> Node:
         """Post the state message of ``state`` for ``goal`` and process it (steps 1-4)."""
-        return self.process(format_state_message(self.world.states[state], goal), goal)
+        node = self._posted.get((state, goal))
+        if node is None:
+            message = format_state_message(self.world.states[state], goal)
+            node = self._posted[(state, goal)] = self.process(message, goal)
+        return node
 
     def process(self, message: str, goal: int) -> Node:
         """The processing block for one state message: match, then cover (memoized)."""
@@ -86,7 +104,11 @@ class ClassifierSystemLearner(Learner):
 
     def match(self, message: str) -> list[str]:
         """Step 3: the candidate action messages of the satisfied precondition rules."""
-        return [c.action for c in self.classifiers.preconditions(message)]
+        key = message[: self._goal_at] if self._goal_blind else message
+        actions = self._matched.get(key)
+        if actions is None:
+            actions = self._matched[key] = [c.action for c in self.classifiers.preconditions(message)]
+        return actions
 
     def cover(self, message: str, actions: list[str]) -> tuple[Classifier, ...]:
         """Step 4: a Q-classifier for each (state, action) pair, creating missing ones."""
@@ -99,7 +121,7 @@ class ClassifierSystemLearner(Learner):
 
     def new_fields(self) -> dict:
         """Field values of a freshly created Q-classifier."""
-        return {"q": 0.0, "strength": 1.0, "error": 0.0, "last_active": self.t}
+        return {"q": self.params.q0, "strength": 1.0, "error": 0.0, "last_active": self.t}
 
     # -- world model -------------------------------------------------------------------
     def predict(self, message: str, action: str) -> str:
@@ -109,12 +131,19 @@ class ClassifierSystemLearner(Learner):
         it activates rewrites the message (section 5's worked example).
         """
         w = self._width
-        return self.classifiers.predict(message[0] + action[1 : 1 + w] + message[1 + w :])
+        posted = message[0] + action[1 : 1 + w] + message[1 + w :]
+        if not self._goal_blind:
+            return self.classifiers.predict(posted)
+        key = posted[: self._goal_at]
+        body = self._predicted.get(key)
+        if body is None:
+            body = self._predicted[key] = self.classifiers.predict(posted)[: self._goal_at]
+        return body + message[self._goal_at :]
 
     def successor(self, node: Node, i: int) -> Node | None:
         """The predicted successor node of candidate ``i`` (``None`` at the goal)."""
         nxt = node.next[i]
-        if nxt is _UNSEEN:
+        if nxt is UNSEEN:
             message = self.predict(node.message, node.qs[i].action)
             nxt = None if message == self._goal_messages[node.goal] else self.process(message, node.goal)
             node.next[i] = nxt
@@ -140,6 +169,10 @@ class CSQL(ClassifierSystemLearner):
     method = "cs-ql"
     params: CSQLParams
 
+    def __init__(self, n: int, params: CSQLParams, rng: np.random.Generator) -> None:
+        super().__init__(n, params, rng)
+        self._gamma, self._eta, self._payoff = params.gamma, params.eta, params.payoff
+
     def value(self, node: Node, i: int) -> float:
         """The Q-value of candidate ``i``."""
         return node.qs[i].q
@@ -148,22 +181,25 @@ class CSQL(ClassifierSystemLearner):
         """Step 5: Boltzmann selection over the candidates' Q-values (eq. 3)."""
         return boltzmann([c.q for c in node.qs], temperature, u)
 
-    def update(self, node: Node, i: int, nxt: Node | None) -> None:
-        """Step 6: eq. 2's epsilon, eq. 1's Q update; |epsilon| reset, last_active = now.
+    def update(self, node: Node, i: int, nxt: Node | None, t: int) -> None:
+        """Step 6: eq. 2's epsilon, eq. 1's Q update; |epsilon| reset, last_active = t.
 
         The growth of |epsilon| by ``error_increment`` per step is applied lazily from
         ``last_active`` (see :meth:`error`), so an update touches one classifier only.
         """
-        p = self.params
         c = node.qs[i]
         if nxt is None:
-            target = p.payoff
+            target = self._payoff
         else:
-            target = p.gamma * max([d.q for d in nxt.qs])
+            best = -INF
+            for d in nxt.qs:
+                if d.q > best:
+                    best = d.q
+            target = self._gamma * best
         eps = target - c.q
-        c.q += p.eta * eps
+        c.q += self._eta * eps
         c.error = eps if eps >= 0.0 else -eps
-        c.last_active = self.t
+        c.last_active = t
 
     def error(self, c: Classifier) -> float:
         """|epsilon| now: the last prediction error plus the growth since (section 4)."""

@@ -10,13 +10,11 @@ from __future__ import annotations
 import numpy as np
 
 from csql_sim.classifiers import Classifier, Q
-from csql_sim.learners.base import Learner
+from csql_sim.learners.base import UNSEEN, Learner
 from csql_sim.learners.params import TabularParams
 from csql_sim.learners.selection import boltzmann
 from csql_sim.messages import format_action_message, format_state_message
 from csql_sim.rulebase import RuleBase
-
-_UNSEEN = object()
 
 
 class Row:
@@ -42,7 +40,7 @@ class Row:
         self.error = [0.0] * actions
         self.last = [born] * actions
         self.born = born
-        self.next: list = [_UNSEEN] * actions
+        self.next: list = [UNSEEN] * actions
 
 
 class TabularQ(Learner):
@@ -75,7 +73,7 @@ class TabularQ(Learner):
     def successor(self, node: Row, i: int) -> Row | None:
         """The environment's next row; an illegal action leaves the state unchanged."""
         nxt = node.next[i]
-        if nxt is _UNSEEN:
+        if nxt is UNSEEN:
             s = self.world.next_state[node.state][i]
             if s < 0:
                 s = node.state
@@ -83,14 +81,14 @@ class TabularQ(Learner):
             node.next[i] = nxt
         return nxt
 
-    def update(self, node: Row, i: int, nxt: Row | None) -> None:
+    def update(self, node: Row, i: int, nxt: Row | None, t: int) -> None:
         """Eq. 1 and 2 on the table entry; records |epsilon| and the step."""
         p = self.params
         target = p.payoff if nxt is None else p.gamma * max(nxt.q)
         eps = target - node.q[i]
         node.q[i] += p.eta * eps
         node.error[i] = eps if eps >= 0.0 else -eps
-        node.last[i] = self.t
+        node.last[i] = t
 
     def rulebase(self, meta: dict | None = None) -> RuleBase:
         """The table as Q-classifiers (every action of every visited row).

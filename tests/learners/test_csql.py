@@ -94,8 +94,7 @@ def test_q_update_follows_eq1_and_eq2():
         for d in nxt.qs:
             d.q = 0.4
     c.q = 0.1
-    learner.t = 7
-    learner.update(node, 0, nxt)
+    learner.update(node, 0, nxt, 7)
     target = 1.0 if nxt is None else 0.95 * 0.4
     assert c.q == pytest.approx(0.1 + 0.5 * (target - 0.1))
     assert c.error == pytest.approx(abs(target - 0.1)) and c.last_active == 7
@@ -117,3 +116,11 @@ def test_generator_is_the_only_randomness():
     a = make_learner("cs-ql", rng=np.random.default_rng(5)).run(100)
     b = make_learner("cs-ql", rng=np.random.default_rng(5)).run(100)
     assert a == b
+
+
+def test_cs_ql_takes_the_same_steps_as_the_plain_tabular_learner():
+    from csql_sim.learners.bench import plain_q_learning
+
+    learner = make_learner("cs-ql", seed=4)
+    learner.run(600)
+    assert plain_q_learning(600, 4) == learner.t

@@ -1,0 +1,218 @@
+"""Figure 7: test-task curves of the four learners, averaged over cycles run in parallel.
+
+Each cycle is one fresh agent trained for ``trials`` random tasks with the test task
+every 50 trials (:meth:`csql_sim.learners.Learner.run`). Cycle ``c`` of every method
+draws from ``numpy.random.SeedSequence(seed).spawn(cycles)[c]``, so results do not
+depend on the number of worker processes.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from csql_sim.errors import CsqlError
+from csql_sim.learners import METHODS, Curve, make_learner
+from csql_sim.learners.params import CommonParams, resolve_params
+from csql_sim.planner import distance
+from csql_sim.rulebase import write_atomic
+
+CSV_COLUMNS = ("method", "trial", "steps_mean", "steps_std", "value_mean", "value_std")
+
+
+@dataclass(frozen=True)
+class MethodResult:
+    """One method's curves over cycles.
+
+    Attributes:
+        method: the learner's name.
+        trials: the trial index of each test-task point.
+        steps: test-task steps, shape (cycles, points).
+        values: mean Q-value (or strength) per step, shape (cycles, points).
+
+    """
+
+    method: str
+    trials: tuple[int, ...]
+    steps: np.ndarray
+    values: np.ndarray
+
+    @property
+    def steps_mean(self) -> np.ndarray:
+        return self.steps.mean(axis=0)
+
+    def first_optimal(self, optimal: int) -> int | None:
+        """The first test point at which the mean steps over cycles equal ``optimal``."""
+        for trial, mean in zip(self.trials, self.steps_mean, strict=True):
+            if mean <= optimal + 1e-9:
+                return trial
+        return None
+
+
+@dataclass(frozen=True)
+class ExperimentResult:
+    """All methods of one experiment."""
+
+    methods: tuple[MethodResult, ...]
+    cycles: int
+    trials: int
+    seed: int
+    optimal: int
+
+
+def run_cycle(method: str, trials: int, seed: np.random.SeedSequence, n: int, params: CommonParams) -> Curve:
+    """One cycle: a fresh learner trained on ``trials`` tasks; its test-task curve."""
+    learner = make_learner(method, n, params, rng=np.random.default_rng(seed))
+    return learner.run(trials)
+
+
+def run_experiment(
+    methods: Sequence[str] = METHODS,
+    cycles: int = 50,
+    trials: int = 2500,
+    seed: int = 0,
+    workers: int | None = None,
+    n: int = 3,
+    params: dict[str, CommonParams] | str | os.PathLike | None = None,
+    progress: bool = False,
+) -> ExperimentResult:
+    """Run ``cycles`` cycles of each method, in parallel processes when ``workers`` > 1.
+
+    Args:
+        methods: learner names (see :data:`csql_sim.learners.METHODS`).
+        cycles: independent agents per method.
+        trials: training trials per cycle.
+        seed: root of the per-cycle seed sequences.
+        workers: processes (default ``os.cpu_count()``); 1 runs in this process.
+        n: number of blocks.
+        params: per-method parameters, or a YAML file (flat or keyed by method).
+        progress: show a tqdm bar on stderr.
+
+    """
+    for m in methods:
+        if m not in METHODS:
+            raise CsqlError(f"unknown method {m!r}; choose from {', '.join(METHODS)}")
+    if not methods:
+        raise CsqlError("no methods given")
+    if cycles < 1 or trials < 0:
+        raise CsqlError(f"need cycles >= 1 and trials >= 0, got {cycles} and {trials}")
+    if isinstance(params, dict):
+        resolved = {m: resolve_params(m, params.get(m)) for m in methods}
+    else:
+        resolved = {m: resolve_params(m, params) for m in methods}
+    seeds = np.random.SeedSequence(seed).spawn(cycles)
+    jobs = [(m, c) for m in methods for c in range(cycles)]
+    curves: dict[tuple[str, int], Curve] = {}
+    workers = workers or os.cpu_count() or 1
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(jobs), desc="cycles", unit="cycle")
+    try:
+        if workers <= 1:
+            for m, c in jobs:
+                curves[(m, c)] = run_cycle(m, trials, seeds[c], n, resolved[m])
+                if bar is not None:
+                    bar.update()
+        else:
+            with ProcessPoolExecutor(max_workers=workers) as pool:
+                futures = {pool.submit(run_cycle, m, trials, seeds[c], n, resolved[m]): (m, c) for m, c in jobs}
+                for future in as_completed(futures):
+                    curves[futures[future]] = future.result()
+                    if bar is not None:
+                        bar.update()
+    finally:
+        if bar is not None:
+            bar.close()
+    results = []
+    for m in methods:
+        runs = [curves[(m, c)] for c in range(cycles)]
+        results.append(
+            MethodResult(
+                method=m,
+                trials=runs[0].trials,
+                steps=np.array([r.steps for r in runs], dtype=float),
+                values=np.array([r.values for r in runs], dtype=float),
+            )
+        )
+    learner = make_learner(methods[0], n, resolved[methods[0]])
+    start, goal = learner.test_task()
+    optimal = distance(learner.world.states[start], learner.world.states[goal])
+    return ExperimentResult(tuple(results), cycles, trials, seed, optimal)
+
+
+def csv_text(result: ExperimentResult) -> str:
+    """Figure 7's data: one row per method and test point (std over cycles, ddof 0)."""
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(CSV_COLUMNS)
+    for r in result.methods:
+        s_mean, s_std = r.steps.mean(axis=0), r.steps.std(axis=0)
+        v_mean, v_std = r.values.mean(axis=0), r.values.std(axis=0)
+        for k, trial in enumerate(r.trials):
+            writer.writerow([r.method, trial, f"{s_mean[k]:.6g}", f"{s_std[k]:.6g}", f"{v_mean[k]:.6g}", f"{v_std[k]:.6g}"])
+    return out.getvalue()
+
+
+def write_csv(path: str | os.PathLike, result: ExperimentResult) -> Path:
+    """Write :func:`csv_text` atomically."""
+    return write_atomic(path, csv_text(result))
+
+
+def write_png(path: str | os.PathLike, result: ExperimentResult) -> Path:
+    """Draw Figure 7's two panels (steps; value per step) and write the PNG atomically."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(11, 4.2))
+    ax_steps, ax_value = fig.subplots(1, 2)
+    for r in result.methods:
+        ax_steps.plot(r.trials, r.steps.mean(axis=0), label=r.method.upper())
+        ax_value.plot(r.trials, r.values.mean(axis=0), label=r.method.upper())
+    ax_steps.axhline(result.optimal, color="grey", lw=0.8, ls=":")
+    ax_steps.set_yscale("log")
+    ax_steps.set_xlabel("trial")
+    ax_steps.set_ylabel("steps in the test task")
+    ax_steps.set_title("(a) steps to perform the test task")
+    ax_value.set_xlabel("trial")
+    ax_value.set_ylabel("average Q-value / strength per step")
+    ax_value.set_title("(b) average value per step in the test task")
+    for ax in (ax_steps, ax_value):
+        ax.legend()
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"Figure 7: mean over {result.cycles} cycles of {result.trials} trials")
+    fig.tight_layout()
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_name(f".{target.name}.tmp")
+    try:
+        fig.savefig(tmp, format="png", dpi=110)
+        os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return target
+
+
+def summary_lines(result: ExperimentResult) -> list[str]:
+    """Per method: initial test-task steps, first trial at the optimum, final steps."""
+    lines = [f"test task optimum: {result.optimal} steps; {result.cycles} cycles x {result.trials} trials"]
+    for r in result.methods:
+        mean = r.steps.mean(axis=0)
+        first = r.first_optimal(result.optimal)
+        lines.append(
+            f"{r.method:<9} initial {mean[0]:7.1f} steps  first optimal (mean = {result.optimal}) at trial "
+            f"{first if first is not None else 'never':>5}  final {mean[-1]:6.1f} steps  "
+            f"min {mean.min():6.1f}  final value {r.values.mean(axis=0)[-1]:.3f}"
+        )
+    return lines
