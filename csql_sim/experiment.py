@@ -158,7 +158,8 @@ def csv_text(result: ExperimentResult) -> str:
         s_mean, s_std = r.steps.mean(axis=0), r.steps.std(axis=0)
         v_mean, v_std = r.values.mean(axis=0), r.values.std(axis=0)
         for k, trial in enumerate(r.trials):
-            writer.writerow([r.method, trial, f"{s_mean[k]:.6g}", f"{s_std[k]:.6g}", f"{v_mean[k]:.6g}", f"{v_std[k]:.6g}"])
+            stats = (s_mean[k], s_std[k], v_mean[k], v_std[k])
+            writer.writerow([r.method, trial, *(f"{x:.6g}" for x in stats)])
     return out.getvalue()
 
 

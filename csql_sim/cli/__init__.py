@@ -11,10 +11,10 @@ import argparse
 import sys
 
 from csql_sim import __version__
-from csql_sim.cli import core
+from csql_sim.cli import core, learn
 from csql_sim.errors import CsqlError
 
-SUBCOMMAND_MODULES = (core,)
+SUBCOMMAND_MODULES = (core, learn)
 
 
 class OneLineParser(argparse.ArgumentParser):

@@ -1,0 +1,174 @@
+"""Subcommands of learning: ``experiment``, ``train``, ``show``, ``prune`` and ``bench``."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+from csql_sim.cli.core import blocks_arg, read_task
+from csql_sim.errors import CsqlError
+
+
+def _positive(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be a positive integer, got {value}")
+    return value
+
+
+def _non_negative(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {value}")
+    return value
+
+
+def _methods(text: str) -> list[str]:
+    from csql_sim.learners import METHODS
+
+    names = [m.strip().lower() for m in text.split(",") if m.strip()]
+    for m in names:
+        if m not in METHODS:
+            raise argparse.ArgumentTypeError(f"unknown method {m!r}; choose from {','.join(METHODS)}")
+    if not names:
+        raise argparse.ArgumentTypeError("no methods given")
+    return names
+
+
+# ------------------------------------------------------------------ experiment
+def cmd_experiment(args: argparse.Namespace) -> int:
+    from csql_sim.experiment import run_experiment, summary_lines, write_csv, write_png
+
+    began = time.perf_counter()
+    result = run_experiment(
+        methods=args.methods, cycles=args.cycles, trials=args.trials, seed=args.seed,
+        workers=args.workers, n=args.blocks, params=args.params, progress=not args.no_progress,
+    )
+    wall = time.perf_counter() - began
+    csv_path = write_csv(os.path.join(args.out, "figure7.csv"), result)
+    png_path = write_png(os.path.join(args.out, "figure7.png"), result)
+    for line in summary_lines(result):
+        print(line)
+    print(f"wall time {wall:.1f} s with {args.workers or os.cpu_count()} workers")
+    print(f"wrote {csv_path} and {png_path}")
+    return 0
+
+
+# ------------------------------------------------------------------ train
+def cmd_train(args: argparse.Namespace) -> int:
+    from csql_sim.learners import count_q, train
+    from csql_sim.rulebase import save
+
+    began = time.perf_counter()
+    rb = train(args.method, args.trials, args.seed, args.blocks, args.params, progress=not args.no_progress)
+    wall = time.perf_counter() - began
+    path = save(args.out, rb)
+    r_count = sum(1 for c in rb.classifiers if c.kind == "R")
+    print(
+        f"{args.method}: {args.trials} trials, seed {args.seed}, {rb.meta['steps']} steps in {wall:.2f} s; "
+        f"{r_count} R- and {count_q(rb)} Q-classifiers written to {path}"
+    )
+    return 0
+
+
+# ------------------------------------------------------------------ show
+def cmd_show(args: argparse.Namespace) -> int:
+    from csql_sim.learners import figure6_table
+    from csql_sim.rulebase import load
+
+    rb = load(args.rules)
+    if (args.start is None) != (args.goal is None):
+        raise CsqlError("show needs both --start and --goal, or neither")
+    start = goal = None
+    if args.start is not None:
+        start, goal = read_task(args.start, args.goal, rb.blocks)
+    print(figure6_table(rb, start, goal))
+    return 0
+
+
+# ------------------------------------------------------------------ prune
+def cmd_prune(args: argparse.Namespace) -> int:
+    from csql_sim.learners import count_q, prune
+    from csql_sim.rulebase import load, save
+
+    rb = load(args.rules)
+    pruned = prune(rb, args.threshold)
+    path = save(args.out, pruned)
+    print(f"Q-classifiers: {count_q(rb)} before, {count_q(pruned)} after pruning at {args.threshold:g}; wrote {path}")
+    return 0
+
+
+# ------------------------------------------------------------------ bench
+def cmd_bench(args: argparse.Namespace) -> int:
+    from csql_sim.learners.bench import bench
+
+    r = bench(args.trials, args.seed, args.repeats)
+    print(f"{r.trials} trials, best of {args.repeats}, same tasks and uniforms for both learners")
+    print(f"  CS-QL (classifier system): {r.csql_steps} steps in {r.csql_seconds * 1000:.1f} ms, "
+          f"{r.csql_steps / r.csql_seconds:,.0f} steps/s")
+    print(f"  plain dict Q-learner:      {r.plain_steps} steps in {r.plain_seconds * 1000:.1f} ms, "
+          f"{r.plain_steps / r.plain_seconds:,.0f} steps/s")
+    print(f"  ratio CS-QL / plain steps per second: {r.ratio:.2f}x")
+    return 0
+
+
+def _threshold(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``experiment``, ``train``, ``show``, ``prune`` and ``bench`` to the subparsers."""
+    from csql_sim.learners import METHODS
+
+    p = sub.add_parser("experiment", help="Figure 7: test-task curves of the learners over cycles")
+    p.add_argument("--methods", type=_methods, default=list(METHODS), help=f"comma list (default {','.join(METHODS)})")
+    p.add_argument("--cycles", type=_positive, default=50, help="cycles per method (default 50)")
+    p.add_argument("--trials", type=_non_negative, default=2500, help="trials per cycle (default 2500)")
+    p.add_argument("--seed", type=_non_negative, default=0, help="root seed (default 0)")
+    p.add_argument("--workers", type=_positive, default=None, help="processes (default: all cores)")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
+    p.add_argument("--params", help="YAML parameter overrides (flat, or keyed by method)")
+    p.add_argument("--out", required=True, help="folder for figure7.csv and figure7.png")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_experiment)
+
+    p = sub.add_parser("train", help="train one agent and save its classifier list")
+    p.add_argument("--method", choices=METHODS, default="cs-ql", help="learner (default cs-ql)")
+    p.add_argument("--trials", type=_non_negative, default=2500, help="training trials (default 2500)")
+    p.add_argument("--seed", type=_non_negative, default=0, help="seed (default 0)")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
+    p.add_argument("--params", help="YAML parameter overrides")
+    p.add_argument("--out", required=True, help="rule file to write (YAML)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_train)
+
+    p = sub.add_parser("show", help="print Q-classifiers in Figure 6's table form")
+    p.add_argument("rules", help="a rule file from 'csql-sim train'")
+    p.add_argument("--start", help="with --goal: show just the greedy path's classifiers")
+    p.add_argument("--goal", help="goal configuration, e.g. BAC")
+    p.set_defaults(func=cmd_show)
+
+    p = sub.add_parser("prune", help="remove Q-classifiers below a strength threshold")
+    p.add_argument("rules", help="a rule file from 'csql-sim train'")
+    p.add_argument("--threshold", type=_threshold, default=0.1, help="strength threshold (default 0.1)")
+    p.add_argument("--out", required=True, help="rule file to write")
+    p.set_defaults(func=cmd_prune)
+
+    p = sub.add_parser("bench", help="time CS-QL against a plain dict-based Q-learner on the same trials")
+    p.add_argument("--trials", type=_non_negative, default=2500, help="training trials (default 2500)")
+    p.add_argument("--seed", type=_non_negative, default=0, help="seed (default 0)")
+    p.add_argument("--repeats", type=_positive, default=15, help="best of this many runs (default 15)")
+    p.set_defaults(func=cmd_bench)
+
+
+__all__ = ["register"]

@@ -1,0 +1,92 @@
+import csv
+
+import pytest
+
+from csql_sim.cli import main
+from csql_sim.rulebase import load
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def rule_files(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("rules")
+    rules, pruned = folder / "rules.yaml", folder / "pruned.yaml"
+    assert main(["train", "--out", str(rules), "--no-progress"]) == 0
+    assert main(["prune", str(rules), "--threshold", "0.1", "--out", str(pruned)]) == 0
+    return rules, pruned
+
+
+def test_train_prune_plan_all_optimal(rule_files, capsys):
+    rules, pruned = rule_files
+    assert sum(c.kind == "Q" for c in load(rules).classifiers) == 882
+    assert sum(c.kind == "Q" for c in load(pruned).classifiers) == 462
+    code, out, _ = run(capsys, "plan", "--rules", str(pruned), "--all")
+    assert code == 0 and "optimal: 462" in out
+
+
+def test_prune_prints_counts(rule_files, capsys, tmp_path):
+    rules, _ = rule_files
+    code, out, _ = run(capsys, "prune", str(rules), "--out", str(tmp_path / "p.yaml"))
+    assert code == 0 and "882 before, 462 after" in out
+
+
+def test_show_greedy_path_of_the_test_task(rule_files, capsys):
+    _, pruned = rule_files
+    code, out, _ = run(capsys, "show", str(pruned), "--start", "CBA", "--goal", "BAC")
+    lines = out.splitlines()
+    assert code == 0 and len(lines) == 9
+    assert lines[1].split()[:3] == ["Q", "S0100000bct0000C", "A10000001000ab00"]
+    assert lines[-1].split()[4] == "1.000000"
+
+
+def test_same_seed_same_file(rule_files, tmp_path):
+    rules, _ = rule_files
+    again = tmp_path / "again.yaml"
+    assert main(["train", "--out", str(again), "--no-progress"]) == 0
+    assert again.read_text() == rules.read_text()
+
+
+def test_experiment_writes_csv_and_png(tmp_path, capsys):
+    code, out, _ = run(capsys, "experiment", "--methods", "cs-ql,lt-ql", "--cycles", "2", "--trials", "100",
+                       "--workers", "1", "--out", str(tmp_path), "--no-progress")
+    assert code == 0 and "cs-ql" in out and "lt-ql" in out
+    rows = list(csv.DictReader((tmp_path / "figure7.csv").open()))
+    assert len(rows) == 2 * 3 and rows[0]["method"] == "cs-ql" and rows[-1]["trial"] == "100"
+    assert (tmp_path / "figure7.png").read_bytes()[:4] == b"\x89PNG"
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["show", "{missing}"], "no such rule file"),
+        (["prune", "{truncated}", "--out", "{out}"], "truncated or corrupt"),
+        (["show", "{foreign}"], "not a csql-sim rule base"),
+        (["train", "--params", "{bad_params}", "--out", "{out}"], "unknown parameter"),
+        (["show", "{rules}", "--start", "CBA"], "both --start and --goal"),
+        (["experiment", "--methods", "cs-ql,nope", "--out", "{out}"], "unknown method"),
+        (["train", "--trials", "-3", "--out", "{out}"], "non-negative"),
+    ],
+)
+def test_error_paths_one_line_exit_2(argv, fragment, rule_files, tmp_path, capsys):
+    rules, _ = rule_files
+    truncated = tmp_path / "t.yaml"
+    truncated.write_text(rules.read_text()[:300])
+    foreign = tmp_path / "f.yaml"
+    foreign.write_text("hello: world\n")
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("etta: 1\n")
+    names = {"missing": tmp_path / "none.yaml", "truncated": truncated, "foreign": foreign,
+             "bad_params": bad, "out": tmp_path / "o.yaml", "rules": rules}
+    args = [a.format(**{k: str(v) for k, v in names.items()}) for a in argv]
+    try:
+        code = main(args)
+    except SystemExit as exc:  # argparse usage errors
+        code = exc.code
+    _, err = capsys.readouterr()
+    assert code == 2
+    assert fragment in err and len(err.strip().splitlines()) == 1
