@@ -109,6 +109,14 @@ class Learner:
         """Sense and process ``state`` for ``goal``: the node holding its candidates."""
         raise NotImplementedError
 
+    def observe(self, message: str):
+        """The node of an observed state message (for acting on an environment)."""
+        raise NotImplementedError
+
+    def action_index(self, node, i: int) -> int:
+        """The world's action index of candidate ``i`` of ``node``."""
+        raise NotImplementedError
+
     def value(self, node, i: int) -> float:
         """Candidate ``i``'s value (Q-value or strength), averaged in the test task."""
         raise NotImplementedError

@@ -27,7 +27,7 @@ from csql_sim.classifiers import Classifier, ClassifierList, Q
 from csql_sim.learners.base import UNSEEN, Learner
 from csql_sim.learners.params import CommonParams, CSQLParams
 from csql_sim.learners.selection import boltzmann
-from csql_sim.messages import format_state_message, layout
+from csql_sim.messages import decode_code, format_state_message, layout
 from csql_sim.rulebase import RuleBase
 from csql_sim.rules import domain_knowledge
 
@@ -93,6 +93,14 @@ class ClassifierSystemLearner(Learner):
             message = format_state_message(self.world.states[state], goal)
             node = self._posted[(state, goal)] = self.process(message, goal)
         return node
+
+    def observe(self, message: str) -> Node:
+        """Process an observed state message (its goal code names the goal)."""
+        return self.process(message, decode_code(message[self._goal_at :]))
+
+    def action_index(self, node: Node, i: int) -> int:
+        """The world's action index of candidate ``i`` (its action code minus one)."""
+        return decode_code(node.qs[i].action[1 : 1 + self._width]) - 1
 
     def process(self, message: str, goal: int) -> Node:
         """The processing block for one state message: match, then cover (memoized)."""

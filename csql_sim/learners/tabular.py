@@ -13,7 +13,7 @@ from csql_sim.classifiers import Classifier, Q
 from csql_sim.learners.base import UNSEEN, Learner
 from csql_sim.learners.params import TabularParams
 from csql_sim.learners.selection import boltzmann
-from csql_sim.messages import format_action_message, format_state_message
+from csql_sim.messages import format_action_message, format_state_message, parse_state_message
 from csql_sim.rulebase import RuleBase
 
 
@@ -61,6 +61,15 @@ class TabularQ(Learner):
             row = Row(state, goal, self._actions, self.params.q0, self.t)
             self._rows[(state, goal)] = row
         return row
+
+    def observe(self, message: str) -> Row:
+        """The row of an observed state message."""
+        parsed = parse_state_message(message, self.n)
+        return self.node(self.world.state_index(parsed.state), parsed.goal)
+
+    def action_index(self, node: Row, i: int) -> int:
+        """Candidates are all actions: ``i`` itself."""
+        return i
 
     def value(self, node: Row, i: int) -> float:
         """Q-hat of action ``i``."""

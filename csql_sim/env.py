@@ -1,0 +1,152 @@
+"""The symbolic blocks world as a Gymnasium environment.
+
+* Observation: the state message (``S0111000ttt0000C``; the goal code is its last field).
+* Actions: ``Discrete(len(all_actions(n)))``; action ``i`` has the paper's code ``i + 1``.
+  ``info["action_mask"]`` (int8, 1 = legal) lists the legal ones. An illegal action
+  leaves the state unchanged (as LT-QL assumes) and sets ``info["illegal"]``.
+* Reward: 1 on reaching the goal (``terminated``), 0 otherwise; ``truncated`` after
+  ``max_steps``.
+* ``reset(seed=..., options={"start": ..., "goal": ...})``: start and goal as a
+  :class:`State`, a configuration (``"CBA"``), or a state index; either missing is drawn
+  from the environment's generator (distinct from the other).
+
+:func:`run_episode` lets any learner act on such an environment (the physical world
+offers the same interface): it senses the observation, selects with the learner's rule
+and updates from the *observed* next state.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from csql_sim.errors import CsqlError
+from csql_sim.messages import DIGITS, format_state_message, layout
+from csql_sim.world import BlocksWorld, State, parse_config
+
+
+class BlocksWorldEnv(gym.Env):
+    """Gymnasium environment of the n-block world with the paper's messages.
+
+    Args:
+        n: number of blocks.
+        max_steps: steps before ``truncated`` (None: never).
+        render_mode: ``"ansi"`` (the state's notation and message) or None.
+
+    """
+
+    metadata = {"render_modes": ["ansi"]}
+
+    def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None) -> None:
+        self.world = BlocksWorld.of(n)
+        self.n = n
+        self.max_steps = max_steps
+        if render_mode not in (None, "ansi"):
+            raise CsqlError(f"render_mode must be 'ansi' or None, got {render_mode!r}")
+        self.render_mode = render_mode
+        length = layout(n).length
+        charset = frozenset(DIGITS + DIGITS.lower() + "S#")
+        self.observation_space = gym.spaces.Text(min_length=length, max_length=length, charset=charset)
+        self.action_space = gym.spaces.Discrete(len(self.world.actions))
+        self._masks = [np.zeros(len(self.world.actions), dtype=np.int8) for _ in self.world.states]
+        for s, legal in enumerate(self.world.legal):
+            self._masks[s][list(legal)] = 1
+        self.state = 0
+        self.goal = 1
+        self.steps = 0
+
+    def _index(self, value: Any, name: str) -> int:
+        if isinstance(value, State):
+            return self.world.state_index(value)
+        if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+            if not 0 <= int(value) < len(self.world.states):
+                raise CsqlError(f"{name} index {value} out of range 0..{len(self.world.states) - 1}")
+            return int(value)
+        if isinstance(value, str):
+            return self.world.state_index(parse_config(value, self.n))
+        raise CsqlError(f"{name} must be a State, a configuration or an index, got {value!r}")
+
+    def _obs(self) -> str:
+        return format_state_message(self.world.states[self.state], self.goal)
+
+    def _info(self, illegal: bool = False) -> dict:
+        return {
+            "action_mask": self._masks[self.state].copy(),
+            "state": self.world.states[self.state],
+            "goal": self.world.states[self.goal],
+            "illegal": illegal,
+        }
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
+        """Start a task; ``options`` may give ``start`` and ``goal``."""
+        super().reset(seed=seed)
+        options = options or {}
+        count = len(self.world.states)
+        start = self._index(options["start"], "start") if options.get("start") is not None else None
+        goal = self._index(options["goal"], "goal") if options.get("goal") is not None else None
+        if goal is None:
+            goal = int(self.np_random.integers(count))
+            if start is not None and goal == start:
+                goal = (goal + 1 + int(self.np_random.integers(count - 1))) % count
+        if start is None:
+            start = int(self.np_random.integers(count - 1))
+            start += start >= goal
+        if start == goal:
+            raise CsqlError(f"start and goal are the same state {self.world.states[start].notation()}")
+        self.state, self.goal, self.steps = start, goal, 0
+        return self._obs(), self._info()
+
+    def step(self, action: int) -> tuple[str, float, bool, bool, dict]:
+        """Apply ``action`` (an index); an illegal one leaves the state unchanged."""
+        if not self.action_space.contains(action):
+            raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
+        nxt = self.world.next_state[self.state][int(action)]
+        illegal = nxt < 0
+        if not illegal:
+            self.state = nxt
+        self.steps += 1
+        terminated = self.state == self.goal
+        truncated = not terminated and self.max_steps is not None and self.steps >= self.max_steps
+        return self._obs(), 1.0 if terminated else 0.0, terminated, truncated, self._info(illegal)
+
+    def render(self) -> str | None:
+        """``ansi``: the state's notation and its message."""
+        if self.render_mode == "ansi":
+            return f"{self.world.states[self.state].notation()}  {self._obs()}"
+        return None
+
+
+def run_episode(
+    env: gym.Env,
+    learner,
+    temperature: float,
+    options: dict | None = None,
+    cap: int | None = None,
+) -> tuple[int, bool]:
+    """Let ``learner`` act on ``env`` for one episode, learning from observed transitions.
+
+    Each step: sense the observation (:meth:`observe`), select a candidate with the
+    learner's rule (one uniform from its stream, as in training), act, sense the next
+    observation, update. Returns (steps, reached).
+    """
+    obs, info = env.reset(options=options)
+    node = learner.observe(obs)
+    cap = learner.params.step_cap if cap is None else cap
+    learner.begin_trial()
+    for steps in range(1, cap + 1):
+        i = learner.select(node, temperature, learner.uniform())
+        action = learner.action_index(node, i)
+        if not info["action_mask"][action] and learner.method != "lt-ql":
+            raise CsqlError(f"{learner.method} proposed an illegal action {action} in {obs}")
+        obs, _reward, terminated, truncated, info = env.step(action)
+        nxt = None if terminated else learner.observe(obs)
+        learner.t += 1
+        learner.update(node, i, nxt, learner.t)
+        if terminated:
+            return steps, True
+        if truncated:
+            return steps, False
+        node = nxt
+    return cap, False
