@@ -32,7 +32,8 @@ class Classifier:
             R-classifiers an output pattern whose ``#`` copies the matched message.
         q: Q-value estimate, Q-hat(x, a) of eq. 1 (Q-classifiers).
         strength: 1 - |epsilon|, eq. 4 (for bucket-brigade learners, the bid strength).
-        age: how long the classifier has existed (in trials / 1000, as in Figure 6).
+        age: how long the classifier has existed, in units of 10,000 steps (Figure 6's ~3.2
+            after 2500 trials); see ``CommonParams.age_unit``.
         error: |epsilon| of eq. 2 at the classifier's last activation.
         last_active: the learner's step counter at the last activation; the paper's
             per-step growth of |epsilon| is applied lazily from it.

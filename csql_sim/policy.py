@@ -13,7 +13,7 @@ from csql_sim.classifiers import ClassifierList, Q
 from csql_sim.errors import CsqlError
 from csql_sim.messages import format_state_message, parse_action_message
 from csql_sim.planner import distance
-from csql_sim.world import Action, BlocksWorld, State, successor
+from csql_sim.world import Action, BlocksWorld, State, WorldError, successor
 
 
 class Policy(Protocol):
@@ -89,7 +89,10 @@ def rollout(policy: Policy, start: State, goal: State, max_steps: int | None = N
         except NoRuleError as exc:
             return Rollout(tuple(taken), False, str(exc))
         taken.append(action)
-        state = successor(state, action)
+        try:
+            state = successor(state, action)
+        except WorldError:
+            return Rollout(tuple(taken), False, f"illegal action {action.name()} in {state.notation()}")
         if state in seen and state != goal:
             return Rollout(tuple(taken), False, f"loop at {state.notation()}")
         seen.add(state)

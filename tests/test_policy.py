@@ -51,3 +51,14 @@ def test_loop_detected():
     ])
     r = rollout(QPolicy(cl, 3), parse_config("A,B,C"), parse_config("BAC"))
     assert not r.reached and "loop" in r.reason
+
+
+def test_illegal_greedy_action_is_a_failed_rollout():
+    # A look-up table can prefer an illegal action; the rollout reports it, not a crash.
+    g = BlocksWorld.of(3).state_index(parse_config("BAC"))
+    acts = all_actions(3)
+    cl = ClassifierList([
+        Classifier(Q, format_state_message(parse_config("CBA"), g), format_action_message(acts[12], 3), q=1),
+    ])
+    r = rollout(QPolicy(cl, 3), parse_config("CBA"), parse_config("BAC"))
+    assert not r.reached and "illegal action stack(A,B)" in r.reason

@@ -8,6 +8,7 @@ input, which :func:`main` prints as one line before exiting with status 2.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from csql_sim import __version__
@@ -46,6 +47,11 @@ def main(argv: list[str] | None = None) -> int:
     except CsqlError as exc:
         print(f"csql-sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # The reader (e.g. `| head`) closed the pipe: stop quietly, as Unix tools do.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
     except KeyboardInterrupt:
         print("csql-sim: interrupted", file=sys.stderr)
         return 130
