@@ -26,7 +26,7 @@ class Tolerances:
     stack_z: float = 0.010  # |z(x) - z(y) - size| allowed for on(x, y)
     stack_xy: float = 0.022  # horizontal offset allowed for on(x, y)
     table_z: float = 0.010  # |z(x) - size/2| allowed for on-table(x)
-    tilt: float = 0.25  # rad away from lying flat on a face
+    tilt: float = 0.1  # rad away from lying flat on a face
     hold_dist: float = 0.025  # cube centre to grasp point for holding(x)
     hold_width: float = 0.010  # finger opening beyond the cube size still counted as gripping
     off_table_z: float = -0.03  # a cube centre below this has fallen off the table

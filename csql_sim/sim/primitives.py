@@ -69,6 +69,53 @@ def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generato
     return spots[int(rng.integers(len(spots)))]
 
 
+@dataclass(frozen=True)
+class HandFootprint:
+    """Boxes swept by the open hand around the grasp point (in the closing-axis frame), m."""
+
+    hand_half_length: float = 0.11  # palm half extent along the closing axis
+    hand_half_width: float = 0.035  # palm half extent across it
+    hand_bottom: float = 0.035  # palm underside above the grasp point
+    finger_reach: float = 0.05  # open finger outer face from the grasp point, along the axis
+    finger_half_width: float = 0.012  # finger half extent across the axis
+    finger_tip: float = 0.012  # fingertips below the grasp point
+    margin: float = 0.004  # extra room around every box
+
+
+FOOTPRINT = HandFootprint()
+
+
+def _conflicts(obs: Observation, x: float, y: float, z: float, yaw: float, exclude: set[int],
+               fp: HandFootprint = FOOTPRINT) -> int:
+    """Cubes the open hand would hit at grasp point (x, y, z) with closing axis at ``yaw``."""
+    half = obs.size / 2
+    reach = half + fp.margin  # a cube's half size plus margin
+    axis = (-math.sin(yaw), math.cos(yaw))  # fingers close along the hand's y axis
+    hits = 0
+    for i, b in enumerate(obs.blocks):
+        if i in exclude:
+            continue
+        dx, dy = b.position[0] - x, b.position[1] - y
+        along = abs(dx * axis[0] + dy * axis[1])
+        across = abs(-dx * axis[1] + dy * axis[0])
+        top = b.position[2] + half
+        palm = top > z + fp.hand_bottom - fp.margin and along < fp.hand_half_length + reach \
+            and across < fp.hand_half_width + reach
+        finger = top > z - fp.finger_tip - fp.margin and along < fp.finger_reach + reach \
+            and across < fp.finger_half_width + reach
+        hits += palm or finger
+    return hits
+
+
+def choose_yaw(obs: Observation, x: float, y: float, z: float, cube_yaw: float, current: float,
+               exclude: set[int]) -> float:
+    """The gripper yaw aligned with the cube (four choices) that hits the fewest other cubes."""
+    base = current + wrap_quarter(cube_yaw - current)
+    options = [base, base + math.pi / 2, base - math.pi / 2]
+    options = [o for o in options if abs(o) <= 2.6]  # keep the wrist joint inside its range
+    return min(options, key=lambda o: (_conflicts(obs, x, y, z, o, exclude), abs(o - current)))
+
+
 class Pick:
     """Pick a cube up (pickup from the table and unstack from a cube move alike)."""
 
@@ -82,12 +129,12 @@ class Pick:
         cc = scene.config.control
         body = scene.block_body(self.block)
         target = obs.blocks[self.block]
-        yaw = panda.yaw + wrap_quarter(target.yaw - panda.yaw)
         x, y, z = target.position
+        goal_z = z + self.offsets.grasp_above_centre
+        yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block})
         high = carry_height(obs, None, self.offsets)
         panda.open()
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
-        goal_z = z + self.offsets.grasp_above_centre
         arrived = panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
                                 guard=lambda: bool(panda.touching() - {body}))
         if arrived == "guard" and panda.ee_position()[2] - goal_z > self.offsets.descend_stop_early:
@@ -126,23 +173,24 @@ class Place:
             spot = free_spot(obs, self.block, scene, rng)
             if spot is None:
                 return Status(False, "no free spot on the table", 0)
-            tx, ty, support_top, yaw = spot[0], spot[1], 0.0, panda.yaw
+            tx, ty, support_top, want = spot[0], spot[1], 0.0, held.yaw
         else:
             below = obs.blocks[self.onto]
             tx, ty = below.position[0], below.position[1]
             support_top = below.position[2] + size / 2
-            relative = wrap_quarter(held.yaw - panda.yaw)  # cube yaw in the gripper
-            yaw = panda.yaw + wrap_quarter(below.yaw - relative - panda.yaw)
+            want = below.yaw
+        relative = wrap_quarter(held.yaw - panda.yaw)  # cube yaw in the gripper
+        hang = gp[2] - held.position[2]  # grasp point above the cube centre
+        goal_z = support_top + size / 2 + self.offsets.place_gap + hang
+        yaw = choose_yaw(obs, tx, ty, goal_z, want - relative, panda.yaw, {self.block, self.onto})
         turn = yaw - panda.yaw
         c, s = math.cos(turn), math.sin(turn)
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
-        hang = gp[2] - held.position[2]  # grasp point above the cube centre
         x, y = tx - offset[0], ty - offset[1]
         high = carry_height(obs, self.block, self.offsets)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps, during=carry_hook)
         if not panda.grips(body):
             return Status(False, f"{BLOCK_NAMES[self.block]} dropped during the carry", scene.steps - start)
-        goal_z = support_top + size / 2 + self.offsets.place_gap + hang
         others = {scene.bodies["table"]} | {scene.block_body(i) for i in range(scene.n) if i != self.block}
         panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
                       guard=lambda: bool(scene.contact_bodies(body) & others))

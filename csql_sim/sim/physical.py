@@ -1,0 +1,110 @@
+"""One physical blocks world: scene, arm, perception and primitives behind a small API."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from csql_sim.errors import CsqlError
+from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERA, Camera, observe_camera
+from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, interpret, observe_poses, settled
+from csql_sim.sim.primitives import CarryHook, Pick, Status, primitive_for, settle
+from csql_sim.sim.robot import Panda
+from csql_sim.sim.scene import Pose, Scene
+from csql_sim.world import Action, State
+
+PERCEPTION_MODES = ("pose", "camera")
+
+
+class SimError(CsqlError):
+    """A physical world that cannot be built or a bad simulation option."""
+
+
+@dataclass
+class PhysicalWorld:
+    """A scene with its Panda, the seeded generator and a perception mode.
+
+    Args:
+        n: number of cubes.
+        seed: seeds the one generator used for putdown spots and perturbations.
+        perception: ``"pose"`` (body poses) or ``"camera"`` (segmentation + depth).
+        config: scene settings.
+    """
+
+    n: int
+    seed: int = 0
+    perception: str = "pose"
+    config: SimConfig = DEFAULT_CONFIG
+    camera: Camera = PERCEPTION_CAMERA
+    scene: Scene = field(init=False)
+    panda: Panda = field(init=False)
+    rng: np.random.Generator = field(init=False)
+
+    def __post_init__(self) -> None:
+        if self.perception not in PERCEPTION_MODES:
+            raise SimError(f"perception must be one of {', '.join(PERCEPTION_MODES)}, got {self.perception!r}")
+        self.scene = Scene(self.n, self.config)
+        self.panda = Panda(self.scene)
+        self.rng = np.random.default_rng(self.seed)
+
+    def close(self) -> None:
+        """Release the physics client."""
+        self.scene.close()
+
+    def __enter__(self) -> PhysicalWorld:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def build(self, state: State, jitter: bool = False) -> None:
+        """Build ``state``: place the towers, settle, and grasp a held block for real.
+
+        Raises:
+            SimError: if the world has another number of blocks or the grasp fails.
+        """
+        if state.n != self.n:
+            raise SimError(f"state {state.notation()} has {state.n} blocks, the scene {self.n}")
+        self.scene.place_towers(state, self.rng, jitter=jitter)
+        settle(self.scene, self.panda)
+        held = state.held
+        if held is not None:
+            status = Pick(held)(self.scene, self.panda, self.observe(), self.rng)
+            if not status.ok:
+                raise SimError(f"could not build {state.notation()}: {status.reason}")
+            settle(self.scene, self.panda)
+
+    def observe(self) -> Observation:
+        """An observation in the configured perception mode."""
+        if self.perception == "camera":
+            return observe_camera(self.scene, self.panda, self.camera)
+        return observe_poses(self.scene, self.panda)
+
+    def perceive(self) -> Perceived:
+        """Settle, observe and interpret the scene."""
+        self.settle()
+        tol = CAMERA_TOLERANCES if self.perception == "camera" else TOLERANCES
+        return interpret(self.observe(), tol)
+
+    def settle(self) -> int:
+        """Step until free cubes are at rest; returns the steps taken."""
+        return settle(self.scene, self.panda)
+
+    def is_settled(self) -> bool:
+        """Whether every free cube is at rest now."""
+        return settled(self.scene, self.panda)
+
+    def execute(self, action: Action, carry_hook: CarryHook | None = None) -> Status:
+        """Run the primitive of ``action`` on the current observation."""
+        return primitive_for(action)(self.scene, self.panda, self.observe(), self.rng, carry_hook)
+
+    def final_poses(self) -> tuple[Pose, ...]:
+        """Every cube's pose now."""
+        return tuple(self.scene.block_pose(i) for i in range(self.n))
+
+    def add_step_hook(self, hook: Callable[[Scene], None]) -> None:
+        """Call ``hook`` after every simulation step."""
+        self.scene.add_step_hook(hook)

@@ -1,0 +1,51 @@
+"""Recording poses during simulation, at frame times in simulated seconds."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.scene import Pose, Scene
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One recorded instant: cube poses, Panda joint positions and the caption."""
+
+    poses: tuple[Pose, ...]
+    joints: tuple[float, ...]
+    caption: str
+
+
+@dataclass
+class Recording:
+    """Frames of one episode at ``fps`` frames per simulated second."""
+
+    n: int
+    fps: int
+    config: SimConfig = DEFAULT_CONFIG
+    frames: list[Frame] = field(default_factory=list)
+
+
+class Recorder:
+    """A scene step hook that snapshots the scene every 1/fps simulated seconds."""
+
+    def __init__(self, scene: Scene, fps: int, caption: str = "") -> None:
+        self.scene = scene
+        self.recording = Recording(scene.n, fps, scene.config)
+        self.every = max(1, round(1.0 / (fps * scene.config.physics.time_step)))
+        self.caption = caption
+        self._capture()
+
+    def _capture(self) -> None:
+        poses, joints = self.scene.snapshot()
+        self.recording.frames.append(Frame(poses, joints, self.caption))
+
+    def __call__(self, scene: Scene) -> None:
+        if scene.steps % self.every == 0:
+            self._capture()
+
+    def finish(self) -> Recording:
+        """The recording with a final frame of the end state."""
+        self._capture()
+        return self.recording
