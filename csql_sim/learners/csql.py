@@ -186,8 +186,16 @@ class CSQL(ClassifierSystemLearner):
         return node.qs[i].q
 
     def select(self, node: Node, temperature: float, u: float) -> int:
-        """Step 5: Boltzmann selection over the candidates' Q-values (eq. 3)."""
-        return boltzmann([c.q for c in node.qs], temperature, u)
+        """Step 5: Boltzmann selection over the candidates' Q-values (eq. 3).
+
+        A lone candidate (6 of the 22 states for n=3 have one legal action) is chosen
+        without evaluating eq. 3; the uniform is consumed either way, so results are
+        identical.
+        """
+        qs = node.qs
+        if len(qs) == 1:
+            return 0
+        return boltzmann([c.q for c in qs], temperature, u)
 
     def update(self, node: Node, i: int, nxt: Node | None, t: int) -> None:
         """Step 6: eq. 2's epsilon, eq. 1's Q update; |epsilon| reset, last_active = t.
