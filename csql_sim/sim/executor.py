@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pybullet
 
+from csql_sim.errors import CsqlError
 from csql_sim.messages import action_code, format_state_message, parse_state_message
 from csql_sim.planner import BfsPolicy, distance
 from csql_sim.policy import Policy
@@ -191,7 +192,11 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
             if len(result.steps) >= cap:
                 result.reason = f"step cap of {cap} actions reached in {state.notation()}"
                 break
-            action = policy.act(state, goal)
+            try:
+                action = policy.act(state, goal)
+            except CsqlError as exc:
+                result.reason = f"policy failed: {exc}"
+                break
             if action is None or not is_legal(state, action):
                 name = "no action" if action is None else action.name()
                 result.reason = f"policy gave {name} in {state.notation()}"

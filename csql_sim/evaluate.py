@@ -1,0 +1,187 @@
+"""Sim-in-the-loop evaluation: many physical episodes in parallel, with a summary report."""
+
+from __future__ import annotations
+
+import json
+import os
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from csql_sim.errors import CsqlError
+from csql_sim.world import State, all_states, parse_config
+
+Task = tuple[str, str, int]  # start notation, goal notation, seed
+
+
+@dataclass(frozen=True)
+class EpisodeSummary:
+    """What one worker sends back about one episode."""
+
+    start: str
+    goal: str
+    seed: int
+    success: bool
+    optimal: bool
+    reason: str
+    length: int
+    optimal_length: int
+    sim_seconds_per_action: float
+    mismatches: int
+
+
+@dataclass
+class EvalReport:
+    """Aggregate of an evaluation run."""
+
+    episodes: int = 0
+    successes: int = 0
+    optimal: int = 0
+    mean_sim_seconds_per_action: float = 0.0
+    mismatches: int = 0
+    failures: list[dict] = field(default_factory=list)
+
+    @property
+    def success_rate(self) -> float:
+        """Successes over episodes (0 for no episodes)."""
+        return self.successes / self.episodes if self.episodes else 0.0
+
+    def to_dict(self) -> dict:
+        """The JSON document of ``--json``."""
+        return {
+            "episodes": self.episodes,
+            "successes": self.successes,
+            "success_rate": self.success_rate,
+            "optimal": self.optimal,
+            "mean_sim_seconds_per_action": self.mean_sim_seconds_per_action,
+            "failures": self.failures,
+        }
+
+    def text(self) -> str:
+        """A human-readable summary."""
+        lines = [
+            f"episodes: {self.episodes}",
+            f"success rate: {self.success_rate:.4f} ({self.successes}/{self.episodes})",
+            f"optimal-length plans among successes: {self.optimal}/{self.successes}",
+            f"mean simulated seconds per action: {self.mean_sim_seconds_per_action:.3f}",
+            f"perception vs world-model mismatches: {self.mismatches}",
+        ]
+        for f in self.failures:
+            lines.append(f"FAILED start={f['start']} goal={f['goal']} seed={f['seed']}: {f['reason']}")
+        return "\n".join(lines)
+
+
+def make_tasks(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: int = 0) -> list[Task]:
+    """Ordered (start, goal) pairs of distinct states, each with seeds 0..seeds-1.
+
+    Args:
+        n: number of blocks.
+        pairs: ``"all"`` or the size of a seeded random sample of pairs.
+        seeds: episodes per pair.
+        sample_seed: seeds the sample of pairs.
+    """
+    states = all_states(n)
+    every = [(s, g) for s in states for g in states if s != g]
+    if pairs != "all":
+        if not isinstance(pairs, int) or pairs < 1:
+            raise CsqlError(f"--pairs must be 'all' or a positive integer, got {pairs!r}")
+        if pairs < len(every):
+            pick = np.random.default_rng(sample_seed).choice(len(every), size=pairs, replace=False)
+            every = [every[i] for i in sorted(pick)]
+    if seeds < 1:
+        raise CsqlError(f"--seeds must be a positive integer, got {seeds}")
+    return [(s.notation(), g.notation(), k) for s, g in every for k in range(seeds)]
+
+
+_WORKER: dict[str, object] = {}  # per worker process: the policy and run options
+
+
+def _init_worker(rules: str | None, n: int, perturb: bool, perception: str) -> None:
+    from csql_sim.sim.policies import load_policy
+
+    _WORKER["policy"] = load_policy(rules, n)[0]
+    _WORKER["perturb"] = perturb
+    _WORKER["perception"] = perception
+
+
+def _run_task(task: Task) -> EpisodeSummary:
+    from csql_sim.sim.executor import run_episode
+
+    start, goal, seed = task
+    s: State = parse_config(start)
+    g: State = parse_config(goal)
+    try:
+        r = run_episode(s, g, _WORKER["policy"], seed=seed, perturb=bool(_WORKER["perturb"]),
+                        perception=str(_WORKER["perception"]))
+    except CsqlError as exc:
+        return EpisodeSummary(start, goal, seed, False, False, str(exc), 0, 0, 0.0, 0)
+    return EpisodeSummary(start, goal, seed, r.success, r.optimal, r.reason, r.length, r.optimal_length,
+                          r.sim_seconds_per_action, len(r.mismatches))
+
+
+def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool = False,
+             workers: int | None = None, rules: str | None = None, perception: str = "pose",
+             progress: bool = True) -> EvalReport:
+    """Run physical episodes for every task in parallel processes and summarise them.
+
+    Args:
+        n: number of blocks.
+        pairs: ``"all"`` or the size of a seeded sample of start/goal pairs.
+        seeds: episodes per pair (seeds 0..seeds-1).
+        perturb: jitter start scenes, nudge cubes, drop carried cubes.
+        workers: processes (default: every core).
+        rules: a rule-base file; the BFS planner when None.
+        perception: ``"pose"`` or ``"camera"``.
+        progress: show a tqdm bar on stderr.
+    """
+    from csql_sim.sim.policies import load_policy
+
+    load_policy(rules, n)  # fail fast on a bad file, before starting workers
+    tasks = make_tasks(n, pairs, seeds)
+    workers = workers or os.cpu_count() or 1
+    if workers < 1:
+        raise CsqlError(f"--workers must be positive, got {workers}")
+    init = (rules, n, perturb, perception)
+    bar = tqdm(total=len(tasks), desc="episodes", unit="ep", disable=not progress)
+    summaries: list[EpisodeSummary] = []
+    try:
+        if workers == 1:
+            _init_worker(*init)
+            for t in tasks:
+                summaries.append(_run_task(t))
+                bar.update()
+        else:
+            with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=init) as pool:
+                for summary in pool.map(_run_task, tasks, chunksize=max(1, len(tasks) // (workers * 16))):
+                    summaries.append(summary)
+                    bar.update()
+    finally:
+        bar.close()
+    return summarise(summaries)
+
+
+def summarise(summaries: list[EpisodeSummary]) -> EvalReport:
+    """Aggregate episode summaries into a report."""
+    report = EvalReport(episodes=len(summaries))
+    spa = [s.sim_seconds_per_action for s in summaries if s.length]
+    report.mean_sim_seconds_per_action = float(np.mean(spa)) if spa else 0.0
+    for s in summaries:
+        report.successes += s.success
+        report.optimal += s.optimal
+        report.mismatches += s.mismatches
+        if not s.success:
+            report.failures.append({"start": s.start, "goal": s.goal, "seed": s.seed, "reason": s.reason})
+    return report
+
+
+def write_json(report: EvalReport, path: str | os.PathLike) -> Path:
+    """Write the report's JSON atomically."""
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = out.with_name(f".{out.name}.partial")
+    tmp.write_text(json.dumps(report.to_dict(), indent=1) + "\n")
+    os.replace(tmp, out)
+    return out
