@@ -1,0 +1,23 @@
+import numpy as np
+
+from csql_sim.planner import BfsPolicy
+from csql_sim.sim.env import PhysicalBlocksEnv
+
+
+def test_same_interface_as_symbolic_env_and_reaches_goal():
+    env = PhysicalBlocksEnv(render_mode="rgb_array", width=64, height=48)
+    obs, info = env.reset(seed=0, options={"start": "A,B,C", "goal": "AB,C"})
+    assert obs.startswith("S0111000ttt0000") and env.observation_space.contains(obs)
+    assert info["action_mask"].dtype == np.int8
+    illegal = int(np.flatnonzero(info["action_mask"] == 0)[0])
+    obs2, reward, term, trunc, info2 = env.step(illegal)
+    assert obs2 == obs and info2["illegal"] and reward == 0.0
+    policy = BfsPolicy()
+    for _ in range(4):
+        action = policy.act(info["state"], info["goal"])
+        obs, reward, term, trunc, info = env.step(env.world.action_index(action))
+        if term or trunc:
+            break
+    assert term and reward == 1.0 and info["state"] == info["goal"]
+    assert env.render().shape == (48, 64, 3)
+    env.close()

@@ -1,0 +1,88 @@
+import numpy as np
+import pytest
+
+from csql_sim.planner import distance
+from csql_sim.sim.executor import Perturbation, predict, run_episode
+from csql_sim.world import all_states, legal_actions, parse_config, successor
+
+
+def test_test_task_reaches_goal_optimally(task):
+    start, goal = task
+    r = run_episode(start, goal, seed=0)
+    assert r.success, r.reason
+    assert r.length == distance(start, goal) == 8
+    assert r.optimal and not r.mismatches
+    assert r.steps[-1].perceived == goal.notation()
+    assert r.sim_seconds_per_action <= 1.0
+
+
+def test_seeded_sample_of_pairs():
+    states = all_states(3)
+    pairs = [(s, g) for s in states for g in states if s != g]
+    rng = np.random.default_rng(2024)
+    for k in rng.choice(len(pairs), size=10, replace=False):
+        start, goal = pairs[k]
+        r = run_episode(start, goal, seed=int(k))
+        assert r.success, (start.notation(), goal.notation(), r.reason)
+        assert r.length == distance(start, goal)
+
+
+def test_same_seed_same_final_poses():
+    start, goal = parse_config("A,BC"), parse_config("CAB")
+    a = run_episode(start, goal, seed=7, perturb=True)
+    b = run_episode(start, goal, seed=7, perturb=True)
+    assert a.final_poses == b.final_poses
+    assert a.success and b.success
+
+
+def test_dropped_block_is_a_logged_mismatch_and_recovered():
+    start, goal = parse_config("A,B,C"), parse_config("AB,C")
+    forced = Perturbation(nudge_probability=0.0, drop_probability=1.0)
+    r = run_episode(start, goal, seed=0, perturb=True, perturbation=forced)
+    assert any("gripper opened" in e for e in r.events)
+    assert r.mismatches, "the drop must show up as a mismatch with the world model"
+    assert r.success, r.reason
+    assert r.length > distance(start, goal)
+
+
+def test_nudge_is_physical_and_recovered():
+    start, goal = parse_config("A,B,C"), parse_config("CBA")
+    forced = Perturbation(nudge_probability=1.0, drop_probability=0.0)
+    r = run_episode(start, goal, seed=0, perturb=True, perturbation=forced)
+    assert any(e.startswith("nudged") for e in r.events)
+    assert r.success, r.reason
+
+
+def test_camera_perception_episode(task):
+    r = run_episode(*task, seed=0, perception="camera")
+    assert r.success, r.reason
+    assert r.length == 8
+
+
+def test_world_model_prediction_matches_successor():
+    pairs = 0
+    for state in all_states(3):
+        for action in legal_actions(state):
+            assert predict(state, action, 0) == successor(state, action)
+            pairs += 1
+    assert pairs == 42
+
+
+class _Stuck:
+    name = "stuck"
+
+    def act(self, state, goal):
+        return None
+
+
+def test_policy_without_action_fails_with_reason(task):
+    r = run_episode(*task, policy=_Stuck(), seed=0)
+    assert not r.success and "policy gave no action" in r.reason
+
+
+@pytest.mark.parametrize("held", ["AB+C", "B,C+A"])
+def test_start_with_held_block(held):
+    start = parse_config(held)
+    goal = parse_config("A,B,C")
+    r = run_episode(start, goal, seed=0)
+    assert r.success, r.reason
