@@ -53,6 +53,7 @@ class ControlConfig:
     check_every: int = 4  # steps between guard / arrival checks
     move_speed: float = 0.9  # mean grasp-point speed of free moves, m/s
     descend_speed: float = 0.45  # mean grasp-point speed of descents and lifts, m/s
+    waypoint_spacing: float = 0.04  # m between IK waypoints of a straight move
     move_steps: int = 150  # step cap of one free move
     descend_steps: int = 100  # step cap of one guarded descent
     grip_steps: int = 30  # step cap of closing or opening the fingers

@@ -103,18 +103,22 @@ class Panda:
         dt = self.scene.config.physics.time_step
         target = np.asarray(position, dtype=float)
         self.yaw = yaw
-        q0 = self.joints()
-        q1 = np.array(self.ik(position, yaw))
-        dist = float(np.linalg.norm(target - self.ee_position()))
-        joint_dist = float(np.max(np.abs(q1 - q0)))
+        start = self.ee_position()
+        dist = float(np.linalg.norm(target - start))
+        # joint-space waypoints on the straight line, so the path does not sag between them
+        count = max(1, math.ceil(dist / cc.waypoint_spacing))
+        qs = [self.joints()] + [np.array(self.ik(tuple(start + (target - start) * k / count), yaw))
+                                for k in range(1, count + 1)]
+        joint_dist = float(sum(np.max(np.abs(b - a)) for a, b in zip(qs, qs[1:], strict=False)))
         every = cc.check_every
         duration = max(dist / speed, joint_dist / cc.arm_max_velocity, every * dt)
         total = min(every * math.ceil(duration / dt / every), max_steps)
         done = 0
         while done < total:
             frac = min(1.0, (done + every) / total)
-            s = 0.5 - 0.5 * math.cos(math.pi * frac)
-            self.command_arm(list(q0 + s * (q1 - q0)))
+            s = (0.5 - 0.5 * math.cos(math.pi * frac)) * count
+            k = min(int(s), count - 1)
+            self.command_arm(list(qs[k] + (s - k) * (qs[k + 1] - qs[k])))
             self.scene.step(every)
             done += every
             if during is not None:
