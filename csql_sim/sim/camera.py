@@ -34,6 +34,12 @@ class Camera:
 
 
 PERCEPTION_CAMERA = Camera()
+PERCEPTION_CAMERAS = (
+    PERCEPTION_CAMERA,  # in front of the table, facing the robot
+    Camera(eye=(0.55, 0.85, 0.6), target=(0.5, 0.0, 0.05)),  # from the left
+    Camera(eye=(0.55, -0.85, 0.6), target=(0.5, 0.0, 0.05)),  # from the right
+)
+"""Three views; each cube is located in the view that sees most of it."""
 RENDER_CAMERA = Camera(eye=(1.0, 0.5, 0.55), target=(0.47, 0.0, 0.08), fov=45.0, width=640, height=480)
 CAMERA_TOLERANCES = Tolerances(stack_z=0.012, stack_xy=0.025, table_z=0.012, hold_dist=0.03)
 """Camera estimates are coarser than poses: slightly wider tolerances."""
@@ -64,27 +70,33 @@ def unproject(camera: Camera, depth: np.ndarray, rows: np.ndarray, cols: np.ndar
     return (pts[:3] / pts[3]).T
 
 
-def observe_camera(scene: Scene, panda: Panda, camera: Camera = PERCEPTION_CAMERA) -> Observation:
+def observe_camera(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] = PERCEPTION_CAMERAS) -> Observation:
     """Camera-mode observation: cube centres estimated from segmentation and depth.
 
-    For each cube, the visible surface points are back-projected; the top is the highest
-    visible point, the centre lies half a cube below it, and horizontally at the points'
-    centroid pushed a quarter cube away from the camera (the visible faces face it).
-    The gripper's grasp point and opening come from proprioception.
+    Every camera renders a segmentation mask and a depth image; each cube is located in
+    the view that shows most of its pixels. There its visible surface points are
+    back-projected: the top is the highest visible point, the centre lies half a cube
+    below it, and horizontally at the points' centroid pushed a quarter cube away from
+    the camera (the visible faces face it). The gripper's grasp point and opening come
+    from proprioception.
     """
     size = scene.config.physics.cube_size
-    _, depth, seg = capture(scene, camera, camera.width, camera.height, segmentation=True)
-    eye = np.asarray(camera.eye)
+    views = []
+    for camera in cameras:
+        _, depth, seg = capture(scene, camera, camera.width, camera.height, segmentation=True)
+        views.append((camera, depth, seg))
     blocks = []
     for i in range(scene.n):
-        rows, cols = np.nonzero(seg == scene.block_body(i))
-        if len(rows) == 0:
+        body = scene.block_body(i)
+        camera, depth, seg = max(views, key=lambda v: int(np.count_nonzero(v[2] == body)))
+        rows, cols = np.nonzero(seg == body)
+        if len(rows) < 4:
             blocks.append(BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False))
             continue
         pts = unproject(camera, depth, rows, cols)
         top = float(np.percentile(pts[:, 2], 98))
         centroid = pts[:, :2].mean(axis=0)
-        away = centroid - eye[:2]
+        away = centroid - np.asarray(camera.eye[:2])
         away /= max(float(np.linalg.norm(away)), 1e-9)
         xy = centroid + away * size / 4
         blocks.append(BlockObs((float(xy[0]), float(xy[1]), top - size / 2), None, 0.0))

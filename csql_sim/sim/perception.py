@@ -29,6 +29,7 @@ class Tolerances:
     tilt: float = 0.1  # rad away from lying flat on a face
     hold_dist: float = 0.025  # cube centre to grasp point for holding(x)
     hold_width: float = 0.010  # finger opening beyond the cube size still counted as gripping
+    hold_search: float = 0.08  # a partly hidden cube this near closed fingers is the held one
     off_table_z: float = -0.03  # a cube centre below this has fallen off the table
     settle_linear: float = 0.01  # m/s: a slower cube counts as settled
     settle_angular: float = 0.15  # rad/s
@@ -131,30 +132,54 @@ def clear(obs: Observation, x: int, tol: Tolerances = TOLERANCES) -> bool:
     return not holding(obs, x, tol) and not any(on(obs, y, x, tol) for y in range(n) if y != x)
 
 
+def gripper_closed_on_cube(obs: Observation, tol: Tolerances = TOLERANCES) -> bool:
+    """The fingers stopped at a cube's width: something cube-sized is between them."""
+    return obs.size - tol.hold_width < obs.finger_width < obs.size + tol.hold_width
+
+
+def _resting_support(obs: Observation, x: int, tol: Tolerances) -> int | None:
+    """TABLE or the cube x rests on, or None."""
+    if on_table(obs, x, tol):
+        return TABLE
+    below = [y for y in range(len(obs.blocks)) if y != x and on(obs, x, y, tol)]
+    return below[0] if len(below) == 1 else None
+
+
 def interpret(obs: Observation, tol: Tolerances = TOLERANCES) -> Perceived:
-    """The symbolic state of an observation, or why there is none."""
+    """The symbolic state of an observation, or why there is none.
+
+    A cube near the grasp point between closed fingers is held. A cube that rests
+    nowhere and that the camera cannot place (hidden by the hand, or seen only in
+    part) is held when the fingers are closed on a cube and it is the only such cube.
+    """
     n = len(obs.blocks)
-    support: list[int] = []
+    support: list[int | None] = [None] * n
     for x in range(n):
-        pos = obs.blocks[x].position
-        if pos[2] < tol.off_table_z:
-            return Perceived(None, f"block {BLOCK_NAMES[x]} fell off the table")
         if holding(obs, x, tol):
-            support.append(HAND)
-        elif on_table(obs, x, tol):
-            support.append(TABLE)
-        else:
-            below = [y for y in range(n) if y != x and on(obs, x, y, tol)]
-            if len(below) != 1:
-                where = ", ".join(f"{v:.3f}" for v in pos)
-                return Perceived(None, f"block {BLOCK_NAMES[x]} is not resting flat anywhere (at {where})")
-            support.append(below[0])
+            support[x] = HAND
+        elif obs.blocks[x].visible:
+            if obs.blocks[x].position[2] < tol.off_table_z:
+                return Perceived(None, f"block {BLOCK_NAMES[x]} fell off the table")
+            support[x] = _resting_support(obs, x, tol)
+    unplaced = [x for x in range(n) if support[x] is None]
+    if len(unplaced) == 1 and HAND not in support and gripper_closed_on_cube(obs, tol):
+        b = obs.blocks[unplaced[0]]
+        near = not b.visible or float(np.linalg.norm(np.subtract(b.position, obs.grasp_point))) < tol.hold_search
+        if near:
+            support[unplaced[0]] = HAND
+            unplaced = []
+    if unplaced:
+        x = unplaced[0]
+        if not obs.blocks[x].visible:
+            return Perceived(None, f"block {BLOCK_NAMES[x]} is out of sight")
+        where = ", ".join(f"{v:.3f}" for v in obs.blocks[x].position)
+        return Perceived(None, f"block {BLOCK_NAMES[x]} is not resting flat anywhere (at {where})")
     try:
-        state = State(tuple(support))
+        state = State(tuple(int(s) for s in support if s is not None))
     except WorldError as exc:
         return Perceived(None, f"impossible scene: {exc}")
     for x in range(n):
-        if state.is_clear(x) != clear(obs, x, tol):
+        if state.support[x] != HAND and state.is_clear(x) != clear(obs, x, tol):
             return Perceived(None, f"clear({BLOCK_NAMES[x]}) disagrees with on")
     return Perceived(state)
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from csql_sim.errors import CsqlError
-from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERA, Camera, observe_camera
+from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERAS, Camera, observe_camera
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, interpret, observe_poses, settled
 from csql_sim.sim.primitives import CarryHook, Pick, Status, primitive_for, settle
@@ -38,7 +38,7 @@ class PhysicalWorld:
     seed: int = 0
     perception: str = "pose"
     config: SimConfig = DEFAULT_CONFIG
-    camera: Camera = PERCEPTION_CAMERA
+    cameras: tuple[Camera, ...] = PERCEPTION_CAMERAS
     scene: Scene = field(init=False)
     panda: Panda = field(init=False)
     rng: np.random.Generator = field(init=False)
@@ -80,7 +80,7 @@ class PhysicalWorld:
     def observe(self) -> Observation:
         """An observation in the configured perception mode."""
         if self.perception == "camera":
-            return observe_camera(self.scene, self.panda, self.camera)
+            return observe_camera(self.scene, self.panda, self.cameras)
         return observe_poses(self.scene, self.panda)
 
     def perceive(self) -> Perceived:
