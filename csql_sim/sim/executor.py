@@ -9,6 +9,7 @@ goal and the scene has settled; it is never inferred from the plan.
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -83,6 +84,8 @@ class EpisodeResult:
     sim_seconds: float = 0.0
     final_poses: tuple[Pose, ...] = ()
     recording: Recording | None = None
+    loop_steps: int = 0
+    wall_seconds: dict[str, float] = field(default_factory=dict)  # "setup" and "loop", for benchmarks only
 
     @property
     def length(self) -> int:
@@ -163,9 +166,11 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
     optimal = distance(start, goal)
     cap = default_max_actions(start, goal) if max_actions is None else max_actions
     result = EpisodeResult(start.notation(), goal.notation(), seed, False, "", optimal)
+    t_setup = time.perf_counter()
     with PhysicalWorld(start.n, seed, perception, config) as world:
         rng = world.rng
         world.build(start, jitter=perturb and perturbation.jitter_start)
+        t_loop = time.perf_counter()
         nudge_at = drop_at = -1
         if perturb:
             if rng.random() < perturbation.nudge_probability:
@@ -215,7 +220,9 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
             seen = perceived.state.notation() if perceived.state is not None else perceived.reason
             result.steps.append(StepRecord(action.name(), message, status, predicted.notation(), seen,
                                            (world.scene.steps - t0) * config.physics.time_step))
-        result.sim_seconds = (world.scene.steps - begin) * config.physics.time_step
+        result.loop_steps = world.scene.steps - begin
+        result.wall_seconds = {"setup": t_loop - t_setup, "loop": time.perf_counter() - t_loop}
+        result.sim_seconds = result.loop_steps * config.physics.time_step
         result.final_poses = world.final_poses()
         if recorder is not None:
             result.recording = recorder.finish()

@@ -122,7 +122,7 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
     try:
         if out.suffix.lower() == ".mp4":
             writer = imageio.get_writer(tmp, fps=fps, codec="libx264", quality=7, macro_block_size=1,
-                                        format="FFMPEG", ffmpeg_params=["-preset", "veryfast"])
+                                        format="FFMPEG", ffmpeg_params=["-preset", "ultrafast"])
         else:
             writer = imageio.get_writer(tmp, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
         last = None
