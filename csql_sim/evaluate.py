@@ -31,6 +31,7 @@ class EpisodeSummary:
     optimal_length: int
     sim_seconds_per_action: float
     mismatches: int
+    events: int = 0
 
 
 @dataclass
@@ -42,6 +43,7 @@ class EvalReport:
     optimal: int = 0
     mean_sim_seconds_per_action: float = 0.0
     mismatches: int = 0
+    perturbations: int = 0
     failures: list[dict] = field(default_factory=list)
 
     @property
@@ -67,7 +69,8 @@ class EvalReport:
             f"success rate: {self.success_rate:.4f} ({self.successes}/{self.episodes})",
             f"optimal-length plans among successes: {self.optimal}/{self.successes}",
             f"mean simulated seconds per action: {self.mean_sim_seconds_per_action:.3f}",
-            f"perception vs world-model mismatches: {self.mismatches}",
+            f"perturbation events (nudges, drops): {self.perturbations}",
+            f"perception vs world-model mismatches (logged, recovered from): {self.mismatches}",
         ]
         for f in self.failures:
             lines.append(f"FAILED start={f['start']} goal={f['goal']} seed={f['seed']}: {f['reason']}")
@@ -80,20 +83,21 @@ def make_tasks(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: in
     Args:
         n: number of blocks.
         pairs: ``"all"`` or the size of a seeded random sample of pairs.
-        seeds: episodes per pair.
+        seeds: episodes per pair; episode k of pair i has seed ``i * seeds + k``.
         sample_seed: seeds the sample of pairs.
     """
     states = all_states(n)
     every = [(s, g) for s in states for g in states if s != g]
+    chosen = list(range(len(every)))
     if pairs != "all":
         if not isinstance(pairs, int) or pairs < 1:
             raise CsqlError(f"--pairs must be 'all' or a positive integer, got {pairs!r}")
         if pairs < len(every):
-            pick = np.random.default_rng(sample_seed).choice(len(every), size=pairs, replace=False)
-            every = [every[i] for i in sorted(pick)]
+            chosen = sorted(int(i) for i in np.random.default_rng(sample_seed).choice(len(every), pairs, replace=False))
     if seeds < 1:
         raise CsqlError(f"--seeds must be a positive integer, got {seeds}")
-    return [(s.notation(), g.notation(), k) for s, g in every for k in range(seeds)]
+    # every episode gets its own seed (pair index x seeds + k), so perturbations differ across pairs
+    return [(every[i][0].notation(), every[i][1].notation(), i * seeds + k) for i in chosen for k in range(seeds)]
 
 
 _WORKER: dict[str, object] = {}  # per worker process: the policy and run options
@@ -119,7 +123,8 @@ def _run_task(task: Task) -> EpisodeSummary:
     except CsqlError as exc:
         return EpisodeSummary(start, goal, seed, False, False, str(exc), 0, 0, 0.0, 0)
     return EpisodeSummary(start, goal, seed, r.success, r.optimal, r.reason, r.length, r.optimal_length,
-                          r.sim_seconds_per_action, len(r.mismatches))
+                          r.sim_seconds_per_action, len(r.mismatches),
+                          sum(1 for e in r.events if "skipped" not in e))
 
 
 def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool = False,
@@ -130,7 +135,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
     Args:
         n: number of blocks.
         pairs: ``"all"`` or the size of a seeded sample of start/goal pairs.
-        seeds: episodes per pair (seeds 0..seeds-1).
+        seeds: episodes per pair (each episode has its own seed, reported with failures).
         perturb: jitter start scenes, nudge cubes, drop carried cubes.
         workers: processes (default: every core).
         rules: a rule-base file; the BFS planner when None.
@@ -172,6 +177,7 @@ def summarise(summaries: list[EpisodeSummary]) -> EvalReport:
         report.successes += s.success
         report.optimal += s.optimal
         report.mismatches += s.mismatches
+        report.perturbations += s.events
         if not s.success:
             report.failures.append({"start": s.start, "goal": s.goal, "seed": s.seed, "reason": s.reason})
     return report

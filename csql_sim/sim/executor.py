@@ -24,7 +24,7 @@ from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.primitives import Status
 from csql_sim.sim.recording import Recorder, Recording
 from csql_sim.sim.scene import Pose
-from csql_sim.world import TABLE, Action, BlocksWorld, State, WorldError, is_legal, successor
+from csql_sim.world import Action, BlocksWorld, State, WorldError, is_legal, successor
 
 
 @dataclass(frozen=True)
@@ -37,7 +37,7 @@ class Perturbation:
     nudge_steps: int = 10  # steps the force acts
     drop_probability: float = 0.5  # chance of opening the gripper during one carry
     drop_window: tuple[float, float] = (0.05, 0.2)  # fractions of the carry (arm still slow) to open in
-    drop_clearance: float = 0.09  # m: open only where the cube falls clear of other cubes
+    drop_clearance: float = 0.12  # m: open only where the cube falls clear of other cubes
 
 
 PERTURBATION = Perturbation()
@@ -208,14 +208,14 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
                 break
             predicted = predict(state, action, goal_index)
             k = len(result.steps)
-            if k == nudge_at:
-                result.events.append(_nudge(world, state, rng, perturbation))
             hook = _drop_hook(world, action, perturbation, result.events) if k == drop_at else None
             if recorder is not None:
                 code = action_code(action, start.n)
                 recorder.caption = f"{action.name()}  {format_state_message(state, goal_index, int(code, 36))}"
             t0 = world.scene.steps
             status = world.execute(action, hook)
+            if k == nudge_at:
+                result.events.append(_nudge(world, rng, perturbation))
             perceived = world.perceive()
             seen = perceived.state.notation() if perceived.state is not None else perceived.reason
             result.steps.append(StepRecord(action.name(), message, status, predicted.notation(), seen,
@@ -229,11 +229,17 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
     return result
 
 
-def _nudge(world: PhysicalWorld, state: State, rng: np.random.Generator, pert: Perturbation) -> str:
-    """Push a lone cube on the table sideways with an external force (physics, not a reset)."""
-    lone = [i for i in range(state.n) if state.support[i] == TABLE and state.is_clear(i)]
+def _nudge(world: PhysicalWorld, rng: np.random.Generator, pert: Perturbation) -> str:
+    """Push a clear cube sideways with an external force (physics, not a reset).
+
+    A lone cube slides; a cube on top of a tower may be pushed off it onto the table.
+    """
+    state = world.perceive().state
+    if state is None:
+        return "nudge skipped: nothing perceived"
+    lone = [i for i in range(state.n) if state.is_clear(i)]
     if not lone:
-        return "nudge skipped: no lone cube on the table"
+        return "nudge skipped: no clear cube"
     block = lone[int(rng.integers(len(lone)))]
     scene = world.scene
     pos = np.asarray(scene.block_pose(block).position)

@@ -24,7 +24,7 @@ from csql_sim.world import BLOCK_NAMES, Action, ActionKind
 class ApproachOffsets:
     """Named offsets of the approach, in metres."""
 
-    carry_clearance: float = 0.035  # held cube bottom / fingertips above the highest cube
+    carry_clearance: float = 0.05  # held cube bottom / fingertips above the highest cube
     grasp_above_centre: float = 0.002  # grasp point above the cube centre (fingertips clear the cube below)
     place_gap: float = 0.004  # held cube bottom above its support when released
     descend_stop_early: float = 0.012  # a guard stop further than this from target is a failure
