@@ -29,26 +29,25 @@ def pairs_arg(text: str) -> str | int:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from csql_sim.sim.executor import run_episode
-    from csql_sim.sim.policies import load_policy
-    from csql_sim.sim.render import check_video_options, write_video
+    from csql_sim.sim import load_policy, render_episode
 
     if not args.start or not args.goal:
         raise CsqlError("render needs --start and --goal")
-    check_video_options(args.out, args.width, args.height, args.fps)
     start, goal = read_task(args.start, args.goal, None)
     policy, _ = load_policy(args.rules, start.n)
-    result = run_episode(start, goal, policy, seed=args.seed, record=True, perturb=args.perturb,
-                         perception=args.perception, fps=args.fps)
-    assert result.recording is not None
-    path = write_video(result.recording, args.out, args.width, args.height, args.fps, args.workers)
+    result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
+                                  height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
+                                  perception=args.perception)
     verdict = "reached the goal" if result.success else f"FAILED: {result.reason}"
     print(f"{start.notation()} -> {goal.notation()}: {verdict} in {result.length} actions "
           f"(optimal {result.optimal_length}), {result.sim_seconds:.2f} s simulated")
     for step in result.steps:
         flag = "" if not step.mismatch else f"   mismatch: predicted {step.predicted}, perceived {step.perceived}"
         print(f"  {step.message}  {step.action:<14} {step.sim_seconds:.2f} s{flag}")
-    print(f"wrote {path} ({len(result.recording.frames)} frames at {args.fps} fps, {args.width}x{args.height})")
+    for event in result.events:
+        print(f"  perturbation: {event}")
+    frames = len(result.recording.frames) if result.recording else 0
+    print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height})")
     return 0 if result.success else 1
 
 
