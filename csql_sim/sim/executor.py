@@ -36,7 +36,7 @@ class Perturbation:
     nudge_force: float = 3.0  # N, horizontal, at the cube's centre
     nudge_steps: int = 10  # steps the force acts
     drop_probability: float = 0.5  # chance of opening the gripper during one carry
-    drop_window: tuple[float, float] = (0.05, 0.2)  # fractions of the carry (arm still slow) to open in
+    drop_window: tuple[float, float] = (0.02, 0.1)  # fractions of the carry (arm still slow) to open in
     drop_clearance: float = 0.12  # m: open only where the cube falls clear of other cubes
 
 

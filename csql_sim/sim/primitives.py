@@ -26,6 +26,7 @@ class ApproachOffsets:
 
     carry_clearance: float = 0.05  # held cube bottom / fingertips above the highest cube
     grasp_above_centre: float = 0.002  # grasp point above the cube centre (fingertips clear the cube below)
+    grasp_opening_margin: float = 0.025  # fingers open this much wider than a cube before a grasp
     place_gap: float = 0.004  # held cube bottom above its support when released
     descend_stop_early: float = 0.012  # a guard stop further than this from target is a failure
     spot_jitter: float = 0.0  # reserved: no jitter of putdown spots
@@ -76,7 +77,7 @@ class HandFootprint:
     hand_half_length: float = 0.11  # palm half extent along the closing axis
     hand_half_width: float = 0.035  # palm half extent across it
     hand_bottom: float = 0.035  # palm underside above the grasp point
-    finger_reach: float = 0.05  # open finger outer face from the grasp point, along the axis
+    finger_thickness: float = 0.032  # finger outer face beyond its inner face (with collision margin)
     finger_half_width: float = 0.012  # finger half extent across the axis
     finger_tip: float = 0.012  # fingertips below the grasp point
     margin: float = 0.004  # extra room around every box
@@ -85,7 +86,7 @@ class HandFootprint:
 FOOTPRINT = HandFootprint()
 
 
-def _conflicts(obs: Observation, x: float, y: float, z: float, yaw: float, exclude: set[int],
+def _conflicts(obs: Observation, x: float, y: float, z: float, yaw: float, exclude: set[int], opening: float,
                fp: HandFootprint = FOOTPRINT) -> int:
     """Cubes the open hand would hit at grasp point (x, y, z) with closing axis at ``yaw``."""
     half = obs.size / 2
@@ -101,19 +102,19 @@ def _conflicts(obs: Observation, x: float, y: float, z: float, yaw: float, exclu
         top = b.position[2] + half
         palm = top > z + fp.hand_bottom - fp.margin and along < fp.hand_half_length + reach \
             and across < fp.hand_half_width + reach
-        finger = top > z - fp.finger_tip - fp.margin and along < fp.finger_reach + reach \
+        finger = top > z - fp.finger_tip - fp.margin and along < opening / 2 + fp.finger_thickness + reach \
             and across < fp.finger_half_width + reach
         hits += palm or finger
     return hits
 
 
 def choose_yaw(obs: Observation, x: float, y: float, z: float, cube_yaw: float, current: float,
-               exclude: set[int]) -> float:
+               exclude: set[int], opening: float) -> float:
     """The gripper yaw aligned with the cube (four choices) that hits the fewest other cubes."""
     base = current + wrap_quarter(cube_yaw - current)
     options = [base, base + math.pi / 2, base - math.pi / 2]
     options = [o for o in options if abs(o) <= 2.6]  # keep the wrist joint inside its range
-    return min(options, key=lambda o: (_conflicts(obs, x, y, z, o, exclude), abs(o - current)))
+    return min(options, key=lambda o: (_conflicts(obs, x, y, z, o, exclude, opening), abs(o - current)))
 
 
 class Pick:
@@ -131,9 +132,10 @@ class Pick:
         target = obs.blocks[self.block]
         x, y, z = target.position
         goal_z = z + self.offsets.grasp_above_centre
-        yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block})
+        opening = obs.size + self.offsets.grasp_opening_margin
+        yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block}, opening)
         high = carry_height(obs, None, self.offsets)
-        panda.open()
+        panda.open(opening)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
         arrived = panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
                                 guard=lambda: bool(panda.touching() - {body}))
@@ -182,7 +184,7 @@ class Place:
         relative = wrap_quarter(held.yaw - panda.yaw)  # cube yaw in the gripper
         hang = gp[2] - held.position[2]  # grasp point above the cube centre
         goal_z = support_top + size / 2 + self.offsets.place_gap + hang
-        yaw = choose_yaw(obs, tx, ty, goal_z, want - relative, panda.yaw, {self.block, self.onto})
+        yaw = choose_yaw(obs, tx, ty, goal_z, want - relative, panda.yaw, {self.block, self.onto}, size)
         turn = yaw - panda.yaw
         c, s = math.cos(turn), math.sin(turn)
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])

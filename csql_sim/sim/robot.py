@@ -169,11 +169,12 @@ class Panda:
             last = width
         return body is not None and self.grips(body)
 
-    def open(self) -> None:
-        """Open the fingers fully."""
-        self.set_fingers(2 * self.cc.finger_open)
+    def open(self, width: float | None = None) -> None:
+        """Open the fingers to ``width`` (default: fully)."""
+        width = 2 * self.cc.finger_open if width is None else min(width, 2 * self.cc.finger_open)
+        self.set_fingers(width)
         every = self.cc.check_every
         for _ in range(0, self.cc.grip_steps, every):
-            self.scene.step(every)
-            if self.finger_width() > 2 * self.cc.finger_open - 0.004:
+            if self.finger_width() > width - 0.004:
                 return
+            self.scene.step(every)

@@ -36,7 +36,7 @@ def test_same_seed_same_final_poses():
 
 
 def test_dropped_block_is_a_logged_mismatch_and_recovered():
-    start, goal = parse_config("A,B,C"), parse_config("AB,C")
+    start, goal = parse_config("A,B,C"), parse_config("CA,B")
     forced = Perturbation(nudge_probability=0.0, drop_probability=1.0)
     r = run_episode(start, goal, seed=0, perturb=True, perturbation=forced)
     assert any("gripper opened" in e for e in r.events)
