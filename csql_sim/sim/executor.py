@@ -8,6 +8,7 @@ goal and the scene has settled; it is never inferred from the plan.
 
 from __future__ import annotations
 
+import functools
 import math
 import time
 from dataclasses import dataclass, field
@@ -15,13 +16,15 @@ from dataclasses import dataclass, field
 import numpy as np
 import pybullet
 
+from csql_sim.classifiers import ClassifierList
 from csql_sim.errors import CsqlError
 from csql_sim.messages import action_code, format_state_message, parse_state_message
 from csql_sim.planner import BfsPolicy, distance
 from csql_sim.policy import Policy
+from csql_sim.rules import domain_knowledge
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.physical import PhysicalWorld, SimError
-from csql_sim.sim.primitives import Status
+from csql_sim.sim.primitives import CarryHook, Status
 from csql_sim.sim.recording import Recorder, Recording
 from csql_sim.sim.scene import Pose
 from csql_sim.world import Action, BlocksWorld, State, WorldError, is_legal, successor
@@ -109,26 +112,21 @@ class EpisodeResult:
 
 
 def predict(state: State, action: Action, goal_index: int) -> State:
-    """The world model's next state: the add-delete R-classifiers, or successor() without them."""
-    try:
-        from csql_sim.rules import domain_knowledge
-    except ImportError:  # pragma: no cover - the rules module is part of the package
-        return successor(state, action)
-    model = _model(state.n, domain_knowledge)
+    """The world model's next state: the add-delete R-classifier the action activates.
+
+    Falls back to :func:`csql_sim.world.successor` if no single rule matches (it always
+    does for the paper's rules; tests check all 42 legal pairs of n=3).
+    """
     message = format_state_message(state, goal_index, BlocksWorld.of(state.n).action_index(action) + 1)
     try:
-        return parse_state_message(model.predict(message), state.n).state
+        return parse_state_message(_world_model(state.n).predict(message), state.n).state
     except (KeyError, WorldError):
         return successor(state, action)
 
 
-_MODELS: dict[int, object] = {}
-
-
-def _model(n: int, factory):  # noqa: ANN001, ANN202 - cache of classifier lists per n
-    if n not in _MODELS:
-        _MODELS[n] = factory(n)
-    return _MODELS[n]
+@functools.cache
+def _world_model(n: int) -> ClassifierList:
+    return domain_knowledge(n)
 
 
 def default_max_actions(start: State, goal: State) -> int:
@@ -257,7 +255,7 @@ def _nudge(world: PhysicalWorld, rng: np.random.Generator, pert: Perturbation) -
     return f"nudged {'ABCDEF'[block]} towards {math.degrees(angle):.0f} deg"
 
 
-def _drop_hook(world: PhysicalWorld, action: Action, pert: Perturbation, events: list[str]):  # noqa: ANN202
+def _drop_hook(world: PhysicalWorld, action: Action, pert: Perturbation, events: list[str]) -> CarryHook | None:
     """A carry hook that opens the gripper once the carried cube is clear of the others."""
     if action.is_pick:
         return None

@@ -29,7 +29,6 @@ class ApproachOffsets:
     grasp_opening_margin: float = 0.025  # fingers open this much wider than a cube before a grasp
     place_gap: float = 0.004  # held cube bottom above its support when released
     descend_stop_early: float = 0.012  # a guard stop further than this from target is a failure
-    spot_jitter: float = 0.0  # reserved: no jitter of putdown spots
 
 
 OFFSETS = ApproachOffsets()
