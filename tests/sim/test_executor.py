@@ -86,3 +86,27 @@ def test_start_with_held_block(held):
     goal = parse_config("A,B,C")
     r = run_episode(start, goal, seed=0)
     assert r.success, r.reason
+
+
+def test_learned_rule_base_runs_on_the_arm(task, tmp_path):
+    from csql_sim.cli import main
+    from csql_sim.sim.policies import load_policy
+
+    out = tmp_path / "rules.yaml"
+    assert main(["train", "--out", str(out), "--no-progress"]) == 0
+    policy, n = load_policy(out, 3)
+    assert n == 3 and policy.name == "rules"
+    r = run_episode(*task, policy=policy, seed=0)
+    assert r.success, r.reason
+    assert r.length == 8
+
+
+def test_rule_base_for_other_world_is_rejected(tmp_path):
+    from csql_sim.cli import main
+    from csql_sim.errors import CsqlError
+    from csql_sim.sim.policies import load_policy
+
+    out = tmp_path / "rules2.yaml"
+    assert main(["train", "--blocks", "2", "--trials", "50", "--out", str(out), "--no-progress"]) == 0
+    with pytest.raises(CsqlError):
+        load_policy(out, 3)
