@@ -32,22 +32,24 @@ def raw_steps_per_second(steps: int, config: str) -> float:
         return steps / (time.perf_counter() - t)
 
 
-def executor_steps_per_second(episodes: int) -> tuple[float, float, float, float]:
-    """Closed-loop steps/s (perceive, policy, primitives), mean sim s/action, loop and setup wall."""
+def executor_steps_per_second(episodes: int) -> tuple[float, float, float, float, float]:
+    """Closed-loop steps/s, mean sim s/action, loop and setup wall, seconds inside stepSimulation."""
     states = all_states(3)
     pairs = [(s, g) for s in states for g in states if s != g]
     rng = np.random.default_rng(0)
     total_steps = 0
     loop = setup = 0.0
     per_action = []
+    stepping = 0.0
     for k in rng.choice(len(pairs), size=episodes, replace=False):
         start, goal = pairs[k]
         r = run_episode(start, goal, seed=int(k))
         loop += r.wall_seconds["loop"]
         setup += r.wall_seconds["setup"]
+        stepping += r.wall_seconds["stepping"]
         total_steps += r.loop_steps
         per_action.append(r.sim_seconds_per_action)
-    return total_steps / loop, float(np.mean(per_action)), loop, setup
+    return total_steps / loop, float(np.mean(per_action)), loop, setup, stepping
 
 
 def raw_frames_per_second(recording: Recording, width: int, height: int) -> float:
@@ -71,13 +73,15 @@ def main() -> None:
 
     raw_idle = raw_steps_per_second(20000, "CBA")
     raw_grip = raw_steps_per_second(20000, "AB+C")
-    execd, spa, loop, setup = executor_steps_per_second(args.episodes)
+    execd, spa, loop, setup, stepping = executor_steps_per_second(args.episodes)
     print(f"raw stepSimulation, idle:  {raw_idle:10.0f} steps/s (tower CBA, hand empty)")
     print(f"raw stepSimulation, grip:  {raw_grip:10.0f} steps/s (C held in the fingers: the contact load of a carry)")
     print(f"executor (closed loop):    {execd:10.0f} steps/s  ratio {execd / raw_idle:.2f} of idle, "
           f"{execd / raw_grip:.2f} of grip (target >= 0.8)")
     print(f"                           [{args.episodes} episodes: loop {loop:.1f} s wall; "
           f"scene setup, not counted, {setup:.1f} s]")
+    print(f"                           inside Scene.step: {stepping / loop:.2f} of the loop's wall time "
+          "(the rest is IK, guards, perception, policy)")
     print(f"simulated time per action: {spa:10.3f} s (target <= 1 s)")
 
     r = run_episode(parse_config("CBA"), parse_config("BAC"), seed=0, record=True)

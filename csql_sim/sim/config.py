@@ -46,14 +46,14 @@ class ControlConfig:
     finger_force: float = 40.0  # N per finger when closing
     finger_max_velocity: float = 0.4  # m/s
     finger_open: float = 0.04  # finger joint position when open, m
-    ik_iterations: int = 60  # calculateInverseKinematics iterations
+    ik_iterations: int = 40  # calculateInverseKinematics iterations
     ik_threshold: float = 1e-5  # IK residual, m
     reach_tolerance: float = 0.002  # end-effector distance counted as arrived, m
     arrive_speed: float = 0.05  # grasp point slower than this (m/s) counts as arrived
     check_every: int = 4  # steps between guard / arrival checks
     move_speed: float = 0.9  # mean grasp-point speed of free moves, m/s
     descend_speed: float = 0.45  # mean grasp-point speed of descents and lifts, m/s
-    waypoint_spacing: float = 0.04  # m between IK waypoints of a straight move
+    waypoint_spacing: float = 0.06  # m between IK waypoints of a straight move
     move_steps: int = 150  # step cap of one free move
     descend_steps: int = 100  # step cap of one guarded descent
     grip_steps: int = 30  # step cap of closing or opening the fingers

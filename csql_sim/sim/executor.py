@@ -88,7 +88,7 @@ class EpisodeResult:
     final_poses: tuple[Pose, ...] = ()
     recording: Recording | None = None
     loop_steps: int = 0
-    wall_seconds: dict[str, float] = field(default_factory=dict)  # "setup" and "loop", for benchmarks only
+    wall_seconds: dict[str, float] = field(default_factory=dict)  # setup, loop, stepping: benchmarks only
 
     @property
     def length(self) -> int:
@@ -176,6 +176,7 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
             if rng.random() < perturbation.drop_probability:
                 drop_at = int(rng.integers(max(1, optimal)))
         begin = world.scene.steps
+        stepping_before = world.scene.step_wall
         perceived = world.perceive()
         recorder = None
         if record:
@@ -219,7 +220,8 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
             result.steps.append(StepRecord(action.name(), message, status, predicted.notation(), seen,
                                            (world.scene.steps - t0) * config.physics.time_step))
         result.loop_steps = world.scene.steps - begin
-        result.wall_seconds = {"setup": t_loop - t_setup, "loop": time.perf_counter() - t_loop}
+        result.wall_seconds = {"setup": t_loop - t_setup, "loop": time.perf_counter() - t_loop,
+                               "stepping": world.scene.step_wall - stepping_before}
         result.sim_seconds = result.loop_steps * config.physics.time_step
         result.final_poses = world.final_poses()
         if recorder is not None:

@@ -7,6 +7,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -43,6 +44,7 @@ class Scene:
         self.config = config
         self.client = pybullet.connect(pybullet.DIRECT)
         self.steps = 0
+        self.step_wall = 0.0  # wall seconds spent in step() (benchmarks only; never used for control)
         self._step_hooks: list[Callable[[Scene], None]] = []
         self._physics = physics
         pc = self.config.physics
@@ -131,11 +133,13 @@ class Scene:
         """Advance the physics by ``count`` steps."""
         cid = self.client
         hooks = self._step_hooks
+        t = time.perf_counter()
         for _ in range(count):
             pybullet.stepSimulation(physicsClientId=cid)
             self.steps += 1
             for hook in hooks:
                 hook(self)
+        self.step_wall += time.perf_counter() - t
 
     # ------------------------------------------------------------ bodies
 
