@@ -110,3 +110,10 @@ def test_rule_base_for_other_world_is_rejected(tmp_path):
     assert main(["train", "--blocks", "2", "--trials", "50", "--out", str(out), "--no-progress"]) == 0
     with pytest.raises(CsqlError):
         load_policy(out, 3)
+
+
+def test_four_blocks_reverse_tower():
+    start, goal = parse_config("DCBA"), parse_config("ABCD")
+    r = run_episode(start, goal, seed=0)
+    assert r.success, r.reason
+    assert r.length == distance(start, goal)
