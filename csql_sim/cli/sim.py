@@ -5,9 +5,13 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from typing import TYPE_CHECKING
 
 from csql_sim.cli.core import blocks_arg, read_task
 from csql_sim.errors import CsqlError
+
+if TYPE_CHECKING:
+    from csql_sim.sim.executor import EpisodeResult
 
 
 def positive_int(text: str) -> int:
@@ -28,6 +32,18 @@ def pairs_arg(text: str) -> str | int:
     return positive_int(text)
 
 
+def print_episode(result: EpisodeResult) -> None:
+    """Print an episode: verdict, every executed step (message, action, sim time, mismatch), events."""
+    verdict = "reached the goal" if result.success else f"FAILED: {result.reason}"
+    print(f"{result.start} -> {result.goal}: {verdict} in {result.length} actions "
+          f"(optimal {result.optimal_length}), {result.sim_seconds:.2f} s simulated")
+    for step in result.steps:
+        flag = "" if not step.mismatch else f"   mismatch: predicted {step.predicted}, perceived {step.perceived}"
+        print(f"  {step.message}  {step.action:<14} {step.sim_seconds:.2f} s{flag}")
+    for event in result.events:
+        print(f"  perturbation: {event}")
+
+
 def cmd_render(args: argparse.Namespace) -> int:
     from csql_sim.sim import load_policy, render_episode
 
@@ -38,14 +54,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
                                   perception=args.perception)
-    verdict = "reached the goal" if result.success else f"FAILED: {result.reason}"
-    print(f"{start.notation()} -> {goal.notation()}: {verdict} in {result.length} actions "
-          f"(optimal {result.optimal_length}), {result.sim_seconds:.2f} s simulated")
-    for step in result.steps:
-        flag = "" if not step.mismatch else f"   mismatch: predicted {step.predicted}, perceived {step.perceived}"
-        print(f"  {step.message}  {step.action:<14} {step.sim_seconds:.2f} s{flag}")
-    for event in result.events:
-        print(f"  perturbation: {event}")
+    print_episode(result)
     frames = len(result.recording.frames) if result.recording else 0
     print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height})")
     return 0 if result.success else 1
