@@ -109,7 +109,7 @@ def _conflicts(obs: Observation, x: float, y: float, z: float, yaw: float, exclu
 
 def choose_yaw(obs: Observation, x: float, y: float, z: float, cube_yaw: float, current: float,
                exclude: set[int], opening: float) -> float:
-    """The gripper yaw aligned with the cube (four choices) that hits the fewest other cubes."""
+    """The gripper yaw aligned with a cube face (three choices, 90 degrees apart) hitting the fewest cubes."""
     base = current + wrap_quarter(cube_yaw - current)
     options = [base, base + math.pi / 2, base - math.pi / 2]
     options = [o for o in options if abs(o) <= 2.6]  # keep the wrist joint inside its range

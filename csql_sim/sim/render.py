@@ -8,6 +8,7 @@ scene whose bodies are set to the recorded poses. TinyRenderer is used (no EGL n
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
@@ -144,7 +145,7 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
 
 
 def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, height: int, camera: Camera,
-                workers: int):
+                workers: int) -> Iterator[list[np.ndarray]]:
     """Render chunks in order, in ``workers`` processes (or in-process for one worker)."""
     n, config = recording.n, recording.config
     if workers <= 1:
