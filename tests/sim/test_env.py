@@ -21,3 +21,21 @@ def test_same_interface_as_symbolic_env_and_reaches_goal():
     assert term and reward == 1.0 and info["state"] == info["goal"]
     assert env.render().shape == (48, 64, 3)
     env.close()
+
+
+def test_same_learning_agent_runs_in_symbolic_and_physical_env():
+    from csql_sim.env import BlocksWorldEnv, run_episode
+    from csql_sim.learners import make_learner
+
+    agent = make_learner("cs-ql", seed=0)
+    rng = np.random.default_rng(0)
+    for k in range(2500):
+        s, g = rng.integers(22, size=2)
+        if s != g:
+            agent.run_trial(int(s), int(g), agent.params.temperature(k))
+    temperature = agent.params.temperature(2500)
+    task = {"start": "CBA", "goal": "BAC"}
+    assert run_episode(BlocksWorldEnv(3), agent, temperature, task) == (8, True)
+    env = PhysicalBlocksEnv(3)
+    assert run_episode(env, agent, temperature, task) == (8, True)
+    env.close()
