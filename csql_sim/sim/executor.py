@@ -212,7 +212,12 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
                 code = action_code(action, start.n)
                 recorder.caption = f"{action.name()}  {format_state_message(state, goal_index, int(code, 36))}"
             t0 = world.scene.steps
-            status = world.execute(action, hook)
+            attempt = 0
+            for earlier in reversed(result.steps):  # consecutive failed tries of this very action
+                if earlier.action != action.name() or earlier.status.ok:
+                    break
+                attempt += 1
+            status = world.execute(action, hook, attempt)
             if k == nudge_at:
                 result.events.append(_nudge(world, rng, perturbation))
             perceived = world.perceive()

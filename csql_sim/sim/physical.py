@@ -97,9 +97,9 @@ class PhysicalWorld:
         """Whether every free cube is at rest now."""
         return settled(self.scene, self.panda)
 
-    def execute(self, action: Action, carry_hook: CarryHook | None = None) -> Status:
-        """Run the primitive of ``action`` on the current observation."""
-        return primitive_for(action)(self.scene, self.panda, self.observe(), self.rng, carry_hook)
+    def execute(self, action: Action, carry_hook: CarryHook | None = None, attempt: int = 0) -> Status:
+        """Run the primitive of ``action`` on the current observation (``attempt``: earlier failures)."""
+        return primitive_for(action, attempt=attempt)(self.scene, self.panda, self.observe(), self.rng, carry_hook)
 
     def final_poses(self) -> tuple[Pose, ...]:
         """Every cube's pose now."""

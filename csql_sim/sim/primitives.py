@@ -108,20 +108,26 @@ def _conflicts(obs: Observation, x: float, y: float, z: float, yaw: float, exclu
 
 
 def choose_yaw(obs: Observation, x: float, y: float, z: float, cube_yaw: float, current: float,
-               exclude: set[int], opening: float) -> float:
-    """The gripper yaw aligned with a cube face (three choices, 90 degrees apart) hitting the fewest cubes."""
+               exclude: set[int], opening: float, attempt: int = 0) -> float:
+    """A gripper yaw aligned with a cube face (three choices, 90 degrees apart).
+
+    Ranked by the cubes the open hand would hit, then by wrist rotation; ``attempt``
+    k > 0 (a retry after a failed grasp of the same cube) takes the next choice.
+    """
     base = current + wrap_quarter(cube_yaw - current)
     options = [base, base + math.pi / 2, base - math.pi / 2]
     options = [o for o in options if abs(o) <= 2.6]  # keep the wrist joint inside its range
-    return min(options, key=lambda o: (_conflicts(obs, x, y, z, o, exclude, opening), abs(o - current)))
+    ranked = sorted(options, key=lambda o: (_conflicts(obs, x, y, z, o, exclude, opening), abs(o - current)))
+    return ranked[attempt % len(ranked)]
 
 
 class Pick:
     """Pick a cube up (pickup from the table and unstack from a cube move alike)."""
 
-    def __init__(self, block: int, offsets: ApproachOffsets = OFFSETS) -> None:
+    def __init__(self, block: int, offsets: ApproachOffsets = OFFSETS, attempt: int = 0) -> None:
         self.block = block
         self.offsets = offsets
+        self.attempt = attempt  # retries of this grasp so far: each tries the next gripper yaw
 
     def __call__(self, scene: Scene, panda: Panda, obs: Observation, rng: np.random.Generator,
                  carry_hook: CarryHook | None = None) -> Status:
@@ -132,7 +138,7 @@ class Pick:
         x, y, z = target.position
         goal_z = z + self.offsets.grasp_above_centre
         opening = obs.size + self.offsets.grasp_opening_margin
-        yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block}, opening)
+        yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block}, opening, self.attempt)
         high = carry_height(obs, None, self.offsets)
         panda.open(opening)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
@@ -211,10 +217,10 @@ def settle(scene: Scene, panda: Panda) -> int:
     return scene.steps - start
 
 
-def primitive_for(action: Action, offsets: ApproachOffsets = OFFSETS) -> Pick | Place:
+def primitive_for(action: Action, offsets: ApproachOffsets = OFFSETS, attempt: int = 0) -> Pick | Place:
     """The primitive that executes ``action``."""
     if action.kind in (ActionKind.PICKUP, ActionKind.UNSTACK):
-        return Pick(action.block, offsets)
+        return Pick(action.block, offsets, attempt)
     if action.kind is ActionKind.PUTDOWN:
         return Place(action.block, None, offsets)
     return Place(action.block, action.target, offsets)
