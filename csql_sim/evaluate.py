@@ -12,6 +12,7 @@ import numpy as np
 from tqdm import tqdm
 
 from csql_sim.errors import CsqlError
+from csql_sim.files import write_atomic
 from csql_sim.world import State, all_states, parse_config
 
 Task = tuple[str, str, int]  # start notation, goal notation, seed
@@ -185,9 +186,4 @@ def summarise(summaries: list[EpisodeSummary]) -> EvalReport:
 
 def write_json(report: EvalReport, path: str | os.PathLike) -> Path:
     """Write the report's JSON atomically."""
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.name}.partial")
-    tmp.write_text(json.dumps(report.to_dict(), indent=1) + "\n")
-    os.replace(tmp, out)
-    return out
+    return write_atomic(path, json.dumps(report.to_dict(), indent=1) + "\n")

@@ -19,10 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from csql_sim.errors import CsqlError
+from csql_sim.files import write_atomic
 from csql_sim.learners import METHODS, Curve, make_learner
 from csql_sim.learners.params import CommonParams, resolve_params
 from csql_sim.planner import distance
-from csql_sim.rulebase import write_atomic
 
 CSV_COLUMNS = ("method", "trial", "steps_mean", "steps_std", "value_mean", "value_std")
 

@@ -18,7 +18,6 @@ R-classifiers carry only kind, condition and action; Q-classifiers also strength
 from __future__ import annotations
 
 import os
-import tempfile
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,6 +26,7 @@ import yaml
 
 from csql_sim.classifiers import Classifier, Q, R
 from csql_sim.errors import CsqlError
+from csql_sim.files import write_atomic
 from csql_sim.messages import layout
 from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS
 
@@ -76,24 +76,6 @@ def dumps(rulebase: RuleBase) -> str:
 def save(path: str | os.PathLike, rulebase: RuleBase) -> Path:
     """Write ``rulebase`` to ``path`` atomically (temporary file, then rename)."""
     return write_atomic(path, dumps(rulebase))
-
-
-def write_atomic(path: str | os.PathLike, text: str) -> Path:
-    """Write text to ``path`` via a temporary file in the same folder and os.replace."""
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return target
 
 
 def load(path: str | os.PathLike) -> RuleBase:

@@ -12,10 +12,10 @@ import os
 import sys
 
 from csql_sim import __version__
-from csql_sim.cli import core, learn
+from csql_sim.cli import core, demo, learn, sim
 from csql_sim.errors import CsqlError
 
-SUBCOMMAND_MODULES = (core, learn)
+SUBCOMMAND_MODULES = (core, learn, sim, demo)
 
 
 class OneLineParser(argparse.ArgumentParser):
