@@ -5,23 +5,13 @@ from __future__ import annotations
 import argparse
 import json
 
+from csql_sim.cli.args import blocks_arg
 from csql_sim.errors import CsqlError
 from csql_sim.messages import action_code, format_action_message, format_state_message, parse_state_arg
 from csql_sim.planner import BfsPolicy
 from csql_sim.policy import PairResult, Policy, QPolicy, check_all_pairs, rollout
 from csql_sim.rules import r_classifiers
-from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS, BlocksWorld, State, WorldError
-
-
-def blocks_arg(text: str) -> int:
-    """Argparse type for --blocks: an integer 2..6."""
-    try:
-        n = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer {MIN_BLOCKS}..{MAX_BLOCKS}, got {text!r}") from None
-    if not MIN_BLOCKS <= n <= MAX_BLOCKS:
-        raise argparse.ArgumentTypeError(f"must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {n}")
-    return n
+from csql_sim.world import BlocksWorld, State, WorldError
 
 
 def read_task(start: str, goal: str, n: int | None) -> tuple[State, State]:

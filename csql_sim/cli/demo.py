@@ -9,6 +9,7 @@ import argparse
 import os
 from pathlib import Path
 
+from csql_sim.cli.args import positive_int
 from csql_sim.world import parse_config
 
 TEST_START = "CBA"  # A on B on C (the paper's Figure 3)
@@ -59,8 +60,6 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``demo`` to the subparsers."""
-    from csql_sim.cli.sim import positive_int
-
     p = sub.add_parser("demo", help="train CS-QL, prune, show Figure 6, run the test task on the arm, write a video")
     p.add_argument("--out", default="out", help="output folder (default out/)")
     p.add_argument("--trials", type=positive_int, default=2500, help="training trials (default 2500)")

@@ -6,28 +6,9 @@ import argparse
 import os
 import time
 
-from csql_sim.cli.core import blocks_arg, read_task
+from csql_sim.cli.args import blocks_arg, non_negative_int, positive_int
+from csql_sim.cli.core import read_task
 from csql_sim.errors import CsqlError
-
-
-def _positive(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {value}")
-    return value
-
-
-def _non_negative(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {text!r}") from None
-    if value < 0:
-        raise argparse.ArgumentTypeError(f"must be a non-negative integer, got {value}")
-    return value
 
 
 def _methods(text: str) -> list[str]:
@@ -132,10 +113,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser("experiment", help="Figure 7: test-task curves of the learners over cycles")
     p.add_argument("--methods", type=_methods, default=list(METHODS), help=f"comma list (default {','.join(METHODS)})")
-    p.add_argument("--cycles", type=_positive, default=50, help="cycles per method (default 50)")
-    p.add_argument("--trials", type=_non_negative, default=2500, help="trials per cycle (default 2500)")
-    p.add_argument("--seed", type=_non_negative, default=0, help="root seed (default 0)")
-    p.add_argument("--workers", type=_positive, default=None, help="processes (default: all cores)")
+    p.add_argument("--cycles", type=positive_int, default=50, help="cycles per method (default 50)")
+    p.add_argument("--trials", type=non_negative_int, default=2500, help="trials per cycle (default 2500)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="root seed (default 0)")
+    p.add_argument("--workers", type=positive_int, default=None, help="processes (default: all cores)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
     p.add_argument("--params", help="YAML parameter overrides (flat, or keyed by method)")
     p.add_argument("--out", required=True, help="folder for figure7.csv and figure7.png")
@@ -144,8 +125,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser("train", help="train one agent and save its classifier list")
     p.add_argument("--method", choices=METHODS, default="cs-ql", help="learner (default cs-ql)")
-    p.add_argument("--trials", type=_non_negative, default=2500, help="training trials (default 2500)")
-    p.add_argument("--seed", type=_non_negative, default=0, help="seed (default 0)")
+    p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="seed (default 0)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
     p.add_argument("--params", help="YAML parameter overrides")
     p.add_argument("--out", required=True, help="rule file to write (YAML)")
@@ -165,9 +146,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_prune)
 
     p = sub.add_parser("bench", help="time CS-QL against a plain dict-based Q-learner on the same trials")
-    p.add_argument("--trials", type=_non_negative, default=2500, help="training trials (default 2500)")
-    p.add_argument("--seed", type=_non_negative, default=0, help="seed (default 0)")
-    p.add_argument("--repeats", type=_positive, default=15, help="best of this many runs (default 15)")
+    p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
+    p.add_argument("--seed", type=non_negative_int, default=0, help="seed (default 0)")
+    p.add_argument("--repeats", type=positive_int, default=15, help="best of this many runs (default 15)")
     p.set_defaults(func=cmd_bench)
 
 

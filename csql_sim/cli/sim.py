@@ -7,22 +7,12 @@ import os
 import sys
 from typing import TYPE_CHECKING
 
-from csql_sim.cli.core import blocks_arg, read_task
+from csql_sim.cli.args import blocks_arg, positive_int
+from csql_sim.cli.core import read_task
 from csql_sim.errors import CsqlError
 
 if TYPE_CHECKING:
     from csql_sim.sim.executor import EpisodeResult
-
-
-def positive_int(text: str) -> int:
-    """Argparse type: an integer >= 1."""
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {text!r}") from None
-    if value < 1:
-        raise argparse.ArgumentTypeError(f"must be a positive integer, got {value}")
-    return value
 
 
 def pairs_arg(text: str) -> str | int:
