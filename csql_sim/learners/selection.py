@@ -18,14 +18,7 @@ def boltzmann(values: Sequence[float], temperature: float, u: float) -> int:
     top = max(values)
     if temperature <= 0.0:
         return values.index(top) if isinstance(values, list) else list(values).index(top)
-    weights = [exp((v - top) / temperature) for v in values]
-    x = u * sum(weights)
-    acc = 0.0
-    for i, w in enumerate(weights):
-        acc += w
-        if x < acc:
-            return i
-    return len(weights) - 1
+    return _draw([exp((v - top) / temperature) for v in values], u)
 
 
 def roulette(values: Sequence[float], u: float) -> int:
@@ -37,10 +30,15 @@ def roulette(values: Sequence[float], u: float) -> int:
     total = sum(shares)
     if total <= 0.0:
         return min(int(u * len(values)), len(values) - 1)
-    x = u * total
+    return _draw(shares, u, total)
+
+
+def _draw(weights: list[float], u: float, total: float | None = None) -> int:
+    """The index whose cumulative weight first exceeds ``u`` times the total weight."""
+    x = u * (sum(weights) if total is None else total)
     acc = 0.0
-    for i, w in enumerate(shares):
+    for i, w in enumerate(weights):
         acc += w
         if x < acc:
             return i
-    return len(shares) - 1
+    return len(weights) - 1
