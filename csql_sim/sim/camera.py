@@ -5,11 +5,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import pybullet
 
 from csql_sim.sim.perception import BlockObs, Observation, Tolerances
 from csql_sim.sim.robot import Panda
-from csql_sim.sim.scene import Scene
+from csql_sim.sim.scene import Scene, projection_matrix, view_matrix
 
 
 @dataclass(frozen=True)
@@ -28,9 +27,7 @@ class Camera:
     def matrices(self, width: int | None = None, height: int | None = None) -> tuple[list[float], list[float]]:
         """The pybullet view and projection matrices (column-major lists)."""
         w, h = width or self.width, height or self.height
-        view = pybullet.computeViewMatrix(self.eye, self.target, self.up)
-        proj = pybullet.computeProjectionMatrixFOV(self.fov, w / h, self.near, self.far)
-        return list(view), list(proj)
+        return view_matrix(self.eye, self.target, self.up), projection_matrix(self.fov, w / h, self.near, self.far)
 
 
 PERCEPTION_CAMERA = Camera()
@@ -49,12 +46,7 @@ def capture(scene: Scene, camera: Camera, width: int, height: int, segmentation:
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """RGB (h, w, 3 uint8), depth buffer and segmentation ids from the TinyRenderer."""
     view, proj = camera.matrices(width, height)
-    flags = 0 if segmentation else pybullet.ER_NO_SEGMENTATION_MASK
-    _, _, rgba, depth, seg = pybullet.getCameraImage(
-        width, height, view, proj, renderer=pybullet.ER_TINY_RENDERER, flags=flags,
-        physicsClientId=scene.client)
-    rgb = np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
-    return rgb, np.asarray(depth, dtype=np.float64).reshape(height, width), np.asarray(seg).reshape(height, width)
+    return scene.render(view, proj, width, height, segmentation)
 
 
 def unproject(camera: Camera, depth: np.ndarray, rows: np.ndarray, cols: np.ndarray) -> np.ndarray:

@@ -14,7 +14,6 @@ import time
 from dataclasses import dataclass, field
 
 import numpy as np
-import pybullet
 
 from csql_sim.classifiers import ClassifierList
 from csql_sim.errors import CsqlError
@@ -256,7 +255,7 @@ def _nudge(world: PhysicalWorld, rng: np.random.Generator, pert: Perturbation) -
     body = scene.block_body(block)
     for _ in range(pert.nudge_steps):
         centre = scene.block_pose(block).position
-        pybullet.applyExternalForce(body, -1, force, centre, pybullet.WORLD_FRAME, physicsClientId=scene.client)
+        scene.apply_force(body, force, centre)
         scene.step()
     world.settle()
     return f"nudged {'ABCDEF'[block]} towards {math.degrees(angle):.0f} deg"

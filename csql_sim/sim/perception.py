@@ -11,11 +11,10 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-import pybullet
 
 from csql_sim.messages import format_state_message
 from csql_sim.sim.robot import Panda
-from csql_sim.sim.scene import Scene
+from csql_sim.sim.scene import Scene, rotation_matrix
 from csql_sim.world import BLOCK_NAMES, HAND, TABLE, BlocksWorld, State, WorldError
 
 
@@ -75,7 +74,7 @@ class Perceived:
 
 def tilt_and_yaw(orientation: tuple[float, float, float, float]) -> tuple[float, float]:
     """Tilt from lying on a face, and yaw modulo 90 degrees, of a cube's orientation."""
-    rot = np.array(pybullet.getMatrixFromQuaternion(orientation)).reshape(3, 3)
+    rot = rotation_matrix(orientation)
     k = int(np.argmax(np.abs(rot[2, :])))
     tilt = math.acos(min(1.0, abs(rot[2, k])))
     other = (k + 1) % 3

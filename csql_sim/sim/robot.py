@@ -6,9 +6,8 @@ import math
 from collections.abc import Callable
 
 import numpy as np
-import pybullet
 
-from csql_sim.sim.scene import Scene, Vec3
+from csql_sim.sim.scene import Scene, Vec3, quaternion_from_euler
 
 ARM_JOINTS = (0, 1, 2, 3, 4, 5, 6)
 FINGER_JOINTS = (9, 10)
@@ -32,14 +31,12 @@ class Panda:
 
     def ee_position(self) -> np.ndarray:
         """World position of the grasp point between the fingertips."""
-        st = pybullet.getLinkState(self.body, EE_LINK, computeForwardKinematics=True,
-                                   physicsClientId=self.scene.client)
-        return np.array(st[4])
+        position, _, _ = self.scene.link_state(self.body, EE_LINK)
+        return np.array(position)
 
     def finger_width(self) -> float:
         """Distance between the two fingers, m."""
-        cid = self.scene.client
-        return sum(pybullet.getJointState(self.body, j, physicsClientId=cid)[0] for j in FINGER_JOINTS)
+        return sum(self.scene.joint_positions(self.body, FINGER_JOINTS))
 
     def finger_contacts(self) -> tuple[set[int], set[int]]:
         """Bodies touching the left and the right finger."""
@@ -59,30 +56,22 @@ class Panda:
 
     def ik(self, position: Vec3, yaw: float) -> list[float]:
         """Joint angles placing the grasp point at ``position``, pointing down, rotated by ``yaw``."""
-        orn = pybullet.getQuaternionFromEuler((math.pi, 0.0, yaw))
+        orn = quaternion_from_euler((math.pi, 0.0, yaw))
         rest = list(self.cc.home_joints)
         rest[6] = self.cc.home_joints[6] + yaw
-        q = pybullet.calculateInverseKinematics(
-            self.body, EE_LINK, position, orn,
-            lowerLimits=LOWER, upperLimits=UPPER,
-            jointRanges=[u - lo for lo, u in zip(LOWER, UPPER, strict=True)], restPoses=rest,
-            maxNumIterations=self.cc.ik_iterations, residualThreshold=self.cc.ik_threshold,
-            physicsClientId=self.scene.client)
-        return list(q[:7])
+        q = self.scene.inverse_kinematics(
+            self.body, EE_LINK, position, orn, LOWER, UPPER, [u - lo for lo, u in zip(LOWER, UPPER, strict=True)],
+            rest, self.cc.ik_iterations, self.cc.ik_threshold)
+        return q[:7]
 
     def command_arm(self, q: list[float]) -> None:
         """Set joint position targets (velocity-capped motors)."""
-        cid = self.scene.client
-        for j, target, force in zip(ARM_JOINTS, q, self.cc.arm_forces, strict=True):
-            pybullet.setJointMotorControl2(
-                self.body, j, pybullet.POSITION_CONTROL, targetPosition=target, force=force,
-                maxVelocity=self.cc.arm_max_velocity, positionGain=self.cc.arm_position_gain,
-                physicsClientId=cid)
+        self.scene.set_joint_targets(self.body, ARM_JOINTS, q, self.cc.arm_forces, self.cc.arm_max_velocity,
+                                     position_gain=self.cc.arm_position_gain)
 
     def joints(self) -> np.ndarray:
         """Current arm joint positions."""
-        cid = self.scene.client
-        return np.array([pybullet.getJointState(self.body, j, physicsClientId=cid)[0] for j in ARM_JOINTS])
+        return np.array(self.scene.joint_positions(self.body, ARM_JOINTS))
 
     def move_to(self, position: Vec3, yaw: float, speed: float, max_steps: int, guard: Guard | None = None,
                 during: Callable[[float], None] | None = None) -> str:
@@ -139,10 +128,9 @@ class Panda:
 
     def arrived(self, target: np.ndarray) -> bool:
         """Grasp point within reach_tolerance of ``target`` and nearly at rest."""
-        st = pybullet.getLinkState(self.body, EE_LINK, computeLinkVelocity=True, computeForwardKinematics=True,
-                                   physicsClientId=self.scene.client)
-        return bool(np.linalg.norm(np.subtract(st[4], target)) < self.cc.reach_tolerance
-                    and np.linalg.norm(st[6]) < self.cc.arrive_speed)
+        position, _, velocity = self.scene.link_state(self.body, EE_LINK, velocity=True)
+        return bool(np.linalg.norm(np.subtract(position, target)) < self.cc.reach_tolerance
+                    and np.linalg.norm(velocity) < self.cc.arrive_speed)
 
     def hold_here(self, yaw: float) -> None:
         """Freeze the arm at its current grasp-point position."""
@@ -150,11 +138,9 @@ class Panda:
 
     def set_fingers(self, width: float) -> None:
         """Command both fingers towards half of ``width`` each."""
-        cid = self.scene.client
-        for j in FINGER_JOINTS:
-            pybullet.setJointMotorControl2(
-                self.body, j, pybullet.POSITION_CONTROL, targetPosition=width / 2,
-                force=self.cc.finger_force, maxVelocity=self.cc.finger_max_velocity, physicsClientId=cid)
+        half = width / 2
+        self.scene.set_joint_targets(self.body, FINGER_JOINTS, (half,) * len(FINGER_JOINTS),
+                                     (self.cc.finger_force,) * len(FINGER_JOINTS), self.cc.finger_max_velocity)
 
     def close(self, body: int | None) -> bool:
         """Close the fingers; stops once both touch ``body`` and are still. True if they grip it."""

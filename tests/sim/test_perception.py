@@ -28,13 +28,9 @@ def test_state_message_of_perceived_state(task):
 
 
 def test_fallen_block_is_reported():
-    import pybullet
-
     with PhysicalWorld(3) as world:
         world.build(parse_config("A,B,C"))
-        body = world.scene.block_body(0)
-        pybullet.resetBasePositionAndOrientation(body, (1.2, 0, 0.02), (0, 0, 0, 1),
-                                                 physicsClientId=world.scene.client)
+        world.scene.set_block_pose(0, (1.2, 0, 0.02), (0, 0, 0, 1))
         world.scene.step(240)
         perceived = world.perceive()
         assert perceived.state is None and "fell off the table" in perceived.reason
