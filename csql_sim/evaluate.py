@@ -105,7 +105,7 @@ _WORKER: dict[str, object] = {}  # per worker process: the policy and run option
 
 
 def _init_worker(rules: str | None, n: int, perturb: bool, perception: str) -> None:
-    from csql_sim.sim.policies import load_policy
+    from csql_sim.policy import load_policy
 
     _WORKER["policy"] = load_policy(rules, n)[0]
     _WORKER["perturb"] = perturb
@@ -143,7 +143,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         perception: ``"pose"`` or ``"camera"``.
         progress: show a tqdm bar on stderr.
     """
-    from csql_sim.sim.policies import load_policy
+    from csql_sim.policy import load_policy
 
     load_policy(rules, n)  # fail fast on a bad file, before starting workers
     tasks = make_tasks(n, pairs, seeds)

@@ -6,6 +6,7 @@ model) and :class:`QPolicy` (greedy over learned Q-classifiers).
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -123,3 +124,27 @@ def check_all_pairs(policy: Policy, n: int) -> list[PairResult]:
     return [
         PairResult(s, g, rollout(policy, s, g), distance(s, g)) for g in states for s in states if s != g
     ]
+
+
+def load_policy(path: str | os.PathLike | None, n: int | None = None) -> tuple[Policy, int | None]:
+    """The greedy policy of a rule base from ``csql-sim train``, or BFS when ``path`` is None.
+
+    Args:
+        path: a rule-base file, or None for the BFS planner.
+        n: the number of blocks the caller expects (checked against the rule base).
+
+    Returns:
+        The policy and its number of blocks (``n`` for BFS).
+
+    Raises:
+        CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
+    """
+    from csql_sim.planner import BfsPolicy
+    from csql_sim.rulebase import load
+
+    if path is None:
+        return BfsPolicy(), n
+    rulebase = load(path)
+    if n is not None and rulebase.blocks != n:
+        raise CsqlError(f"rule base {os.fspath(path)!r} is for {rulebase.blocks} blocks, not {n}")
+    return QPolicy(ClassifierList(rulebase.classifiers), rulebase.blocks), rulebase.blocks

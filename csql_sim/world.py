@@ -38,6 +38,10 @@ HAND = -2
 MIN_BLOCKS = 2
 MAX_BLOCKS = 6
 BLOCK_NAMES = "ABCDEF"
+TEST_START = "CBA"
+"""The paper's test task (Figure 3) starts with A on B on C ..."""
+TEST_GOAL = "BAC"
+"""... and ends with C on A on B (goal code ``C``); the optimal plan has 8 actions."""
 
 
 class WorldError(CsqlError):

@@ -8,8 +8,7 @@ import json
 from csql_sim.cli.args import blocks_arg
 from csql_sim.errors import CsqlError
 from csql_sim.messages import action_code, format_action_message, format_state_message, parse_state_arg
-from csql_sim.planner import BfsPolicy
-from csql_sim.policy import PairResult, Policy, QPolicy, check_all_pairs, rollout
+from csql_sim.policy import PairResult, Policy, check_all_pairs, load_policy, rollout
 from csql_sim.rules import r_classifiers
 from csql_sim.world import BlocksWorld, State, WorldError
 
@@ -21,15 +20,6 @@ def read_task(start: str, goal: str, n: int | None) -> tuple[State, State]:
     if s.n != g.n:
         raise WorldError(f"start {start!r} has {s.n} blocks but goal {goal!r} has {g.n}")
     return s, g
-
-
-def load_rule_policy(path: str) -> tuple[QPolicy, int]:
-    """A greedy policy over the Q-classifiers of a rule-base file, and its n."""
-    from csql_sim.classifiers import ClassifierList
-    from csql_sim.rulebase import load
-
-    rb = load(path)
-    return QPolicy(ClassifierList(rb.classifiers), rb.blocks), rb.blocks
 
 
 # ------------------------------------------------------------------ states
@@ -74,14 +64,9 @@ def _plan_json(start: State, goal: State, actions) -> dict:
 
 def _policy_for(args: argparse.Namespace) -> tuple[Policy, int | None]:
     planner = args.planner or ("rules" if args.rules else "bfs")
-    if planner == "rules":
-        if not args.rules:
-            raise CsqlError("--planner rules needs --rules FILE")
-        policy, n = load_rule_policy(args.rules)
-        if args.blocks is not None and args.blocks != n:
-            raise CsqlError(f"--blocks {args.blocks} disagrees with {args.rules}, which has {n} blocks")
-        return policy, n
-    return BfsPolicy(), args.blocks
+    if planner == "rules" and not args.rules:
+        raise CsqlError("--planner rules needs --rules FILE")
+    return load_policy(args.rules if planner == "rules" else None, args.blocks)
 
 
 def _summary_json(results: list[PairResult]) -> dict:

@@ -10,10 +10,7 @@ import os
 from pathlib import Path
 
 from csql_sim.cli.args import positive_int
-from csql_sim.world import parse_config
-
-TEST_START = "CBA"  # A on B on C (the paper's Figure 3)
-TEST_GOAL = "BAC"  # C on A on B
+from csql_sim.world import TEST_GOAL, TEST_START, parse_config
 
 
 def cmd_demo(args: argparse.Namespace) -> int:

@@ -21,13 +21,9 @@ from typing import NamedTuple
 import numpy as np
 
 from csql_sim.learners.params import CommonParams
-from csql_sim.world import BlocksWorld, parse_config
+from csql_sim.world import TEST_GOAL, TEST_START, BlocksWorld, parse_config
 
 BATCH = 4096
-TEST_START = "CBA"
-"""The test task's start: A on B on C (Figure 3)."""
-TEST_GOAL = "BAC"
-"""The test task's goal: C on A on B (goal code ``C``)."""
 TEST_EVERY = 50
 UNSEEN = object()
 """Marks a successor a node has not computed yet (``node.next[i]``)."""

@@ -16,7 +16,7 @@ import numpy as np
 from csql_sim.learners.base import BATCH, TEST_EVERY
 from csql_sim.learners.params import CSQLParams
 from csql_sim.learners.selection import boltzmann
-from csql_sim.world import BlocksWorld, parse_config
+from csql_sim.world import TEST_GOAL, TEST_START, BlocksWorld, parse_config
 
 
 def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -> int:
@@ -25,7 +25,7 @@ def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -
     world = BlocksWorld.of(3)
     legal, next_state = world.legal, world.next_state
     count = len(world.states)
-    test = (world.state_index(parse_config("CBA")), world.state_index(parse_config("BAC")))
+    test = (world.state_index(parse_config(TEST_START)), world.state_index(parse_config(TEST_GOAL)))
     rng = np.random.default_rng(seed)
     buf, pos = rng.random(BATCH).tolist(), 0
     q: dict[tuple[int, int], dict[int, float]] = {}

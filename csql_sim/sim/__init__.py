@@ -14,11 +14,10 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from csql_sim.policy import Policy
+from csql_sim.policy import Policy, load_policy
 from csql_sim.sim.env import PhysicalBlocksEnv
 from csql_sim.sim.executor import EpisodeResult, Perturbation, run_episode
 from csql_sim.sim.physical import PhysicalWorld, SimError
-from csql_sim.sim.policies import load_policy
 from csql_sim.sim.recording import Recording
 from csql_sim.sim.render import VideoError, check_video_options, write_video
 from csql_sim.world import State

@@ -26,7 +26,7 @@ from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.primitives import CarryHook, Status
 from csql_sim.sim.recording import Recorder, Recording
 from csql_sim.sim.scene import Pose
-from csql_sim.world import Action, BlocksWorld, State, WorldError, is_legal, successor
+from csql_sim.world import Action, BlocksWorld, State, is_legal
 
 
 @dataclass(frozen=True)
@@ -113,14 +113,11 @@ class EpisodeResult:
 def predict(state: State, action: Action, goal_index: int) -> State:
     """The world model's next state: the add-delete R-classifier the action activates.
 
-    Falls back to :func:`csql_sim.world.successor` if no single rule matches (it always
-    does for the paper's rules; tests check all 42 legal pairs of n=3).
+    No fallback: exactly one rule fires for every legal action (tests check all 42 legal
+    pairs of n=3 against :func:`csql_sim.world.successor`).
     """
     message = format_state_message(state, goal_index, BlocksWorld.of(state.n).action_index(action) + 1)
-    try:
-        return parse_state_message(_world_model(state.n).predict(message), state.n).state
-    except (KeyError, WorldError):
-        return successor(state, action)
+    return parse_state_message(_world_model(state.n).predict(message), state.n).state
 
 
 @functools.cache
