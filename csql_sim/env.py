@@ -10,21 +10,30 @@
   :class:`State`, a configuration (``"CBA"``), or a state index; either missing is drawn
   from the environment's generator (distinct from the other).
 
-:func:`run_episode` lets any learner act on such an environment (the physical world
-offers the same interface): it senses the observation, selects with the learner's rule
-and updates from the *observed* next state.
+:func:`run_env_episode` lets any learner act on such an environment (the physical world
+offers the same interface) through the learner's act/learn interface, learning from the
+*observed* next state.
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import gymnasium as gym
 import numpy as np
 
 from csql_sim.errors import CsqlError
-from csql_sim.messages import DIGITS, format_state_message, layout
-from csql_sim.world import BlocksWorld, State, parse_config
+from csql_sim.learners.learner import Learner, Transition
+from csql_sim.message import DIGITS, format_state_message, layout
+from csql_sim.notation import parse_config
+from csql_sim.world import BlocksWorld, State
+
+
+class EnvEpisode(NamedTuple):
+    """One episode on an environment: steps taken and whether the goal was reached."""
+
+    steps: int
+    reached: bool
 
 
 class BlocksWorldEnv(gym.Env):
@@ -118,35 +127,32 @@ class BlocksWorldEnv(gym.Env):
         return None
 
 
-def run_episode(
-    env: gym.Env,
-    learner,
-    temperature: float,
-    options: dict | None = None,
-    cap: int | None = None,
-) -> tuple[int, bool]:
-    """Let ``learner`` act on ``env`` for one episode, learning from observed transitions.
+def run_env_episode(env: gym.Env, learner: Learner, temperature: float, options: dict | None = None,
+                    cap: int | None = None, seed: int | None = None) -> EnvEpisode:
+    """Let ``learner`` act on ``env`` for one episode, learning from the observed transitions.
 
-    Each step: sense the observation (:meth:`observe`), select a candidate with the
-    learner's rule (one uniform from its stream, as in training), act, sense the next
-    observation, update. Returns (steps, reached).
+    Each step: the learner acts on the observation (one uniform from its stream, as in
+    training), the environment steps, and the learner learns from what was observed.
+    Works with any learner and any environment with this interface, symbolic or physical.
+
+    Args:
+        env: a blocks-world environment (observations are state messages).
+        learner: any :class:`~csql_sim.learners.learner.Learner`.
+        temperature: T of eq. 3 (0 = greedy).
+        options: passed to ``env.reset`` (``start``, ``goal``).
+        cap: the most steps (default ``learner.params.step_cap``).
+        seed: passed to ``env.reset``; with it the episode is fully determined (see the
+            environment's seeding contract).
+
     """
-    obs, info = env.reset(options=options)
-    node = learner.observe(obs)
+    observation, _info = env.reset(seed=seed, options=options)
     cap = learner.params.step_cap if cap is None else cap
-    learner.begin_trial()
+    learner.begin_episode()
     for steps in range(1, cap + 1):
-        i = learner.select(node, temperature, learner.uniform())
-        action = learner.action_index(node, i)
-        if not info["action_mask"][action] and learner.method != "lt-ql":
-            raise CsqlError(f"{learner.method} proposed an illegal action {action} in {obs}")
-        obs, _reward, terminated, truncated, info = env.step(action)
-        nxt = None if terminated else learner.observe(obs)
-        learner.t += 1
-        learner.update(node, i, nxt, learner.t)
-        if terminated:
-            return steps, True
-        if truncated:
-            return steps, False
-        node = nxt
-    return cap, False
+        action = learner.act(observation, temperature)
+        nxt, _reward, terminated, truncated, _info = env.step(action)
+        learner.learn(Transition(observation, action, nxt, terminated))
+        if terminated or truncated:
+            return EnvEpisode(steps, terminated)
+        observation = nxt
+    return EnvEpisode(cap, False)

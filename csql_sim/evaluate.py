@@ -13,25 +13,41 @@ from tqdm import tqdm
 
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_atomic
-from csql_sim.world import State, all_states, parse_config
-
-Task = tuple[str, str, int]  # start notation, goal notation, seed
+from csql_sim.notation import parse_config
+from csql_sim.policy import Policy, load_policy
+from csql_sim.world import all_states
+from csql_sim.world_model import WorldModel
 
 
 @dataclass(frozen=True)
+class EpisodeSpec:
+    """One physical episode to run.
+
+    Attributes:
+        start: start configuration (notation).
+        goal: goal configuration (notation).
+        seed: the episode's seed.
+    """
+
+    start: str
+    goal: str
+    seed: int
+
+
+@dataclass(frozen=True, kw_only=True)
 class EpisodeSummary:
-    """What one worker sends back about one episode."""
+    """What one worker sends back about one episode (built by keyword)."""
 
     start: str
     goal: str
     seed: int
     success: bool
-    optimal: bool
     reason: str
-    length: int
-    optimal_length: int
-    sim_seconds_per_action: float
-    mismatches: int
+    optimal: bool = False
+    length: int = 0
+    optimal_length: int = 0
+    sim_seconds_per_action: float = 0.0
+    mismatches: int = 0
     events: int = 0
 
 
@@ -78,7 +94,7 @@ class EvalReport:
         return "\n".join(lines)
 
 
-def make_tasks(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: int = 0) -> list[Task]:
+def make_specs(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: int = 0) -> list[EpisodeSpec]:
     """Ordered (start, goal) pairs of distinct states, each with seeds 0..seeds-1.
 
     Args:
@@ -98,40 +114,60 @@ def make_tasks(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: in
     if seeds < 1:
         raise CsqlError(f"--seeds must be a positive integer, got {seeds}")
     # every episode gets its own seed (pair index x seeds + k), so perturbations differ across pairs
-    return [(every[i][0].notation(), every[i][1].notation(), i * seeds + k) for i in chosen for k in range(seeds)]
+    return [EpisodeSpec(start=every[i][0].notation(), goal=every[i][1].notation(), seed=i * seeds + k)
+            for i in chosen for k in range(seeds)]
 
 
-_WORKER: dict[str, object] = {}  # per worker process: the policy and run options
+class EpisodeRunner:
+    """Runs episode specs with one policy and one world model, and summarises each.
+
+    Args:
+        policy: the policy every episode follows.
+        n: number of blocks (the world model is built once, for all episodes).
+        perturb: jitter start scenes, nudge cubes, drop carried cubes.
+        perception: ``"pose"`` or ``"camera"``.
+    """
+
+    def __init__(self, policy: Policy, n: int, perturb: bool, perception: str) -> None:
+        self.policy = policy
+        self.world_model = WorldModel.for_blocks(n)
+        self.perturb = perturb
+        self.perception = perception
+
+    def run(self, spec: EpisodeSpec) -> EpisodeSummary:
+        """Run one physical episode; a CsqlError becomes a failed summary with its message."""
+        from csql_sim.sim.executor import run_physical_episode
+
+        try:
+            r = run_physical_episode(parse_config(spec.start), parse_config(spec.goal), self.policy, seed=spec.seed,
+                                     perturb=self.perturb, perception=self.perception,
+                                     world_model=self.world_model)
+        except CsqlError as exc:
+            return EpisodeSummary(start=spec.start, goal=spec.goal, seed=spec.seed, success=False, reason=str(exc))
+        return EpisodeSummary(start=spec.start, goal=spec.goal, seed=spec.seed, success=r.success, reason=r.reason,
+                              optimal=r.optimal, length=r.length, optimal_length=r.optimal_length,
+                              sim_seconds_per_action=r.sim_seconds_per_action, mismatches=len(r.mismatches),
+                              events=sum(1 for e in r.events if "skipped" not in e))
+
+
+_WORKER_RUNNER: EpisodeRunner | None = None  # the one runner of an evaluation worker process
 
 
 def _init_worker(rules: str | None, n: int, perturb: bool, perception: str) -> None:
-    from csql_sim.policy import load_policy
-
-    _WORKER["policy"] = load_policy(rules, n)[0]
-    _WORKER["perturb"] = perturb
-    _WORKER["perception"] = perception
+    """Pool initializer: the worker process's EpisodeRunner, which lives as long as the worker."""
+    global _WORKER_RUNNER
+    _WORKER_RUNNER = EpisodeRunner(load_policy(rules, n), n, perturb, perception)
 
 
-def _run_task(task: Task) -> EpisodeSummary:
-    from csql_sim.sim.executor import run_episode
-
-    start, goal, seed = task
-    s: State = parse_config(start)
-    g: State = parse_config(goal)
-    try:
-        r = run_episode(s, g, _WORKER["policy"], seed=seed, perturb=bool(_WORKER["perturb"]),
-                        perception=str(_WORKER["perception"]))
-    except CsqlError as exc:
-        return EpisodeSummary(start, goal, seed, False, False, str(exc), 0, 0, 0.0, 0)
-    return EpisodeSummary(start, goal, seed, r.success, r.optimal, r.reason, r.length, r.optimal_length,
-                          r.sim_seconds_per_action, len(r.mismatches),
-                          sum(1 for e in r.events if "skipped" not in e))
+def _run_in_worker(spec: EpisodeSpec) -> EpisodeSummary:
+    assert _WORKER_RUNNER is not None, "evaluation worker started without _init_worker"
+    return _WORKER_RUNNER.run(spec)
 
 
 def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool = False,
              workers: int | None = None, rules: str | None = None, perception: str = "pose",
              progress: bool = True) -> EvalReport:
-    """Run physical episodes for every task in parallel processes and summarise them.
+    """Run physical episodes for every start/goal pair in parallel processes and summarise them.
 
     Args:
         n: number of blocks.
@@ -143,25 +179,23 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         perception: ``"pose"`` or ``"camera"``.
         progress: show a tqdm bar on stderr.
     """
-    from csql_sim.policy import load_policy
-
-    load_policy(rules, n)  # fail fast on a bad file, before starting workers
-    tasks = make_tasks(n, pairs, seeds)
+    policy = load_policy(rules, n)  # fail fast on a bad file, before starting workers
+    specs = make_specs(n, pairs, seeds)
     workers = workers or os.cpu_count() or 1
     if workers < 1:
         raise CsqlError(f"--workers must be positive, got {workers}")
     init = (rules, n, perturb, perception)
-    bar = tqdm(total=len(tasks), desc="episodes", unit="ep", disable=not progress)
+    bar = tqdm(total=len(specs), desc="episodes", unit="ep", disable=not progress)
     summaries: list[EpisodeSummary] = []
     try:
         if workers == 1:
-            _init_worker(*init)
-            for t in tasks:
-                summaries.append(_run_task(t))
+            runner = EpisodeRunner(policy, n, perturb, perception)
+            for spec in specs:
+                summaries.append(runner.run(spec))
                 bar.update()
         else:
             with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=init) as pool:
-                for summary in pool.map(_run_task, tasks, chunksize=max(1, len(tasks) // (workers * 16))):
+                for summary in pool.map(_run_in_worker, specs, chunksize=max(1, len(specs) // (workers * 16))):
                     summaries.append(summary)
                     bar.update()
     finally:

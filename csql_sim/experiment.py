@@ -1,7 +1,7 @@
 """Figure 7: test-task curves of the four learners, averaged over cycles run in parallel.
 
 Each cycle is one fresh agent trained for ``trials`` random tasks with the test task
-every 50 trials (:meth:`csql_sim.learners.Learner.run`). Cycle ``c`` of every method
+every 50 trials (:func:`csql_sim.learners.trial.run_training`). Cycle ``c`` of every method
 draws from ``numpy.random.SeedSequence(seed).spawn(cycles)[c]``, so results do not
 depend on the number of worker processes.
 """
@@ -19,10 +19,11 @@ from pathlib import Path
 import numpy as np
 
 from csql_sim.errors import CsqlError
-from csql_sim.files import write_atomic
-from csql_sim.learners import METHODS, Curve, make_learner
+from csql_sim.files import atomic_output, write_atomic
+from csql_sim.learners import METHODS, Curve, make_learner, run_training
 from csql_sim.learners.params import CommonParams, resolve_params
 from csql_sim.planner import distance
+from csql_sim.task import test_task
 
 CSV_COLUMNS = ("method", "trial", "steps_mean", "steps_std", "value_mean", "value_std")
 
@@ -70,7 +71,61 @@ class ExperimentResult:
 def run_cycle(method: str, trials: int, seed: np.random.SeedSequence, n: int, params: CommonParams) -> Curve:
     """One cycle: a fresh learner trained on ``trials`` tasks; its test-task curve."""
     learner = make_learner(method, n, params, rng=np.random.default_rng(seed))
-    return learner.run(trials)
+    return run_training(learner, trials)
+
+
+def _resolve(methods: Sequence[str], cycles: int, trials: int,
+             params: dict[str, CommonParams] | str | os.PathLike | None) -> dict[str, CommonParams]:
+    """Check the experiment's shape and resolve each method's parameters."""
+    if not methods:
+        raise CsqlError("no methods given")
+    for m in methods:
+        if m not in METHODS:
+            raise CsqlError(f"unknown method {m!r}; choose from {', '.join(METHODS)}")
+    if cycles < 1 or trials < 0:
+        raise CsqlError(f"need cycles >= 1 and trials >= 0, got {cycles} and {trials}")
+    if isinstance(params, dict):
+        return {m: resolve_params(m, params.get(m)) for m in methods}
+    return {m: resolve_params(m, params) for m in methods}
+
+
+@dataclass(frozen=True)
+class CycleJob:
+    """One cycle to run: a method, its parameters and the cycle's seed."""
+
+    method: str
+    trials: int
+    seed: np.random.SeedSequence
+    n: int
+    params: CommonParams
+
+
+def _run_cycles(jobs: list[CycleJob], workers: int, progress: bool) -> list[Curve]:
+    """Every job's curve, in job order; in ``workers`` processes when more than one."""
+    curves: list[Curve | None] = [None] * len(jobs)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(jobs), desc="cycles", unit="cycle")
+    try:
+        if workers <= 1:
+            for k, job in enumerate(jobs):
+                curves[k] = run_cycle(job.method, job.trials, job.seed, job.n, job.params)
+                if bar is not None:
+                    bar.update()
+        else:
+            with ProcessPoolExecutor(max_workers=workers) as pool:
+                futures = {pool.submit(run_cycle, j.method, j.trials, j.seed, j.n, j.params): k
+                           for k, j in enumerate(jobs)}
+                for future in as_completed(futures):
+                    curves[futures[future]] = future.result()
+                    if bar is not None:
+                        bar.update()
+    finally:
+        if bar is not None:
+            bar.close()
+    return [c for c in curves if c is not None]
 
 
 def run_experiment(
@@ -89,64 +144,25 @@ def run_experiment(
         methods: learner names (see :data:`csql_sim.learners.METHODS`).
         cycles: independent agents per method.
         trials: training trials per cycle.
-        seed: root of the per-cycle seed sequences.
+        seed: root of the per-cycle seed sequences (cycle c of every method gets the same).
         workers: processes (default ``os.cpu_count()``); 1 runs in this process.
         n: number of blocks.
         params: per-method parameters, or a YAML file (flat or keyed by method).
         progress: show a tqdm bar on stderr.
 
     """
-    for m in methods:
-        if m not in METHODS:
-            raise CsqlError(f"unknown method {m!r}; choose from {', '.join(METHODS)}")
-    if not methods:
-        raise CsqlError("no methods given")
-    if cycles < 1 or trials < 0:
-        raise CsqlError(f"need cycles >= 1 and trials >= 0, got {cycles} and {trials}")
-    if isinstance(params, dict):
-        resolved = {m: resolve_params(m, params.get(m)) for m in methods}
-    else:
-        resolved = {m: resolve_params(m, params) for m in methods}
+    resolved = _resolve(methods, cycles, trials, params)
     seeds = np.random.SeedSequence(seed).spawn(cycles)
-    jobs = [(m, c) for m in methods for c in range(cycles)]
-    curves: dict[tuple[str, int], Curve] = {}
-    workers = workers or os.cpu_count() or 1
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=len(jobs), desc="cycles", unit="cycle")
-    try:
-        if workers <= 1:
-            for m, c in jobs:
-                curves[(m, c)] = run_cycle(m, trials, seeds[c], n, resolved[m])
-                if bar is not None:
-                    bar.update()
-        else:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
-                futures = {pool.submit(run_cycle, m, trials, seeds[c], n, resolved[m]): (m, c) for m, c in jobs}
-                for future in as_completed(futures):
-                    curves[futures[future]] = future.result()
-                    if bar is not None:
-                        bar.update()
-    finally:
-        if bar is not None:
-            bar.close()
+    jobs = [CycleJob(m, trials, seeds[c], n, resolved[m]) for m in methods for c in range(cycles)]
+    curves = _run_cycles(jobs, workers or os.cpu_count() or 1, progress)
     results = []
-    for m in methods:
-        runs = [curves[(m, c)] for c in range(cycles)]
-        results.append(
-            MethodResult(
-                method=m,
-                trials=runs[0].trials,
-                steps=np.array([r.steps for r in runs], dtype=float),
-                values=np.array([r.values for r in runs], dtype=float),
-            )
-        )
-    learner = make_learner(methods[0], n, resolved[methods[0]])
-    start, goal = learner.test_task()
-    optimal = distance(learner.world.states[start], learner.world.states[goal])
-    return ExperimentResult(tuple(results), cycles, trials, seed, optimal)
+    for k, m in enumerate(methods):
+        runs = curves[k * cycles : (k + 1) * cycles]
+        results.append(MethodResult(method=m, trials=runs[0].trials,
+                                    steps=np.array([r.steps for r in runs], dtype=float),
+                                    values=np.array([r.values for r in runs], dtype=float)))
+    task = test_task(n)
+    return ExperimentResult(tuple(results), cycles, trials, seed, distance(task.start, task.goal))
 
 
 def csv_text(result: ExperimentResult) -> str:
@@ -193,16 +209,9 @@ def write_png(path: str | os.PathLike, result: ExperimentResult) -> Path:
         ax.grid(alpha=0.3)
     fig.suptitle(f"Figure 7: mean over {result.cycles} cycles of {result.trials} trials")
     fig.tight_layout()
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.tmp")
-    try:
+    with atomic_output(path) as tmp:
         fig.savefig(tmp, format="png", dpi=110)
-        os.replace(tmp, target)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return target
+    return Path(path)
 
 
 def summary_lines(result: ExperimentResult) -> list[str]:

@@ -75,6 +75,7 @@ class BfsPolicy:
     """The policy interface backed by the BFS planner: the optimal next action."""
 
     name = "bfs"
+    blocks: int | None = None
 
     def act(self, state: State, goal: State) -> Action | None:
         """The first action of an optimal plan from ``state``, or None at the goal."""

@@ -10,17 +10,28 @@ import os
 from dataclasses import dataclass
 from typing import Protocol
 
-from csql_sim.classifiers import ClassifierList, Q
+from csql_sim.classifier_list import ClassifierList
 from csql_sim.errors import CsqlError
-from csql_sim.messages import format_state_message, parse_action_message
+from csql_sim.message import format_state_message, parse_action_message
 from csql_sim.planner import distance
-from csql_sim.world import Action, BlocksWorld, State, WorldError, successor
+from csql_sim.rulebase import RuleBase
+from csql_sim.world import Action, BlocksWorld, State
+from csql_sim.world_model import WorldModel
+
+VALUES = ("q", "strength")
 
 
 class Policy(Protocol):
-    """Anything that proposes the next action towards a goal; None at the goal."""
+    """Anything that proposes the next action towards a goal; None at the goal.
+
+    Attributes:
+        name: ``"bfs"`` or ``"rules"``.
+        blocks: the number of blocks it is for, or None when any.
+
+    """
 
     name: str
+    blocks: int | None
 
     def act(self, state: State, goal: State) -> Action | None:
         """The action to take in ``state`` to reach ``goal``."""
@@ -32,30 +43,41 @@ class NoRuleError(CsqlError):
 
 
 class QPolicy:
-    """Greedy policy over Q-classifiers: the action of the highest Q-value (ties: list order).
+    """Greedy policy over Q-classifiers: the action of the highest value (ties: list order).
 
     Args:
         classifiers: a classifier list holding Q-classifiers (R-classifiers are ignored).
         n: number of blocks the messages describe.
+        value: the field greedy selection follows: ``"q"`` (Q-learning) or
+            ``"strength"`` (the bucket brigade's learned value).
 
     """
 
     name = "rules"
 
-    def __init__(self, classifiers: ClassifierList, n: int) -> None:
+    def __init__(self, classifiers: ClassifierList, n: int, value: str = "q") -> None:
+        if value not in VALUES:
+            raise CsqlError(f"value must be one of {', '.join(VALUES)}, got {value!r}")
         self.classifiers = classifiers
-        self.n = n
+        self.n = self.blocks = n
+        self.value = value
         self.world = BlocksWorld.of(n)
+
+    @classmethod
+    def from_rulebase(cls, rulebase: RuleBase) -> QPolicy:
+        """The greedy policy of a rule base (its ``meta["value"]`` names the field, default q)."""
+        return cls(ClassifierList(rulebase.classifiers), rulebase.blocks, rulebase.meta.get("value", "q"))
 
     def act(self, state: State, goal: State) -> Action | None:
         """The greedy action; raises NoRuleError naming the state message if none matches."""
         if state == goal:
             return None
         message = format_state_message(state, self.world.state_index(goal))
-        rules = [c for c in self.classifiers.q_for(message).values() if c.kind == Q]
+        rules = self.classifiers.q_for(message).values()
         if not rules:
             raise NoRuleError(f"no Q-classifier matches state {message} ({state.notation()})")
-        best = max(rules, key=lambda c: c.q)  # max keeps the first of equal values
+        field = self.value
+        best = max(rules, key=lambda c: getattr(c, field))  # max keeps the first of equal values
         return parse_action_message(best.action, self.n)
 
 
@@ -75,11 +97,20 @@ class Rollout:
     reason: str = ""
 
 
-def rollout(policy: Policy, start: State, goal: State, max_steps: int | None = None) -> Rollout:
+def rollout(policy: Policy, start: State, goal: State, max_steps: int | None = None,
+            world_model: WorldModel | None = None) -> Rollout:
     """Run ``policy`` on the world model from ``start`` until ``goal``, a loop or the cap.
 
-    The cap defaults to the number of states (a longer greedy path must revisit a state).
+    Args:
+        policy: any policy.
+        start: the start state.
+        goal: the goal state.
+        max_steps: the cap; defaults to the number of states (a longer greedy path must
+            revisit a state).
+        world_model: predicts each next state (default: the built-in R-classifiers).
+
     """
+    model = world_model or WorldModel.for_blocks(start.n)
     cap = max_steps if max_steps is not None else len(BlocksWorld.of(start.n).states)
     state, taken, seen = start, [], {start}
     while state != goal:
@@ -90,10 +121,9 @@ def rollout(policy: Policy, start: State, goal: State, max_steps: int | None = N
         except NoRuleError as exc:
             return Rollout(tuple(taken), False, str(exc))
         taken.append(action)
-        try:
-            state = successor(state, action)
-        except WorldError:
+        if not model.is_legal(state, action):
             return Rollout(tuple(taken), False, f"illegal action {action.name()} in {state.notation()}")
+        state = model.predict_state(state, action)
         if state in seen and state != goal:
             return Rollout(tuple(taken), False, f"loop at {state.notation()}")
         seen.add(state)
@@ -118,23 +148,22 @@ class PairResult:
         return self.length == self.optimal_length
 
 
-def check_all_pairs(policy: Policy, n: int) -> list[PairResult]:
-    """Roll ``policy`` out for every ordered pair of distinct states (462 for n=3)."""
+def check_all_pairs(policy: Policy, n: int, world_model: WorldModel | None = None) -> list[PairResult]:
+    """Roll ``policy`` out on one world model for every ordered pair of distinct states (462 for n=3)."""
+    model = world_model or WorldModel.for_blocks(n)
     states = BlocksWorld.of(n).states
     return [
-        PairResult(s, g, rollout(policy, s, g), distance(s, g)) for g in states for s in states if s != g
+        PairResult(s, g, rollout(policy, s, g, world_model=model), distance(s, g))
+        for g in states for s in states if s != g
     ]
 
 
-def load_policy(path: str | os.PathLike | None, n: int | None = None) -> tuple[Policy, int | None]:
+def load_policy(path: str | os.PathLike | None, n: int | None = None) -> Policy:
     """The greedy policy of a rule base from ``csql-sim train``, or BFS when ``path`` is None.
 
     Args:
         path: a rule-base file, or None for the BFS planner.
         n: the number of blocks the caller expects (checked against the rule base).
-
-    Returns:
-        The policy and its number of blocks (``n`` for BFS).
 
     Raises:
         CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
@@ -143,8 +172,8 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None) -> tuple[P
     from csql_sim.rulebase import load
 
     if path is None:
-        return BfsPolicy(), n
+        return BfsPolicy()
     rulebase = load(path)
     if n is not None and rulebase.blocks != n:
         raise CsqlError(f"rule base {os.fspath(path)!r} is for {rulebase.blocks} blocks, not {n}")
-    return QPolicy(ClassifierList(rulebase.classifiers), rulebase.blocks), rulebase.blocks
+    return QPolicy.from_rulebase(rulebase)

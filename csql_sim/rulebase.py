@@ -24,10 +24,12 @@ from pathlib import Path
 
 import yaml
 
-from csql_sim.classifiers import Classifier, Q, R
+from csql_sim.classifier_list import Classifier
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_atomic
-from csql_sim.messages import layout
+from csql_sim.message import layout
+from csql_sim.q_classifier import QClassifier
+from csql_sim.r_classifier import parse_r_classifier
 from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS
 
 FORMAT = "csql-sim rule base"
@@ -60,7 +62,7 @@ def dumps(rulebase: RuleBase) -> str:
     rows = []
     for c in rulebase.classifiers:
         row: dict = {"kind": c.kind, "condition": c.condition, "action": c.action}
-        if c.kind == Q:
+        if isinstance(c, QClassifier):
             row.update(strength=round(c.strength, 6), q=float(c.q), age=round(c.age, 6), error=round(c.error, 6))
         rows.append(row)
     doc = {
@@ -121,17 +123,22 @@ def _classifiers(rows: list, width: int, source: str) -> Iterable[Classifier]:
         if not isinstance(row, dict):
             raise RuleBaseError(f"{where}: expected a mapping")
         kind = row.get("kind")
-        if kind not in (R, Q):
+        if kind not in ("R", "Q"):
             raise RuleBaseError(f"{where}: kind must be R or Q, got {kind!r}")
         cond, act = row.get("condition"), row.get("action")
         for name, value in (("condition", cond), ("action", act)):
             if not isinstance(value, str) or len(value) != width:
                 raise RuleBaseError(f"{where}: {name} must be a {width}-character string, got {value!r}")
-        c = Classifier(kind, cond, act)
-        if kind == Q:
-            for name in Q_FIELDS:
-                value = row.get(name)
-                if isinstance(value, bool) or not isinstance(value, (int, float)):
-                    raise RuleBaseError(f"{where}: {name} must be a number, got {value!r}")
-                setattr(c, name, float(value))
+        if kind == "R":
+            try:
+                yield parse_r_classifier(cond, act)
+            except CsqlError as exc:
+                raise RuleBaseError(f"{where}: {exc}") from None
+            continue
+        c = QClassifier(cond, act)
+        for name in Q_FIELDS:
+            value = row.get(name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise RuleBaseError(f"{where}: {name} must be a number, got {value!r}")
+            setattr(c, name, float(value))
         yield c

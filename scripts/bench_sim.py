@@ -14,13 +14,14 @@ import time
 
 import numpy as np
 
+from csql_sim.notation import parse_config
 from csql_sim.sim.camera import RENDER_CAMERA, capture
-from csql_sim.sim.executor import run_episode
+from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.recording import Recording
 from csql_sim.sim.render import write_video
-from csql_sim.sim.scene import Scene
-from csql_sim.world import all_states, parse_config
+from csql_sim.sim.replay import apply_snapshot, replay_scene
+from csql_sim.world import all_states
 
 
 def raw_steps_per_second(steps: int, config: str) -> float:
@@ -43,7 +44,7 @@ def executor_steps_per_second(episodes: int) -> tuple[float, float, float, float
     stepping = 0.0
     for k in rng.choice(len(pairs), size=episodes, replace=False):
         start, goal = pairs[k]
-        r = run_episode(start, goal, seed=int(k))
+        r = run_physical_episode(start, goal, seed=int(k))
         loop += r.wall_seconds["loop"]
         setup += r.wall_seconds["setup"]
         stepping += r.wall_seconds["stepping"]
@@ -55,10 +56,10 @@ def executor_steps_per_second(episodes: int) -> tuple[float, float, float, float
 def raw_frames_per_second(recording: Recording, width: int, height: int) -> float:
     """Bare getCameraImage calls, one process, on every 4th recorded frame (same content as the video)."""
     frames = recording.frames[::4]
-    with Scene(recording.n, recording.config, physics=False) as scene:
+    with replay_scene(recording.n, recording.config) as scene:
         t = time.perf_counter()
         for frame in frames:
-            scene.apply_snapshot(frame.poses, frame.joints)
+            apply_snapshot(scene, frame.poses, frame.joints)
             capture(scene, RENDER_CAMERA, width, height)
         return len(frames) / (time.perf_counter() - t)
 
@@ -84,7 +85,7 @@ def main() -> None:
           "(the rest is IK, guards, perception, policy)")
     print(f"simulated time per action: {spa:10.3f} s (target <= 1 s)")
 
-    r = run_episode(parse_config("CBA"), parse_config("BAC"), seed=0, record=True)
+    r = run_physical_episode(parse_config("CBA"), parse_config("BAC"), seed=0, record=True)
     assert r.recording is not None
     raw_fps = raw_frames_per_second(r.recording, args.width, args.height)
     with tempfile.TemporaryDirectory() as tmp:

@@ -19,3 +19,19 @@ def test_write_atomic_uses_ordinary_permissions(tmp_path):
     finally:
         os.umask(umask)
     assert stat.S_IMODE(path.stat().st_mode) == 0o644
+
+
+def test_atomic_output_keeps_the_old_file_when_the_writer_fails(tmp_path):
+    from csql_sim.files import atomic_output
+
+    target = tmp_path / "fig.png"
+    target.write_text("old")
+    try:
+        with atomic_output(target) as tmp:
+            assert tmp.suffix == ".png" and tmp.parent == tmp_path
+            tmp.write_text("half")
+            raise RuntimeError("writer crashed")
+    except RuntimeError:
+        pass
+    assert target.read_text() == "old"
+    assert [p.name for p in tmp_path.iterdir()] == ["fig.png"]

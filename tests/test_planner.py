@@ -2,8 +2,9 @@ from collections import deque
 
 import pytest
 
+from csql_sim.notation import parse_config
 from csql_sim.planner import BfsPolicy, bfs_plan, distance
-from csql_sim.world import BlocksWorld, legal_actions, parse_config, successor
+from csql_sim.world import BlocksWorld, legal_actions, successor
 
 
 def _forward_bfs(start, goal):

@@ -1,10 +1,12 @@
 import pytest
 
-from csql_sim.classifiers import Classifier, ClassifierList, Q
-from csql_sim.messages import format_action_message, format_state_message
+from csql_sim.classifier_list import ClassifierList
+from csql_sim.message import format_action_message, format_state_message
+from csql_sim.notation import parse_config
 from csql_sim.planner import BfsPolicy, optimal_actions
 from csql_sim.policy import NoRuleError, QPolicy, check_all_pairs, rollout
-from csql_sim.world import BlocksWorld, all_actions, parse_config
+from csql_sim.q_classifier import QClassifier
+from csql_sim.world import BlocksWorld, all_actions
 
 
 def _optimal_q_classifiers(n: int) -> ClassifierList:
@@ -17,10 +19,10 @@ def _optimal_q_classifiers(n: int) -> ClassifierList:
                 continue
             best = optimal_actions(s, goal)[0]
             msg = format_state_message(s, g)
-            cl.add(Classifier(Q, msg, format_action_message(best, n), q=0.9))
+            cl.add(QClassifier(msg, format_action_message(best, n), q=0.9))
             for a in world.legal[world.state_index(s)]:
                 if world.actions[a] != best:
-                    cl.add(Classifier(Q, msg, format_action_message(world.actions[a], n), q=0.1))
+                    cl.add(QClassifier(msg, format_action_message(world.actions[a], n), q=0.1))
     return cl
 
 
@@ -46,8 +48,8 @@ def test_loop_detected():
     g = BlocksWorld.of(3).state_index(parse_config("BAC"))
     acts = all_actions(3)
     cl = ClassifierList([
-        Classifier(Q, format_state_message(parse_config("A,B,C"), g), format_action_message(acts[6], 3), q=1),
-        Classifier(Q, format_state_message(parse_config("B,C+A"), g), format_action_message(acts[9], 3), q=1),
+        QClassifier(format_state_message(parse_config("A,B,C"), g), format_action_message(acts[6], 3), q=1),
+        QClassifier(format_state_message(parse_config("B,C+A"), g), format_action_message(acts[9], 3), q=1),
     ])
     r = rollout(QPolicy(cl, 3), parse_config("A,B,C"), parse_config("BAC"))
     assert not r.reached and "loop" in r.reason
@@ -58,7 +60,7 @@ def test_illegal_greedy_action_is_a_failed_rollout():
     g = BlocksWorld.of(3).state_index(parse_config("BAC"))
     acts = all_actions(3)
     cl = ClassifierList([
-        Classifier(Q, format_state_message(parse_config("CBA"), g), format_action_message(acts[12], 3), q=1),
+        QClassifier(format_state_message(parse_config("CBA"), g), format_action_message(acts[12], 3), q=1),
     ])
     r = rollout(QPolicy(cl, 3), parse_config("CBA"), parse_config("BAC"))
     assert not r.reached and "illegal action stack(A,B)" in r.reason

@@ -1,5 +1,6 @@
 import pytest
 
+from csql_sim.notation import parse_action_name, parse_config
 from csql_sim.world import (
     HAND,
     TABLE,
@@ -12,8 +13,6 @@ from csql_sim.world import (
     format_config,
     is_legal,
     legal_actions,
-    parse_action_name,
-    parse_config,
     successor,
 )
 

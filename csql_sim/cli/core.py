@@ -7,9 +7,10 @@ import json
 
 from csql_sim.cli.args import blocks_arg
 from csql_sim.errors import CsqlError
-from csql_sim.messages import action_code, format_action_message, format_state_message, parse_state_arg
+from csql_sim.message import action_code, format_action_message, format_state_message
+from csql_sim.notation import parse_state_arg
 from csql_sim.policy import PairResult, Policy, check_all_pairs, load_policy, rollout
-from csql_sim.rules import r_classifiers
+from csql_sim.r_classifier import r_classifiers
 from csql_sim.world import BlocksWorld, State, WorldError
 
 
@@ -62,7 +63,7 @@ def _plan_json(start: State, goal: State, actions) -> dict:
     }
 
 
-def _policy_for(args: argparse.Namespace) -> tuple[Policy, int | None]:
+def _policy_for(args: argparse.Namespace) -> Policy:
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
         raise CsqlError("--planner rules needs --rules FILE")
@@ -88,7 +89,8 @@ def _summary_json(results: list[PairResult]) -> dict:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
-    policy, n = _policy_for(args)
+    policy = _policy_for(args)
+    n = policy.blocks or args.blocks
     if args.all:
         if args.start or args.goal:
             raise CsqlError("--all plans every pair; do not give --start or --goal")

@@ -10,37 +10,36 @@ import os
 from pathlib import Path
 
 from csql_sim.cli.args import positive_int
-from csql_sim.world import TEST_GOAL, TEST_START, parse_config
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    from csql_sim.classifiers import ClassifierList
     from csql_sim.cli.sim import print_episode
-    from csql_sim.learners import figure6_table, prune, train
+    from csql_sim.learners import count_q, figure6_table, prune, train
     from csql_sim.policy import QPolicy, check_all_pairs
     from csql_sim.rulebase import save
     from csql_sim.sim import check_video_options, render_episode
+    from csql_sim.task import test_task
 
     out = Path(args.out)
     video = out / "test_task.mp4"
     check_video_options(video, args.width, args.height, args.fps)
-    start, goal = parse_config(TEST_START), parse_config(TEST_GOAL)
+    task = test_task(3)
+    start, goal = task.start, task.goal
 
     print(f"[1/4] training CS-QL: {args.trials} trials, seed {args.seed}")
     learned = train("cs-ql", trials=args.trials, seed=args.seed, progress=True)
     save(out / "rules.yaml", learned)
     pruned = prune(learned, args.threshold)
     save(out / "pruned.yaml", pruned)
-    before = sum(c.kind == "Q" for c in learned.classifiers)
-    after = sum(c.kind == "Q" for c in pruned.classifiers)
-    policy = QPolicy(ClassifierList(pruned.classifiers), pruned.blocks)
+    before, after = count_q(learned), count_q(pruned)
+    policy = QPolicy.from_rulebase(pruned)
     results = check_all_pairs(policy, pruned.blocks)
     optimal = sum(r.optimal for r in results)
     print(f"[2/4] pruning at strength {args.threshold}: {before} -> {after} Q-classifiers; "
           f"the pruned rules plan {optimal}/{len(results)} start/goal pairs optimally "
           f"(rule files: {out / 'rules.yaml'}, {out / 'pruned.yaml'})")
 
-    print(f"[3/4] the test task's Q-classifiers ({TEST_START} -> {TEST_GOAL}), as in Figure 6:")
+    print(f"[3/4] the test task's Q-classifiers ({start} -> {goal}), as in Figure 6:")
     print(figure6_table(pruned, start, goal))
 
     print(f"[4/4] executing the learned plan on the simulated Panda and rendering {video}")

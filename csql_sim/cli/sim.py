@@ -40,7 +40,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     if not args.start or not args.goal:
         raise CsqlError("render needs --start and --goal")
     start, goal = read_task(args.start, args.goal, None)
-    policy, _ = load_policy(args.rules, start.n)
+    policy = load_policy(args.rules, start.n)
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
                                   perception=args.perception)

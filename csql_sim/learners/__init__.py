@@ -11,9 +11,10 @@ import os
 
 import numpy as np
 
-from csql_sim.learners.base import Curve, Learner, TrialResult
 from csql_sim.learners.bucket_brigade import BucketBrigade, BucketBrigadeRoulette
-from csql_sim.learners.csql import CSQL, ClassifierSystemLearner
+from csql_sim.learners.cs_ql import CSQL, ClassifierSystemLearner
+from csql_sim.learners.learner import Learner, Transition
+from csql_sim.learners.lt_ql import TabularQ
 from csql_sim.learners.params import (
     PARAMS_BY_METHOD,
     BucketBrigadeParams,
@@ -25,8 +26,10 @@ from csql_sim.learners.params import (
     resolve_params,
 )
 from csql_sim.learners.report import count_q, figure6_table, greedy_path, prune
-from csql_sim.learners.tabular import TabularQ
+from csql_sim.learners.trial import Curve, TrialResult, run_training, run_trial
+from csql_sim.r_classifier import RClassifier
 from csql_sim.rulebase import RuleBase
+from csql_sim.task import test_task
 from csql_sim.world import check_n
 
 LEARNERS: dict[str, type[Learner]] = {
@@ -44,13 +47,24 @@ def make_learner(
     params: CommonParams | dict | str | os.PathLike | None = None,
     rng: np.random.Generator | None = None,
     seed: int = 0,
+    rules: tuple[RClassifier, ...] | None = None,
 ) -> Learner:
-    """A fresh learner of ``method``; ``rng`` defaults to ``default_rng(seed)``."""
+    """A fresh learner of ``method``; ``rng`` defaults to ``default_rng(seed)``.
+
+    ``rules`` replaces the built-in R-classifiers of the classifier-system learners
+    (LT-QL has none and refuses them).
+    """
     if method not in LEARNERS:
         raise ParamsError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
     check_n(n)
     resolved = resolve_params(method, params)
-    return LEARNERS[method](n, resolved, rng if rng is not None else np.random.default_rng(seed))
+    generator = rng if rng is not None else np.random.default_rng(seed)
+    cls = LEARNERS[method]
+    if rules is None:
+        return cls(n, resolved, generator)
+    if not issubclass(cls, ClassifierSystemLearner):
+        raise ParamsError(f"{method} has no domain knowledge; R-classifiers apply to the classifier-system methods")
+    return cls(n, resolved, generator, rules)
 
 
 def train(
@@ -83,14 +97,15 @@ def train(
         from tqdm import tqdm
 
         bar = tqdm(total=trials, desc=method, unit="trial", leave=False)
-    learner.run(trials, on_trial=(lambda _k: bar.update()) if bar is not None else None)
+    run_training(learner, trials, on_trial=(lambda _k: bar.update()) if bar is not None else None)
     if bar is not None:
         bar.close()
     swept = 0
     if isinstance(learner, CSQL) and learner.params.sweep:
         swept = learner.sweep()
-        start, goal = learner.test_task()
-        learner.run_trial(start, goal, 0.0)  # end on the test task, as Figure 6 was taken
+        task = test_task(n)
+        run_trial(learner, learner.world.state_index(task.start), learner.world.state_index(task.goal), 0.0)
+        # ends on the test task, as Figure 6 was taken
     meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept}
     return learner.rulebase(meta)
 
@@ -111,6 +126,7 @@ __all__ = [
     "ParamsError",
     "TabularParams",
     "TabularQ",
+    "Transition",
     "TrialResult",
     "count_q",
     "figure6_table",
@@ -118,5 +134,7 @@ __all__ = [
     "load_params",
     "make_learner",
     "prune",
+    "run_training",
+    "run_trial",
     "train",
 ]

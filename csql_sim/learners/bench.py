@@ -13,10 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.learners.base import BATCH, TEST_EVERY
+from csql_sim.learners.learner import UniformStream
 from csql_sim.learners.params import CSQLParams
 from csql_sim.learners.selection import boltzmann
-from csql_sim.world import TEST_GOAL, TEST_START, BlocksWorld, parse_config
+from csql_sim.learners.trial import TEST_EVERY, run_training
+from csql_sim.task import test_task
+from csql_sim.world import BlocksWorld
 
 
 def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -> int:
@@ -25,9 +27,9 @@ def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -
     world = BlocksWorld.of(3)
     legal, next_state = world.legal, world.next_state
     count = len(world.states)
-    test = (world.state_index(parse_config(TEST_START)), world.state_index(parse_config(TEST_GOAL)))
-    rng = np.random.default_rng(seed)
-    buf, pos = rng.random(BATCH).tolist(), 0
+    task = test_task(3)
+    test = (world.state_index(task.start), world.state_index(task.goal))
+    uniforms = UniformStream(np.random.default_rng(seed))
     q: dict[tuple[int, int], dict[int, float]] = {}
     steps = 0
     for k in range(trials + 1):
@@ -36,23 +38,13 @@ def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -
         if k < trials:
             tasks.append(None)
         for task in tasks:
-            if task is None:  # a random task, drawn after the test task as Learner.run does
-                if pos + 2 > len(buf):
-                    buf, pos = buf[pos:] + rng.random(BATCH).tolist(), 0
-                s = min(int(buf[pos] * count), count - 1)
-                g = min(int(buf[pos + 1] * (count - 1)), count - 2)
-                pos += 2
-                task = (s, g + (g >= s))
-            s, g = task
+            s, g = uniforms.task(count) if task is None else task  # random after test, as in training
             for _ in range(p.step_cap):
                 row = q.get((s, g))
                 if row is None:
                     row = q[(s, g)] = {a: 0.0 for a in legal[s]}
-                if pos >= len(buf):
-                    buf, pos = rng.random(BATCH).tolist(), 0
                 actions = list(row)
-                a = actions[boltzmann(list(row.values()), temperature, buf[pos])]
-                pos += 1
+                a = actions[boltzmann(list(row.values()), temperature, uniforms.next())]
                 nxt = next_state[s][a]
                 if nxt == g:
                     target = p.payoff
@@ -92,7 +84,7 @@ def bench(trials: int = 2500, seed: int = 0, repeats: int = 5) -> BenchResult:
     for _ in range(repeats):
         t0 = time.perf_counter()
         learner = make_learner("cs-ql", 3, seed=seed)
-        learner.run(trials)
+        run_training(learner, trials)
         best_c = min(best_c, time.perf_counter() - t0)
         steps_c = learner.t
         t0 = time.perf_counter()

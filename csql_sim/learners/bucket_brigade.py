@@ -1,21 +1,27 @@
 """CS-BB-BZ and CS-BB-RW: the classifier system with Holland's bucket brigade (section 6).
 
-The classifier system (match, cover, world model) is CS-QL's; only credit assignment and
-selection differ. No discounting. Constants (:class:`BucketBrigadeParams`): the active
+The classifier system (processing block, world model) is CS-QL's; only credit assignment
+and selection differ. No discounting. Constants (:class:`BucketBrigadeParams`): the active
 classifier bids ``bid * S`` (bid = 0.2) and pays it to the classifier active one step
 before it in the trial; at the goal it receives ``bid * payoff``; matched candidates
 that are not selected pay a tax ``tax * S`` (tax = 0 by default: Holland's bid tax is
 off, so only the brigade moves strength).
+
+The learned value is the strength; the exported rule base keeps each classifier's
+``q`` untouched, and its ``meta["value"]`` says that greedy plans follow ``strength``.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from csql_sim.classifiers import Classifier, Q
-from csql_sim.learners.csql import ClassifierSystemLearner, Node
+from csql_sim.learners.cs_ql import ClassifierSystemLearner
 from csql_sim.learners.params import BucketBrigadeParams
 from csql_sim.learners.selection import boltzmann, roulette
+from csql_sim.processing_block import MatchSet
+from csql_sim.q_classifier import QClassifier
+from csql_sim.r_classifier import RClassifier
+from csql_sim.rulebase import RuleBase
 
 
 class BucketBrigade(ClassifierSystemLearner):
@@ -24,30 +30,31 @@ class BucketBrigade(ClassifierSystemLearner):
     method = "cs-bb-bz"
     params: BucketBrigadeParams
 
-    def __init__(self, n: int, params: BucketBrigadeParams, rng: np.random.Generator) -> None:
-        super().__init__(n, params, rng)
-        self._previous: Classifier | None = None
+    def __init__(self, n: int, params: BucketBrigadeParams, rng: np.random.Generator,
+                 rules: tuple[RClassifier, ...] | None = None) -> None:
+        super().__init__(n, params, rng, rules)
+        self._previous: QClassifier | None = None
 
     def new_fields(self) -> dict:
         """A new classifier starts at strength ``s0``."""
-        return {"q": 0.0, "strength": self.params.s0, "error": 0.0, "last_active": self.t}
+        return {"q": 0.0, "strength": self.params.s0, "error": 0.0, "last_active": self.t, "born": self.t}
 
-    def begin_trial(self) -> None:
-        """A trial starts with no predecessor to pay."""
+    def begin_episode(self) -> None:
+        """An episode starts with no predecessor to pay."""
         self._previous = None
 
-    def value(self, node: Node, i: int) -> float:
-        """The strength of candidate ``i``."""
-        return node.qs[i].strength
+    def candidate_value(self, c: QClassifier) -> float:
+        """The strength."""
+        return c.strength
 
-    def select(self, node: Node, temperature: float, u: float) -> int:
+    def select(self, match_set: MatchSet, temperature: float, u: float) -> int:
         """Boltzmann over the candidates' strengths."""
-        return boltzmann([c.strength for c in node.qs], temperature, u)
+        return boltzmann([c.strength for c in match_set.candidates], temperature, u)
 
-    def update(self, node: Node, i: int, nxt: Node | None, t: int) -> None:
+    def update(self, match_set: MatchSet, i: int, nxt: MatchSet | None, t: int) -> None:
         """The bucket brigade: pay the bid to the predecessor; collect payoff at the goal."""
         p = self.params
-        c = node.qs[i]
+        c = match_set.candidates[i]
         bid = p.bid * c.strength
         c.strength -= bid
         if self._previous is not None:
@@ -55,18 +62,15 @@ class BucketBrigade(ClassifierSystemLearner):
         if nxt is None:
             c.strength += p.bid * p.payoff
         if p.tax:
-            for j, other in enumerate(node.qs):
+            for j, other in enumerate(match_set.candidates):
                 if j != i:
                     other.strength -= p.tax * other.strength
         c.last_active = t
         self._previous = c
 
-    def settle(self) -> None:
-        """Ages, and ``q`` := strength so greedy planning over the file uses strengths."""
-        super().settle()
-        for c in self.classifiers:
-            if c.kind == Q:
-                c.q = c.strength
+    def rulebase(self, meta: dict | None = None) -> RuleBase:
+        """The classifier list; ``meta["value"] = "strength"`` tells planners what to follow."""
+        return super().rulebase({**(meta or {}), "value": "strength"})
 
 
 class BucketBrigadeRoulette(BucketBrigade):
@@ -74,6 +78,6 @@ class BucketBrigadeRoulette(BucketBrigade):
 
     method = "cs-bb-rw"
 
-    def select(self, node: Node, temperature: float, u: float) -> int:
+    def select(self, match_set: MatchSet, temperature: float, u: float) -> int:
         """The roulette wheel over the candidates' strengths (T is unused)."""
-        return roulette([c.strength for c in node.qs], u)
+        return roulette([c.strength for c in match_set.candidates], u)

@@ -48,16 +48,16 @@ class CommonParams:
 
 
 @dataclass(frozen=True)
-class TabularParams(CommonParams):
-    """LT-QL: Q-learning over a look-up table of all states x all actions.
+class QLearningParams(CommonParams):
+    """What the two Q-learners (LT-QL and CS-QL) share: eq. 1, 2 and 4.
 
     Attributes:
         gamma: discount gamma (eq. 2); Figure 6's Q-values are powers of 0.95.
         eta: step size eta (eq. 1).
         payoff: r on reaching the goal (0 otherwise).
         q0: initial Q-hat.
-        error_increment: growth of |epsilon| per step since last active (for the
-            strength 1 - |epsilon| of the exported table entries).
+        error_increment: growth of |epsilon| per step since a classifier (or table entry)
+            was last active (section 4; Figure 6's PredErr column steps by 0.0002).
 
     """
 
@@ -69,11 +69,17 @@ class TabularParams(CommonParams):
 
 
 @dataclass(frozen=True)
-class CSQLParams(TabularParams):
-    """CS-QL: Q-learning over Q-classifiers (eq. 1-4).
+class TabularParams(QLearningParams):
+    """LT-QL: Q-learning over a look-up table of all states x all actions.
 
-    ``error_increment`` (inherited): |epsilon| grows by this much per step since a
-    classifier was last active (section 4; Figure 6's PredErr column steps by 0.0002).
+    The exported table entries get strength 1 - |epsilon| with the same error growth as
+    CS-QL's classifiers. Every field is :class:`QLearningParams`' or :class:`CommonParams`'.
+    """
+
+
+@dataclass(frozen=True)
+class CSQLParams(QLearningParams):
+    """CS-QL: Q-learning over Q-classifiers (eq. 1-4).
 
     Attributes:
         t_decay: CS-QL's own temperature decay. With LT-QL's 0.996 CS-QL first reaches the

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
-from csql_sim.classifiers import Classifier, ClassifierList, Q
 from csql_sim.errors import CsqlError
+from csql_sim.message import format_action_message, format_state_message
+from csql_sim.notation import parse_state_arg
 from csql_sim.policy import QPolicy
+from csql_sim.q_classifier import QClassifier
 from csql_sim.rulebase import RuleBase
-from csql_sim.world import State, WorldError, successor
+from csql_sim.world import State, WorldError
+from csql_sim.world_model import WorldModel
 
 HEADER = ("T", "Condition", "Action", "Strength", "Q-value", "Age", "PredErr")
 
@@ -16,7 +19,7 @@ def prune(rulebase: RuleBase, threshold: float = 0.1) -> RuleBase:
 
     R-classifiers are always kept.
     """
-    kept = [c for c in rulebase.classifiers if c.kind != Q or c.strength >= threshold]
+    kept = [c for c in rulebase.classifiers if not isinstance(c, QClassifier) or c.strength >= threshold]
     meta = dict(rulebase.meta)
     meta["pruned_at"] = threshold
     return RuleBase(blocks=rulebase.blocks, classifiers=kept, meta=meta)
@@ -24,40 +27,50 @@ def prune(rulebase: RuleBase, threshold: float = 0.1) -> RuleBase:
 
 def count_q(rulebase: RuleBase) -> int:
     """Number of Q-classifiers in a rule base."""
-    return sum(1 for c in rulebase.classifiers if c.kind == Q)
+    return sum(1 for c in rulebase.classifiers if isinstance(c, QClassifier))
 
 
-def _row(c: Classifier) -> tuple[str, ...]:
+def _row(c: QClassifier) -> tuple[str, ...]:
     return (c.kind, c.condition, c.action, f"{c.strength:.6f}", f"{c.q:.6f}", f"{c.age:.6g}", f"{c.error:.6f}")
 
 
-def greedy_path(rulebase: RuleBase, start: State, goal: State) -> list[Classifier]:
-    """The Q-classifiers the greedy policy activates from ``start`` to ``goal``, in order."""
+def greedy_path(rulebase: RuleBase, start: State | str, goal: State | str) -> list[QClassifier]:
+    """The Q-classifiers the greedy policy activates from ``start`` to ``goal``, in order.
+
+    ``start`` and ``goal`` are states or notation strings (``"CBA"``, a state message).
+    The path is predicted by the rule base's own R-classifiers when it has them, by the
+    built-in ones otherwise.
+    """
+    start, goal = _state(start, rulebase.blocks), _state(goal, rulebase.blocks)
     if start.n != rulebase.blocks or goal.n != rulebase.blocks:
         raise WorldError(f"the rule base is for {rulebase.blocks} blocks; the task has {start.n}")
-    classifiers = ClassifierList(rulebase.classifiers)
-    policy = QPolicy(classifiers, rulebase.blocks)
-    from csql_sim.messages import format_action_message, format_state_message
-
+    policy = QPolicy.from_rulebase(rulebase)
+    rules = policy.classifiers.r_classifiers
+    model = WorldModel(rules, rulebase.blocks) if rules else WorldModel.for_blocks(rulebase.blocks)
     goal_index = policy.world.state_index(goal)
-    path: list[Classifier] = []
+    path: list[QClassifier] = []
     state, seen = start, {start}
     while state != goal:
         action = policy.act(state, goal)
         message = format_state_message(state, goal_index)
-        path.append(classifiers.q_for(message)[format_action_message(action, rulebase.blocks)])
-        state = successor(state, action)
+        path.append(policy.classifiers.q_for(message)[format_action_message(action, rulebase.blocks)])
+        state = model.predict_state(state, action, goal_index)
         if state in seen:
             raise CsqlError(f"the greedy policy loops at {state.notation()} on the way to {goal.notation()}")
         seen.add(state)
     return path
 
 
-def figure6_table(rulebase: RuleBase, start: State | None = None, goal: State | None = None) -> str:
+def _state(value: State | str, n: int) -> State:
+    return value if isinstance(value, State) else parse_state_arg(value, n)
+
+
+def figure6_table(rulebase: RuleBase, start: State | str | None = None, goal: State | str | None = None) -> str:
     """The Q-classifiers in Figure 6's table form.
 
     Columns: T, Condition, Action, Strength, Q-value, Age, PredErr. With ``start`` and
-    ``goal``, just the greedy path's classifiers in order; otherwise every Q-classifier,
+    ``goal`` (states or notation strings), just the greedy path's classifiers in order;
+    otherwise every Q-classifier,
     sorted by goal code then condition.
     """
     if (start is None) != (goal is None):
@@ -65,7 +78,7 @@ def figure6_table(rulebase: RuleBase, start: State | None = None, goal: State | 
     if start is not None:
         rows = greedy_path(rulebase, start, goal)
     else:
-        qs = [c for c in rulebase.classifiers if c.kind == Q]
+        qs = [c for c in rulebase.classifiers if isinstance(c, QClassifier)]
         rows = sorted(qs, key=lambda c: (c.condition[-1:], c.condition, c.action))
     table = [HEADER, *(_row(c) for c in rows)]
     widths = [max(len(r[k]) for r in table) for k in range(len(HEADER))]

@@ -1,8 +1,8 @@
-"""Physical execution on a simulated Franka Panda (the only package that imports pybullet).
+"""Physical execution on a simulated Franka Panda (the only package that imports pybullet, in sim/client.py).
 
 Main entry points:
 
-* :func:`run_episode` - closed-loop execution of a policy from a start to a goal.
+* :func:`run_physical_episode` - closed-loop execution of a policy from a start to a goal.
 * :func:`write_video` - render a recorded episode to a captioned .mp4 or .gif.
 * :func:`render_episode` - both in one call.
 * :class:`PhysicalBlocksEnv` - the symbolic environment's Gymnasium interface.
@@ -16,7 +16,7 @@ from pathlib import Path
 
 from csql_sim.policy import Policy, load_policy
 from csql_sim.sim.env import PhysicalBlocksEnv
-from csql_sim.sim.executor import EpisodeResult, Perturbation, run_episode
+from csql_sim.sim.executor import EpisodeResult, Perturbation, run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.recording import Recording
 from csql_sim.sim.render import VideoError, check_video_options, write_video
@@ -33,8 +33,8 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
         The episode result and the path of the video (written even if the episode failed).
     """
     check_video_options(out, width, height, fps)
-    result = run_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
-                         perception=perception, fps=fps)
+    result = run_physical_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
+                                  perception=perception, fps=fps)
     assert result.recording is not None
     path = write_video(result.recording, out, width, height, fps, workers, progress=progress)
     return result, path
@@ -50,6 +50,6 @@ __all__ = [
     "VideoError",
     "load_policy",
     "render_episode",
-    "run_episode",
+    "run_physical_episode",
     "write_video",
 ]

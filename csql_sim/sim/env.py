@@ -14,11 +14,61 @@ import numpy as np
 from csql_sim.env import BlocksWorldEnv
 from csql_sim.errors import CsqlError
 from csql_sim.sim.camera import RENDER_CAMERA, capture
+from csql_sim.sim.perception import Perceived
 from csql_sim.sim.physical import PhysicalWorld
+
+PHYSICS_SEED_BOUND = 2**31  # physics seeds are drawn from [0, 2**31)
 
 
 class PhysicalBlocksEnv(BlocksWorldEnv):
-    """Gymnasium environment over the simulated arm.
+    """Gymnasium environment of the n-block world executed on the simulated Franka Panda.
+
+    ## Description
+    The symbolic environment's task (reach a goal configuration with pickup, putdown,
+    stack and unstack) executed by pick-and-place primitives on a simulated arm with
+    real contact grasping. The state is whatever perception sees after every primitive.
+
+    ## Action Space
+    ``Discrete(len(all_actions(n)))``; action ``i`` has the paper's action code ``i + 1``
+    (12 actions for n = 3). ``info["action_mask"]`` (int8, 1 = legal) marks the actions
+    legal in the perceived state; an illegal action leaves the scene untouched and sets
+    ``info["illegal"]``.
+
+    ## Observation Space
+    ``Text``: the perceived state's message, goal code in the last field
+    (``S0111000ttt0000C``), as in :class:`csql_sim.env.BlocksWorldEnv`.
+
+    ## Starting State
+    ``reset(options={"start": ..., "goal": ...})`` takes a :class:`~csql_sim.world.State`,
+    a configuration (``"CBA"``) or a state index; either missing is drawn from
+    ``np_random``. The start scene is then built: towers placed at rest, a held block
+    reached by a real grasp.
+
+    ## Rewards
+    1 on the step that reaches the goal, 0 otherwise.
+
+    ## Episode End
+    The episode ends if:
+
+    - Termination: the perceived state is the goal and every free cube is at rest
+      (:meth:`PhysicalWorld.reached`, the same predicate the executor uses; success is
+      never taken from the plan).
+    - Truncation: perception fails (a cube off the table or tilted; ``info["failure"]``
+      says why), or ``max_steps`` steps have been taken.
+
+    ## Information
+    ``step`` and ``reset`` return ``action_mask``, ``state``, ``goal``, ``illegal`` and
+    ``failure`` (empty unless perception failed).
+
+    ## Seeding
+    ``reset(seed=s)`` seeds ``np_random`` (Gymnasium's contract); from it are drawn, in
+    this order, a missing goal, a missing start and then the physics seed (one integer
+    in ``[0, 2**31)``) of the episode's :class:`PhysicalWorld`, whose one generator makes
+    every random choice of the primitives (putdown spots). So ``reset(seed=s)`` with the
+    same options fully determines the episode: the same actions give the same
+    observations and the same final poses, in any process. A later ``reset()`` without
+    a seed continues ``np_random``'s stream, so a seeded sequence of episodes is
+    reproducible too; the first ``reset()`` of an env never seeded draws fresh entropy.
 
     Args:
         n: number of blocks.
@@ -40,22 +90,25 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         self.perception = perception
         self.width, self.height = width, height
         self.physical: PhysicalWorld | None = None
+        self.physics_seed: int | None = None
+        self.perceived = Perceived(None, "not reset")  # the last perception (an illegal action keeps it)
         self.failure = ""
 
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
-        """Choose start and goal as the symbolic env does, then build the start scene."""
+        """Choose start and goal as the symbolic env does, then build the start scene (see Seeding)."""
         super().reset(seed=seed, options=options)
         self.close()
-        self.physical = PhysicalWorld(self.n, int(self.np_random.integers(2**31)), self.perception)
+        self.physics_seed = int(self.np_random.integers(PHYSICS_SEED_BOUND))
+        self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception)
         self.physical.build(self.world.states[self.state])
         self.failure = ""
         self._sync()
         return self._obs(), self._info()
 
     def _sync(self) -> None:
-        """Set the symbolic state to what perception sees (keep the old one on failure)."""
+        """Perceive; set the symbolic state to what perception sees (keep the old one on failure)."""
         assert self.physical is not None
-        perceived = self.physical.perceive()
+        self.perceived = perceived = self.physical.perceive()
         if perceived.state is None:
             self.failure = perceived.reason
         else:
@@ -77,7 +130,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
             self.physical.execute(self.world.actions[int(action)])
             self._sync()
         self.steps += 1
-        terminated = self.state == self.goal and not self.failure and self.physical.is_settled()
+        terminated = self.physical.reached(self.perceived, self.world.states[self.goal])
         truncated = not terminated and (bool(self.failure) or (self.max_steps is not None
                                                                 and self.steps >= self.max_steps))
         return self._obs(), 1.0 if terminated else 0.0, terminated, truncated, self._info(illegal)

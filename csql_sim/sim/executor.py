@@ -1,32 +1,36 @@
 """The closed-loop executor: perceive, form the message, ask the policy, act, perceive again.
 
-After every primitive the perceived state is compared with the world model's prediction
-(the add-delete R-classifiers). A mismatch is logged and the loop continues from the
-perceived state, up to a cap on actions. Success means the perceived state equals the
-goal and the scene has settled; it is never inferred from the plan.
+:func:`run_physical_episode` builds the world and runs an :class:`Episode`, whose named
+steps are: draw the :class:`PerturbationPlan`, then repeat :meth:`Episode.step` (choose
+an action, predict, execute, perceive), then :meth:`Episode.finish`. After every
+primitive the perceived state is compared with the prediction of the
+:class:`~csql_sim.world_model.WorldModel` passed in (the add-delete R-classifiers by
+default). A mismatch is logged and the loop continues from the perceived state, up to a
+cap on actions. Success is :meth:`PhysicalWorld.reached`: the task's
+:meth:`~csql_sim.task.Task.is_success` on the perceived state, with the scene settled;
+it is never inferred from the plan.
 """
 
 from __future__ import annotations
 
-import functools
 import math
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.classifiers import ClassifierList
 from csql_sim.errors import CsqlError
-from csql_sim.messages import action_code, format_state_message, parse_state_message
+from csql_sim.message import action_code, format_state_message
 from csql_sim.planner import BfsPolicy, distance
 from csql_sim.policy import Policy
-from csql_sim.rules import domain_knowledge
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.primitives import CarryHook, Status
 from csql_sim.sim.recording import Recorder, Recording
 from csql_sim.sim.scene import Pose
-from csql_sim.world import Action, BlocksWorld, State, is_legal
+from csql_sim.task import Task
+from csql_sim.world import Action, BlocksWorld, State
+from csql_sim.world_model import WorldModel
 
 
 @dataclass(frozen=True)
@@ -45,7 +49,7 @@ class Perturbation:
 PERTURBATION = Perturbation()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class StepRecord:
     """One executed action.
 
@@ -71,16 +75,16 @@ class StepRecord:
         return self.predicted != self.perceived
 
 
-@dataclass
+@dataclass(kw_only=True)
 class EpisodeResult:
-    """The outcome of one physical episode."""
+    """The outcome of one physical episode (built by keyword; success and reason filled in as it runs)."""
 
     start: str
     goal: str
     seed: int
-    success: bool
-    reason: str
     optimal_length: int
+    success: bool = False
+    reason: str = ""
     steps: list[StepRecord] = field(default_factory=list)
     events: list[str] = field(default_factory=list)
     sim_seconds: float = 0.0
@@ -110,30 +114,34 @@ class EpisodeResult:
         return sum(s.sim_seconds for s in self.steps) / max(1, len(self.steps))
 
 
-def predict(state: State, action: Action, goal_index: int) -> State:
-    """The world model's next state: the add-delete R-classifier the action activates.
-
-    No fallback: exactly one rule fires for every legal action (tests check all 42 legal
-    pairs of n=3 against :func:`csql_sim.world.successor`).
-    """
-    message = format_state_message(state, goal_index, BlocksWorld.of(state.n).action_index(action) + 1)
-    return parse_state_message(_world_model(state.n).predict(message), state.n).state
-
-
-@functools.cache
-def _world_model(n: int) -> ClassifierList:
-    return domain_knowledge(n)
-
-
 def default_max_actions(start: State, goal: State) -> int:
     """The step cap: room for recovery beyond the optimal plan."""
     return 3 * distance(start, goal) + 12
 
 
-def run_episode(start: State, goal: State, policy: Policy | None = None, seed: int = 0, record: bool = False,
-                perturb: bool = False, perception: str = "pose", max_actions: int | None = None,
-                fps: int = 30, config: SimConfig = DEFAULT_CONFIG,
-                perturbation: Perturbation = PERTURBATION) -> EpisodeResult:
+@dataclass(frozen=True)
+class PerturbationPlan:
+    """Before which action (by its index in the episode) a nudge or a drop happens; -1: never."""
+
+    nudge_at: int = -1
+    drop_at: int = -1
+
+    @classmethod
+    def draw(cls, rng: np.random.Generator, optimal: int, perturbation: Perturbation) -> PerturbationPlan:
+        """Draw the plan from the episode's generator (nudge first, then drop)."""
+        nudge_at = drop_at = -1
+        if rng.random() < perturbation.nudge_probability:
+            nudge_at = int(rng.integers(max(1, optimal)))
+        if rng.random() < perturbation.drop_probability:
+            drop_at = int(rng.integers(max(1, optimal)))
+        return cls(nudge_at=nudge_at, drop_at=drop_at)
+
+
+def run_physical_episode(start: State, goal: State, policy: Policy | None = None, seed: int = 0,
+                         record: bool = False, perturb: bool = False, perception: str = "pose",
+                         max_actions: int | None = None, fps: int = 30, config: SimConfig = DEFAULT_CONFIG,
+                         perturbation: Perturbation = PERTURBATION,
+                         world_model: WorldModel | None = None) -> EpisodeResult:
     """Execute ``policy`` from ``start`` to ``goal`` on the simulated arm.
 
     Args:
@@ -148,86 +156,145 @@ def run_episode(start: State, goal: State, policy: Policy | None = None, seed: i
         fps: recording frame rate in simulated time.
         config: scene settings.
         perturbation: what ``perturb`` does.
+        world_model: predicts each next state and judges legality (default: the built-in
+            R-classifiers, :meth:`WorldModel.for_blocks`, built once for this episode).
 
     Raises:
         SimError: if the start state cannot be built.
     """
     if start.n != goal.n:
         raise SimError(f"start has {start.n} blocks but goal has {goal.n}")
-    policy = policy or BfsPolicy()
-    world_index = BlocksWorld.of(start.n)
-    goal_index = world_index.state_index(goal)
-    optimal = distance(start, goal)
+    task = Task(start, goal)
     cap = default_max_actions(start, goal) if max_actions is None else max_actions
-    result = EpisodeResult(start.notation(), goal.notation(), seed, False, "", optimal)
     t_setup = time.perf_counter()
     with PhysicalWorld(start.n, seed, perception, config) as world:
-        rng = world.rng
         world.build(start, jitter=perturb and perturbation.jitter_start)
-        t_loop = time.perf_counter()
-        nudge_at = drop_at = -1
-        if perturb:
-            if rng.random() < perturbation.nudge_probability:
-                nudge_at = int(rng.integers(max(1, optimal)))
-            if rng.random() < perturbation.drop_probability:
-                drop_at = int(rng.integers(max(1, optimal)))
-        begin = world.scene.steps
-        stepping_before = world.scene.step_wall
-        perceived = world.perceive()
-        recorder = None
-        if record:
-            recorder = Recorder(world.scene, fps)
-            world.add_step_hook(recorder)
-        while True:
-            state = perceived.state
-            if state is None:
-                result.reason = f"perception failed: {perceived.reason}"
+        episode = Episode(task, world, policy or BfsPolicy(), world_model or WorldModel.for_blocks(start.n),
+                          cap=cap, seed=seed, perturbation=perturbation if perturb else None,
+                          fps=fps if record else None)
+        episode.result.wall_seconds["setup"] = episode.t_loop - t_setup
+        return episode.run()
+
+
+class Episode:
+    """One closed-loop run on a built world: perceive, ask the policy, predict, act, perceive.
+
+    Args:
+        task: start and goal.
+        world: the built physical world (its generator drives every random choice).
+        policy: proposes each action.
+        world_model: judges legality and predicts each next state.
+        cap: most actions executed.
+        seed: the episode's seed (reported).
+        perturbation: what perturbs the episode, None for none.
+        fps: recording frame rate, None for no recording.
+    """
+
+    def __init__(self, task: Task, world: PhysicalWorld, policy: Policy, world_model: WorldModel, *, cap: int,
+                 seed: int, perturbation: Perturbation | None, fps: int | None) -> None:
+        self.task, self.world, self.policy, self.model, self.cap = task, world, policy, world_model, cap
+        self.goal_index = BlocksWorld.of(task.n).state_index(task.goal)
+        optimal = distance(task.start, task.goal)
+        self.result = EpisodeResult(start=task.start.notation(), goal=task.goal.notation(), seed=seed,
+                                    optimal_length=optimal)
+        self.t_loop = time.perf_counter()
+        self.perturbation = perturbation
+        self.plan = PerturbationPlan() if perturbation is None else PerturbationPlan.draw(world.rng, optimal,
+                                                                                          perturbation)
+        self.begin = world.scene.steps
+        self.stepping_before = world.scene.step_wall
+        self.perceived = world.perceive()
+        self.recorder: Recorder | None = None
+        if fps is not None:
+            self.recorder = Recorder(world.scene, fps)
+            world.add_step_hook(self.recorder)
+
+    def run(self) -> EpisodeResult:
+        """Step until success, failure or the cap, then finish."""
+        while self.step():
+            pass
+        return self.finish()
+
+    def step(self) -> bool:
+        """One pass of the loop; False once the episode has ended (``result.reason`` says why, if failed)."""
+        result, perceived = self.result, self.perceived
+        state = perceived.state
+        if state is None:
+            result.reason = f"perception failed: {perceived.reason}"
+            return False
+        message = format_state_message(state, self.goal_index)
+        self._caption(f"{message}  {state.notation()}")
+        if self.world.reached(perceived, self.task.goal):
+            result.success = True
+            return False
+        if len(result.steps) >= self.cap:
+            result.reason = f"step cap of {self.cap} actions reached in {state.notation()}"
+            return False
+        action = self._choose(state)
+        if action is None:
+            return False
+        try:
+            predicted = self.model.predict_state(state, action, self.goal_index)
+        except CsqlError as exc:
+            result.reason = f"world model failed: {exc}"
+            return False
+        self._execute(state, message, action, predicted)
+        return True
+
+    def _caption(self, text: str) -> None:
+        if self.recorder is not None:
+            self.recorder.caption = text
+
+    def _choose(self, state: State) -> Action | None:
+        """The policy's action if the world model finds it legal; None (with the reason set) otherwise."""
+        try:
+            action = self.policy.act(state, self.task.goal)
+        except CsqlError as exc:
+            self.result.reason = f"policy failed: {exc}"
+            return None
+        if action is None or not self.model.is_legal(state, action, self.goal_index):
+            name = "no action" if action is None else action.name()
+            self.result.reason = f"policy gave {name} in {state.notation()}"
+            return None
+        return action
+
+    def _attempt(self, action: Action) -> int:
+        """Consecutive failed tries of this very action just before now."""
+        attempt = 0
+        for earlier in reversed(self.result.steps):
+            if earlier.action != action.name() or earlier.status.ok:
                 break
-            message = format_state_message(state, goal_index)
-            if recorder is not None:
-                recorder.caption = f"{message}  {state.notation()}"
-            if state == goal and world.is_settled():
-                result.success = True
-                break
-            if len(result.steps) >= cap:
-                result.reason = f"step cap of {cap} actions reached in {state.notation()}"
-                break
-            try:
-                action = policy.act(state, goal)
-            except CsqlError as exc:
-                result.reason = f"policy failed: {exc}"
-                break
-            if action is None or not is_legal(state, action):
-                name = "no action" if action is None else action.name()
-                result.reason = f"policy gave {name} in {state.notation()}"
-                break
-            predicted = predict(state, action, goal_index)
-            k = len(result.steps)
-            hook = _drop_hook(world, action, perturbation, result.events) if k == drop_at else None
-            if recorder is not None:
-                code = action_code(action, start.n)
-                recorder.caption = f"{action.name()}  {format_state_message(state, goal_index, int(code, 36))}"
-            t0 = world.scene.steps
-            attempt = 0
-            for earlier in reversed(result.steps):  # consecutive failed tries of this very action
-                if earlier.action != action.name() or earlier.status.ok:
-                    break
-                attempt += 1
-            status = world.execute(action, hook, attempt)
-            if k == nudge_at:
-                result.events.append(_nudge(world, rng, perturbation))
-            perceived = world.perceive()
-            seen = perceived.state.notation() if perceived.state is not None else perceived.reason
-            result.steps.append(StepRecord(action.name(), message, status, predicted.notation(), seen,
-                                           (world.scene.steps - t0) * config.physics.time_step))
-        result.loop_steps = world.scene.steps - begin
-        result.wall_seconds = {"setup": t_loop - t_setup, "loop": time.perf_counter() - t_loop,
-                               "stepping": world.scene.step_wall - stepping_before}
-        result.sim_seconds = result.loop_steps * config.physics.time_step
-        result.final_poses = world.final_poses()
-        if recorder is not None:
-            result.recording = recorder.finish()
-    return result
+            attempt += 1
+        return attempt
+
+    def _execute(self, state: State, message: str, action: Action, predicted: State) -> None:
+        """Run the primitive (with any planned perturbation), perceive, and record the step."""
+        world, result, pert = self.world, self.result, self.perturbation
+        k = len(result.steps)
+        hook = _drop_hook(world, action, pert, result.events) if pert and k == self.plan.drop_at else None
+        code = int(action_code(action, self.task.n), 36)
+        self._caption(f"{action.name()}  {format_state_message(state, self.goal_index, code)}")
+        t0 = world.scene.steps
+        status = world.execute(action, hook, self._attempt(action))
+        if pert and k == self.plan.nudge_at:
+            result.events.append(_nudge(world, world.rng, pert))
+        self.perceived = world.perceive()
+        seen = self.perceived.state.notation() if self.perceived.state is not None else self.perceived.reason
+        result.steps.append(StepRecord(action=action.name(), message=message, status=status,
+                                       predicted=predicted.notation(), perceived=seen,
+                                       sim_seconds=(world.scene.steps - t0) * world.config.physics.time_step))
+
+    def finish(self) -> EpisodeResult:
+        """Fill in the timings, the final poses and the recording."""
+        result, scene = self.result, self.world.scene
+        result.loop_steps = scene.steps - self.begin
+        result.wall_seconds["loop"] = time.perf_counter() - self.t_loop
+        result.wall_seconds["stepping"] = scene.step_wall - self.stepping_before
+        result.sim_seconds = result.loop_steps * self.world.config.physics.time_step
+        result.final_poses = self.world.final_poses()
+        if self.recorder is not None:
+            result.recording = self.recorder.finish()
+        return result
 
 
 def _nudge(world: PhysicalWorld, rng: np.random.Generator, pert: Perturbation) -> str:
@@ -280,4 +347,5 @@ def _drop_hook(world: PhysicalWorld, action: Action, pert: Perturbation, events:
     return hook
 
 
-__all__ = ["EpisodeResult", "Perturbation", "StepRecord", "predict", "run_episode", "SimError"]
+__all__ = ["Episode", "EpisodeResult", "Perturbation", "PerturbationPlan", "SimError", "StepRecord",
+           "default_max_actions", "run_physical_episode"]

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.messages import format_state_message
+from csql_sim.message import format_state_message
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Scene, rotation_matrix
 from csql_sim.world import BLOCK_NAMES, HAND, TABLE, BlocksWorld, State, WorldError

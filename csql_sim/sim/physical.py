@@ -10,10 +10,12 @@ import numpy as np
 from csql_sim.errors import CsqlError
 from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERAS, Camera, observe_camera
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.layout import place_towers
 from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, interpret, observe_poses, settled
 from csql_sim.sim.primitives import CarryHook, Pick, Status, primitive_for, settle
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Pose, Scene
+from csql_sim.task import Task
 from csql_sim.world import Action, State
 
 PERCEPTION_MODES = ("pose", "camera")
@@ -68,7 +70,7 @@ class PhysicalWorld:
         """
         if state.n != self.n:
             raise SimError(f"state {state.notation()} has {state.n} blocks, the scene {self.n}")
-        self.scene.place_towers(state, self.rng, jitter=jitter)
+        place_towers(self.scene, state, self.rng, jitter=jitter)
         settle(self.scene, self.panda)
         held = state.held
         if held is not None:
@@ -96,6 +98,14 @@ class PhysicalWorld:
     def is_settled(self) -> bool:
         """Whether every free cube is at rest now."""
         return settled(self.scene, self.panda)
+
+    def reached(self, perceived: Perceived, goal: State) -> bool:
+        """The success predicate of every physical episode: the task's, on what was perceived, once settled.
+
+        :meth:`csql_sim.task.Task.is_success` decides from the perceived state (never the
+        plan), and every free cube must be at rest.
+        """
+        return Task.is_success(perceived.state, goal) and self.is_settled()
 
     def execute(self, action: Action, carry_hook: CarryHook | None = None, attempt: int = 0) -> Status:
         """Run the primitive of ``action`` on the current observation (``attempt``: earlier failures)."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.replay import take_snapshot
 from csql_sim.sim.scene import Pose, Scene
 
 
@@ -32,14 +33,14 @@ class Recorder:
 
     def __init__(self, scene: Scene, fps: int, caption: str = "") -> None:
         self.scene = scene
-        self.recording = Recording(scene.n, fps, scene.config)
+        self.recording = Recording(n=scene.n, fps=fps, config=scene.config)
         self.every = max(1, round(1.0 / (fps * scene.config.physics.time_step)))
         self.caption = caption
         self._capture()
 
     def _capture(self) -> None:
-        poses, joints = self.scene.snapshot()
-        self.recording.frames.append(Frame(poses, joints, self.caption))
+        snap = take_snapshot(self.scene)
+        self.recording.frames.append(Frame(poses=snap.poses, joints=snap.joints, caption=self.caption))
 
     def __call__(self, scene: Scene) -> None:
         if scene.steps % self.every == 0:

@@ -18,8 +18,11 @@ from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
 from csql_sim.errors import CsqlError
+from csql_sim.files import atomic_output
 from csql_sim.sim.camera import RENDER_CAMERA, Camera, capture
+from csql_sim.sim.config import SimConfig
 from csql_sim.sim.recording import Frame, Recording
+from csql_sim.sim.replay import apply_snapshot, replay_scene
 from csql_sim.sim.scene import Scene
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -67,36 +70,72 @@ def caption_image(rgb: np.ndarray, text: str) -> np.ndarray:
     return np.asarray(img)
 
 
-_REPLAY: dict[tuple[int, object], Scene] = {}  # per worker process: replay scene by (n, config)
+class ReplayRenderer:
+    """Renders captioned frames of recordings; owns one replay scene per (n, config).
+
+    Each rendering worker process owns exactly one, made by the pool's initializer
+    (:func:`_init_render_worker`) and held in that process's ``_WORKER_RENDERER``; it
+    lives as long as the worker. In-process rendering makes its own and closes it.
+    """
+
+    def __init__(self) -> None:
+        self._scenes: dict[tuple[int, SimConfig], Scene] = {}
+
+    def scene(self, n: int, config: SimConfig) -> Scene:
+        """The replay scene of ``n`` cubes and ``config`` (built on first use)."""
+        key = (n, config)
+        if key not in self._scenes:
+            self._scenes[key] = replay_scene(n, config)
+        return self._scenes[key]
+
+    def render(self, n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
+               camera: Camera = RENDER_CAMERA) -> list[np.ndarray]:
+        """Captioned RGB frames: the replay scene set to each frame's poses, seen by ``camera``."""
+        scene = self.scene(n, config)
+        out = []
+        for frame in frames:
+            apply_snapshot(scene, frame.poses, frame.joints)
+            rgb, _, _ = capture(scene, camera, width, height)
+            out.append(caption_image(rgb, frame.caption))
+        return out
+
+    def close(self) -> None:
+        """Release every replay scene's physics client."""
+        for scene in self._scenes.values():
+            scene.close()
+        self._scenes.clear()
 
 
-def _replay_scene(recording_n: int, config: object) -> Scene:
-    key = (recording_n, config)
-    if key not in _REPLAY:
-        _REPLAY[key] = Scene(recording_n, config, physics=False)  # type: ignore[arg-type]
-    return _REPLAY[key]
+_WORKER_RENDERER: ReplayRenderer | None = None  # the one renderer of a rendering worker process
 
 
-def render_frames(n: int, config: object, frames: list[Frame], width: int, height: int,
-                  camera: Camera = RENDER_CAMERA) -> list[np.ndarray]:
-    """Render captioned RGB frames of a replay scene (runs inside a worker process)."""
-    scene = _replay_scene(n, config)
-    out = []
-    for frame in frames:
-        scene.apply_snapshot(frame.poses, frame.joints)
-        rgb, _, _ = capture(scene, camera, width, height)
-        out.append(caption_image(rgb, frame.caption))
-    return out
+def _init_render_worker() -> None:
+    global _WORKER_RENDERER
+    _WORKER_RENDERER = ReplayRenderer()
+
+
+def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
+                      camera: Camera) -> list[np.ndarray]:
+    assert _WORKER_RENDERER is not None, "rendering worker started without _init_render_worker"
+    return _WORKER_RENDERER.render(n, config, frames, width, height, camera)
 
 
 def _chunks(frames: list[Frame], size: int) -> list[list[Frame]]:
     return [frames[i:i + size] for i in range(0, len(frames), size)]
 
 
+def _open_writer(path: Path, fps: int, suffix: str):  # noqa: ANN202 - imageio's writer type
+    """An imageio writer for ``path`` in the format of ``suffix`` (.mp4: libx264, .gif)."""
+    if suffix == ".mp4":
+        return imageio.get_writer(path, fps=fps, codec="libx264", quality=7, macro_block_size=1,
+                                  format="FFMPEG", ffmpeg_params=["-preset", "ultrafast"])
+    return imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
+
+
 def write_video(recording: Recording, path: str | os.PathLike, width: int = 640, height: int = 480,
                 fps: int | None = None, workers: int | None = None, camera: Camera = RENDER_CAMERA,
                 progress: bool = True) -> Path:
-    """Render ``recording`` and write it atomically as .mp4 or .gif.
+    """Render ``recording`` and write it atomically (:func:`csql_sim.files.atomic_output`) as .mp4 or .gif.
 
     Args:
         recording: poses recorded during an episode.
@@ -116,18 +155,11 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
     if not recording.frames:
         raise VideoError("the recording has no frames")
     workers = workers or os.cpu_count() or 1
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = out.with_name(f".{out.stem}.partial{out.suffix}")
     chunk = max(1, min(16, len(recording.frames) // (4 * workers) or 1))
     bar = tqdm(total=len(recording.frames), desc=f"render {out.name}", unit="frame", disable=not progress)
     try:
-        if out.suffix.lower() == ".mp4":
-            writer = imageio.get_writer(tmp, fps=fps, codec="libx264", quality=7, macro_block_size=1,
-                                        format="FFMPEG", ffmpeg_params=["-preset", "ultrafast"])
-        else:
-            writer = imageio.get_writer(tmp, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
-        last = None
-        with writer:
+        with atomic_output(out) as tmp, _open_writer(tmp, fps, out.suffix.lower()) as writer:
+            last = None
             for rgb_list in _map_chunks(recording, _chunks(recording.frames, chunk), width, height, camera,
                                         workers):
                 for rgb in rgb_list:
@@ -136,11 +168,8 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
                 bar.update(len(rgb_list))
             for _ in range(hold_frames(fps)):
                 writer.append_data(last)
-        os.replace(tmp, out)
     finally:
         bar.close()
-        if tmp.exists():
-            tmp.unlink()
     return out
 
 
@@ -149,9 +178,14 @@ def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, hei
     """Render chunks in order, in ``workers`` processes (or in-process for one worker)."""
     n, config = recording.n, recording.config
     if workers <= 1:
-        for c in chunks:
-            yield render_frames(n, config, c, width, height, camera)
+        renderer = ReplayRenderer()
+        try:
+            for c in chunks:
+                yield renderer.render(n, config, c, width, height, camera)
+        finally:
+            renderer.close()
         return
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        yield from pool.map(render_frames, [n] * len(chunks), [config] * len(chunks), chunks,
-                            [width] * len(chunks), [height] * len(chunks), [camera] * len(chunks))
+    k = len(chunks)
+    with ProcessPoolExecutor(max_workers=workers, initializer=_init_render_worker) as pool:
+        yield from pool.map(_render_in_worker, [n] * k, [config] * k, chunks, [width] * k, [height] * k,
+                            [camera] * k)

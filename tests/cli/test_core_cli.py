@@ -5,8 +5,8 @@ import sys
 import pytest
 
 from csql_sim.cli import main
+from csql_sim.notation import parse_config
 from csql_sim.planner import distance
-from csql_sim.world import parse_config
 
 
 def run(capsys, *argv):

@@ -2,7 +2,7 @@
 
 import imageio.v2 as imageio
 
-from csql_sim.classifiers import ClassifierList
+from csql_sim.classifier_list import ClassifierList
 from csql_sim.cli import main
 from csql_sim.policy import QPolicy, check_all_pairs
 from csql_sim.rulebase import load

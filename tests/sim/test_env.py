@@ -1,3 +1,7 @@
+import json
+import subprocess
+import sys
+
 import numpy as np
 
 from csql_sim.planner import BfsPolicy
@@ -11,7 +15,7 @@ def test_same_interface_as_symbolic_env_and_reaches_goal():
     assert info["action_mask"].dtype == np.int8
     illegal = int(np.flatnonzero(info["action_mask"] == 0)[0])
     obs2, reward, term, trunc, info2 = env.step(illegal)
-    assert obs2 == obs and info2["illegal"] and reward == 0.0
+    assert obs2 == obs and info2["illegal"] and reward == 0.0 and not term
     policy = BfsPolicy()
     for _ in range(4):
         action = policy.act(info["state"], info["goal"])
@@ -24,18 +28,63 @@ def test_same_interface_as_symbolic_env_and_reaches_goal():
 
 
 def test_same_learning_agent_runs_in_symbolic_and_physical_env():
-    from csql_sim.env import BlocksWorldEnv, run_episode
-    from csql_sim.learners import make_learner
+    from csql_sim.env import BlocksWorldEnv, run_env_episode
+    from csql_sim.learners import make_learner, run_trial
 
     agent = make_learner("cs-ql", seed=0)
     rng = np.random.default_rng(0)
     for k in range(2500):
         s, g = rng.integers(22, size=2)
         if s != g:
-            agent.run_trial(int(s), int(g), agent.params.temperature(k))
+            run_trial(agent, int(s), int(g), agent.params.temperature(k))
     temperature = agent.params.temperature(2500)
     task = {"start": "CBA", "goal": "BAC"}
-    assert run_episode(BlocksWorldEnv(3), agent, temperature, task) == (8, True)
+    assert run_env_episode(BlocksWorldEnv(3), agent, temperature, task) == (8, True)
     env = PhysicalBlocksEnv(3)
-    assert run_episode(env, agent, temperature, task) == (8, True)
+    assert run_env_episode(env, agent, temperature, task) == (8, True)
+    env.close()
+
+
+# One seeded episode with start and goal drawn by the env: BFS actions, then every
+# observation and the final cube poses as JSON (floats written exactly by repr).
+_EPISODE = """
+import json, sys
+from csql_sim.planner import BfsPolicy
+from csql_sim.sim.env import PhysicalBlocksEnv
+env = PhysicalBlocksEnv(3)
+obs, info = env.reset(seed=int(sys.argv[1]))
+seen, policy, done = [obs], BfsPolicy(), False
+while not done:
+    action = env.world.action_index(policy.act(info["state"], info["goal"]))
+    obs, reward, term, trunc, info = env.step(action)
+    seen.append(obs)
+    done = term or trunc
+poses = [[list(p.position), list(p.orientation)] for p in env.physical.final_poses()]
+print(json.dumps({"seed": env.physics_seed, "observations": seen, "reached": term, "poses": poses}))
+"""
+
+
+def _episode_in_fresh_process(seed: int) -> dict:
+    out = subprocess.run([sys.executable, "-c", _EPISODE, str(seed)], capture_output=True, text=True, check=True)
+    return json.loads(out.stdout)
+
+
+def test_reset_seed_determines_the_episode_across_processes():
+    a, b = _episode_in_fresh_process(11), _episode_in_fresh_process(11)
+    assert a["reached"] and len(a["observations"]) > 2
+    assert a == b  # same start, goal, physics seed, observations and bit-identical final poses
+    other = _episode_in_fresh_process(12)
+    assert (other["seed"], other["observations"][0]) != (a["seed"], a["observations"][0])
+
+
+def test_reset_without_seed_continues_the_seeded_stream():
+    env = PhysicalBlocksEnv(3)
+    env.reset(seed=3)
+    first = env.physics_seed
+    env.reset()
+    second = (env.physics_seed, env.state, env.goal)
+    env.reset(seed=3)
+    assert env.physics_seed == first
+    env.reset()
+    assert (env.physics_seed, env.state, env.goal) == second
     env.close()

@@ -6,15 +6,31 @@ import pytest
 from csql_sim.cli import OneLineParser
 from csql_sim.cli import sim as sim_cli
 from csql_sim.errors import CsqlError
-from csql_sim.evaluate import evaluate, make_tasks, write_json
+from csql_sim.evaluate import EpisodeRunner, EpisodeSpec, EpisodeSummary, evaluate, make_specs, summarise, write_json
+from csql_sim.world import all_states
 
 
-def test_tasks():
-    assert len(make_tasks(3)) == 462
-    assert len(make_tasks(3, 5, seeds=2)) == 10
-    assert make_tasks(3, 5) == make_tasks(3, 5)
+def test_specs():
+    assert len(make_specs(3)) == 462
+    states = [s.notation() for s in all_states(3)]
+    assert make_specs(3)[:2] == [EpisodeSpec(start=states[0], goal=states[1], seed=0),
+                                 EpisodeSpec(start=states[0], goal=states[2], seed=1)]
+    two = make_specs(3, 5, seeds=2)
+    assert len(two) == 10 and [s.seed % 2 for s in two] == [0, 1] * 5
+    assert make_specs(3, 5) == make_specs(3, 5)
     with pytest.raises(CsqlError):
-        make_tasks(3, 0)
+        make_specs(3, 0)
+
+
+def test_runner_turns_an_error_into_a_failed_summary():
+    from csql_sim.planner import BfsPolicy
+
+    runner = EpisodeRunner(BfsPolicy(), 3, perturb=False, perception="pose")
+    bad = runner.run(EpisodeSpec(start="A,B,C", goal="AB", seed=4))  # goal of another world
+    assert bad == EpisodeSummary(start="A,B,C", goal="AB", seed=4, success=False, reason=bad.reason)
+    assert "blocks" in bad.reason
+    report = summarise([bad])
+    assert report.failures == [{"start": "A,B,C", "goal": "AB", "seed": 4, "reason": bad.reason}]
 
 
 def test_evaluate_json(tmp_path):

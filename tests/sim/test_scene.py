@@ -1,15 +1,11 @@
 import dataclasses
-import math
-import subprocess
-import sys
 
-import numpy as np
 import pytest
 
+from csql_sim.notation import parse_config
 from csql_sim.sim.config import DEFAULT_CONFIG
 from csql_sim.sim.physical import PhysicalWorld, SimError
-from csql_sim.sim.scene import Scene, quaternion_from_euler, rotation_matrix
-from csql_sim.world import parse_config
+from csql_sim.sim.scene import Scene
 
 
 def test_scene_bodies_by_name_and_own_client():
@@ -17,22 +13,9 @@ def test_scene_bodies_by_name_and_own_client():
         assert set(a.bodies) == {"table", "panda", "A", "B", "C"}
         assert a.client != b.client
         assert a.body_count() == 5
-
-
-def test_importing_pybullet_keeps_stdout_clean():
-    # pybullet's C banner ("pybullet build time: ...") goes to stderr, not to stdout
-    out = subprocess.run([sys.executable, "-c", "import csql_sim.sim.scene; print('ok')"],
-                         capture_output=True, text=True, check=True)
-    assert out.stdout == "ok\n"
-
-
-def test_rotation_matrix_of_a_yaw_and_a_flip():
-    yaw = 0.3
-    np.testing.assert_allclose(rotation_matrix(quaternion_from_euler((0.0, 0.0, yaw))),
-                               [[math.cos(yaw), -math.sin(yaw), 0], [math.sin(yaw), math.cos(yaw), 0], [0, 0, 1]],
-                               atol=1e-12)
-    np.testing.assert_allclose(rotation_matrix(quaternion_from_euler((math.pi, 0.0, 0.0))),
-                               np.diag([1.0, -1.0, -1.0]), atol=1e-12)
+        assert not a.replay_only and a.steps == 0
+        a.step(3)
+        assert a.steps == 3 and b.steps == 0
 
 
 def test_config_is_frozen():

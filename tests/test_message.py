@@ -1,15 +1,15 @@
 import pytest
 
-from csql_sim.messages import (
+from csql_sim.message import (
     MessageError,
     format_action_message,
     format_state_message,
     layout,
     parse_action_message,
-    parse_state_arg,
     parse_state_message,
 )
-from csql_sim.world import all_actions, all_states, parse_config
+from csql_sim.notation import parse_config, parse_state_arg
+from csql_sim.world import all_actions, all_states
 
 
 def test_paper_worked_examples_to_the_letter():

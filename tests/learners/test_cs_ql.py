@@ -1,16 +1,27 @@
 import numpy as np
 import pytest
 
-from csql_sim.classifiers import ClassifierList, Q
-from csql_sim.learners import CSQL, count_q, figure6_table, greedy_path, make_learner, prune, train
-from csql_sim.messages import format_state_message, parse_state_message
+from csql_sim.learners import (
+    CSQL,
+    Transition,
+    count_q,
+    figure6_table,
+    greedy_path,
+    make_learner,
+    prune,
+    run_training,
+    run_trial,
+    train,
+)
+from csql_sim.message import format_state_message, parse_state_message
+from csql_sim.notation import parse_config
 from csql_sim.policy import QPolicy, check_all_pairs
 from csql_sim.rulebase import dumps
-from csql_sim.world import BlocksWorld, parse_config
+from csql_sim.world import BlocksWorld
 
 
 def all_optimal(rb) -> int:
-    return sum(r.optimal for r in check_all_pairs(QPolicy(ClassifierList(rb.classifiers), rb.blocks), rb.blocks))
+    return sum(r.optimal for r in check_all_pairs(QPolicy.from_rulebase(rb), rb.blocks))
 
 
 @pytest.fixture(scope="module")
@@ -28,7 +39,7 @@ def test_pruning_leaves_exactly_one_optimal_classifier_per_pair(trained):
     pruned = prune(trained, 0.1)
     assert count_q(pruned) == 462
     assert sum(c.kind == "R" for c in pruned.classifiers) == 36
-    conditions = {c.condition for c in pruned.classifiers if c.kind == Q}
+    conditions = {c.condition for c in pruned.classifiers if c.kind == "Q"}
     assert len(conditions) == 462
     assert all_optimal(pruned) == 462
 
@@ -47,57 +58,63 @@ def test_same_seed_same_rule_file_different_seed_differs(trained):
 
 def test_world_model_predictions_equal_the_world():
     learner = make_learner("cs-ql", seed=3)
-    learner.run(200)
+    run_training(learner, 200)
     world = BlocksWorld.of(3)
     checked = 0
-    for node in list(learner._nodes.values()):
-        parsed = parse_state_message(node.message, 3)
+    for c in learner.classifiers.q_classifiers:
+        parsed = parse_state_message(c.condition, 3)
         s = world.state_index(parsed.state)
-        assert sorted(int(c.action[1], 36) - 1 for c in node.qs) == list(world.legal[s])
-        for i, c in enumerate(node.qs):
-            nxt = learner.successor(node, i)
-            a = int(c.action[1], 36) - 1
-            want = world.next_state[s][a]
-            if nxt is None:
-                assert want == node.goal
-            else:
-                assert nxt.message == format_state_message(world.states[want], node.goal)
-                checked += 1
+        a = int(c.action[1], 36) - 1
+        assert a in world.legal[s]
+        nxt = learner.model.step(c.condition, a)
+        assert nxt == format_state_message(world.states[world.next_state[s][a]], parsed.goal)
+        checked += 1
     assert checked > 100
 
 
 def test_classifiers_only_created_by_cover_and_never_in_goal_state():
     learner = make_learner("cs-ql", seed=0)
-    learner.run_trial(0, 12, 0.5)
-    qs = [c for c in learner.classifiers if c.kind == Q]
+    run_trial(learner, 0, 12, 0.5)
+    qs = learner.classifiers.q_classifiers
     assert qs and all(c.condition != format_state_message(BlocksWorld.of(3).states[12], 12) for c in qs)
-    assert len(qs) == sum(len(n.qs) for n in learner._nodes.values())
+    legal = BlocksWorld.of(3).legal
+    by_state = {c.condition for c in qs}
+    assert len(qs) == sum(len(legal[BlocksWorld.of(3).state_index(parse_state_message(m, 3).state)]) for m in by_state)
 
 
 def test_error_grows_lazily_and_resets_on_activation():
     learner = make_learner("cs-ql", seed=0)
     assert isinstance(learner, CSQL)
-    learner.run_trial(0, 12, 0.5)
-    c = next(c for c in learner.classifiers if c.kind == Q)
+    world = BlocksWorld.of(3)
+    cba, bac = world.state_index(parse_config("CBA")), world.state_index(parse_config("BAC"))
+    start = format_state_message(world.states[cba], bac)  # one legal action: unstack(A,B)
+    run_trial(learner, cba, bac, 0.5, cap=1)
+    c = learner.classifiers.q_for(start)["A10000001000ab00"]
+    assert c.last_active == learner.t
     before = learner.error(c)
     learner.t += 1000
     assert learner.error(c) == pytest.approx(before + 0.2)
-    assert learner.strength(c) == pytest.approx(1 - before - 0.2)
+    learner.t -= 1000
+    # activating it again resets |epsilon| to the new prediction error, with no growth
+    run_trial(learner, cba, bac, 0.5, cap=1)
+    assert c.last_active == learner.t and learner.error(c) == pytest.approx(c.error)
+    assert learner.error(c) < before + 0.2
 
 
 def test_q_update_follows_eq1_and_eq2():
     learner = make_learner("cs-ql", seed=0, params={"eta": 0.5})
-    node = learner.node(0, 1)
-    nxt = learner.successor(node, 0)
-    c = node.qs[0]
-    if nxt is not None:
-        for d in nxt.qs:
-            d.q = 0.4
+    message = "S0111000ttt00001"  # all on the table, goal index 1
+    action = learner.act(message, 1.0)
+    nxt = learner.model.step(message, action)
+    following = learner.block.post(nxt)
+    for d in following.candidates:
+        d.q = 0.4
+    c = learner.block.post(message).candidates[learner.block.post(message).index_of(action)]
     c.q = 0.1
-    learner.update(node, 0, nxt, 7)
-    target = 1.0 if nxt is None else 0.95 * 0.4
+    learner.learn(Transition(message, action, nxt, False))
+    target = 0.95 * 0.4
     assert c.q == pytest.approx(0.1 + 0.5 * (target - 0.1))
-    assert c.error == pytest.approx(abs(target - 0.1)) and c.last_active == 7
+    assert c.error == pytest.approx(abs(target - 0.1)) and c.last_active == learner.t == 1
 
 
 def test_figure6_table_for_the_test_task(trained):
@@ -113,8 +130,8 @@ def test_figure6_table_for_the_test_task(trained):
 
 
 def test_generator_is_the_only_randomness():
-    a = make_learner("cs-ql", rng=np.random.default_rng(5)).run(100)
-    b = make_learner("cs-ql", rng=np.random.default_rng(5)).run(100)
+    a = run_training(make_learner("cs-ql", rng=np.random.default_rng(5)), 100)
+    b = run_training(make_learner("cs-ql", rng=np.random.default_rng(5)), 100)
     assert a == b
 
 
@@ -122,5 +139,5 @@ def test_cs_ql_takes_the_same_steps_as_the_plain_tabular_learner():
     from csql_sim.learners.bench import plain_q_learning
 
     learner = make_learner("cs-ql", seed=4)
-    learner.run(600)
+    run_training(learner, 600)
     assert plain_q_learning(600, 4) == learner.t

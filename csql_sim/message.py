@@ -221,20 +221,42 @@ def parse_state_message(message: str, n: int | None = None) -> StateMessage:
     if n is None:
         n = infer_blocks(message)
     lay = layout(n)
-    names = BLOCK_NAMES[:n].lower()
     if len(message) != lay.length:
         raise MessageError(
             f"malformed message {message!r}: {len(message)} characters, expected {lay.length} for n={n}"
         )
     if message[0] != "S":
         raise _fail(message, 0, "'S'")
-    slot = lay.action_slot(message)
-    for k, ch in enumerate(slot):
+    action_code = _parse_action_slot(message, lay)
+    support = _parse_on_field(message, lay)
+    goal = _parse_goal(message, lay)
+    try:
+        state = State(tuple(support))
+    except WorldError as exc:
+        raise MessageError(f"malformed message {message!r}: {exc}") from None
+    _check_clear_and_held(message, lay, state)
+    return StateMessage(state=state, goal=goal, action_code=action_code)
+
+
+def _base36(message: str, start: int, text: str) -> int:
+    for k, ch in enumerate(text):
         if ch.upper() not in DIGITS:
-            raise _fail(message, 1 + k, "a base-36 digit")
-    action_code = decode_code(slot)
-    if action_code > len(all_actions(n)):
-        raise _fail(message, 1, f"an action code 0..{encode_code(len(all_actions(n)), lay.action_width)}")
+            raise _fail(message, start + k, "a base-36 digit")
+    return decode_code(text)
+
+
+def _parse_action_slot(message: str, lay: MessageLayout) -> int:
+    """The action code in the slot (0: none), within the world's actions."""
+    code = _base36(message, 1, lay.action_slot(message))
+    count = len(all_actions(lay.n))
+    if code > count:
+        raise _fail(message, 1, f"an action code 0..{encode_code(count, lay.action_width)}")
+    return code
+
+
+def _parse_on_field(message: str, lay: MessageLayout) -> list[int]:
+    """Each block's support from the on field; clear slots and unused slots checked for shape."""
+    n, names = lay.n, BLOCK_NAMES[: lay.n].lower()
     for i in range(BLOCK_FIELD):
         pos = lay.clear_start + i
         allowed = "01" if i < n else "0"
@@ -242,13 +264,11 @@ def parse_state_message(message: str, n: int | None = None) -> StateMessage:
             raise _fail(message, pos, " or ".join(allowed))
     support = []
     for i in range(BLOCK_FIELD):
-        pos = lay.on_start + i
-        ch = message[pos]
+        pos, ch = lay.on_start + i, message[lay.on_start + i]
         if i >= n:
             if ch != "0":
                 raise _fail(message, pos, "'0' (no such block)")
-            continue
-        if ch == "t":
+        elif ch == "t":
             support.append(TABLE)
         elif ch == "0":
             support.append(HAND)
@@ -259,26 +279,27 @@ def parse_state_message(message: str, n: int | None = None) -> StateMessage:
     held_ch = message[lay.held_pos]
     if held_ch != "0" and held_ch not in names:
         raise _fail(message, lay.held_pos, f"0 or one of {names}")
-    goal_txt = message[lay.goal_start :]
-    for k, ch in enumerate(goal_txt):
-        if ch.upper() not in DIGITS:
-            raise _fail(message, lay.goal_start + k, "a base-36 digit")
-    goal = decode_code(goal_txt)
-    if goal >= len(all_states(n)):
-        raise _fail(message, lay.goal_start, f"a goal code below {len(all_states(n))}")
-    try:
-        state = State(tuple(support))
-    except WorldError as exc:
-        raise MessageError(f"malformed message {message!r}: {exc}") from None
+    return support
+
+
+def _parse_goal(message: str, lay: MessageLayout) -> int:
+    goal = _base36(message, lay.goal_start, message[lay.goal_start :])
+    count = len(all_states(lay.n))
+    if goal >= count:
+        raise _fail(message, lay.goal_start, f"a goal code below {count}")
+    return goal
+
+
+def _check_clear_and_held(message: str, lay: MessageLayout, state: State) -> None:
+    """The clear and held fields must agree with the on field."""
     held = state.held
     want_held = BLOCK_NAMES[held].lower() if held is not None else "0"
-    if held_ch != want_held:
+    if message[lay.held_pos] != want_held:
         raise _fail(message, lay.held_pos, repr(want_held) + " (agreeing with the on field)")
-    for i in range(n):
+    for i in range(state.n):
         want = "1" if state.is_clear(i) else "0"
         if message[lay.clear_start + i] != want:
             raise _fail(message, lay.clear_start + i, repr(want) + " (agreeing with the on field)")
-    return StateMessage(state=state, goal=goal, action_code=action_code)
 
 
 def format_action_message(action: Action, n: int) -> str:
@@ -301,10 +322,7 @@ def parse_action_message(message: str, n: int) -> Action:
     if message[0] != "A":
         raise _fail(message, 0, "'A'")
     slot = message[1 : 1 + lay.action_width]
-    for k, ch in enumerate(slot):
-        if ch.upper() not in DIGITS:
-            raise _fail(message, 1 + k, "a base-36 digit")
-    code = decode_code(slot)
+    code = _base36(message, 1, slot)
     actions = all_actions(n)
     if not 1 <= code <= len(actions):
         raise _fail(message, 1, f"an action code 1..{encode_code(len(actions), lay.action_width)}")
@@ -346,14 +364,3 @@ __all__ = [
     "parse_action_message",
     "parse_state_message",
 ]
-
-
-def parse_state_arg(text: str, n: int | None = None) -> State:
-    """A user's state: the configuration notation, or (n=3) the paper's state message."""
-    text = text.strip()
-    if is_state_message(text):
-        parsed = parse_state_message(text, n)
-        return parsed.state
-    from csql_sim.world import parse_config
-
-    return parse_config(text, n)

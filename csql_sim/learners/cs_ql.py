@@ -1,0 +1,193 @@
+"""CS-QL: Q-learning through the classifier system (paper section 4, Figure 2).
+
+One step of a trial with a :class:`ClassifierSystemLearner` is the paper's interaction
+cycle:
+
+1. *post* the state message to the processing block (:meth:`act`);
+2. *match* the precondition R-classifiers to get the candidate actions (step 3);
+3. *cover*: make sure a Q-classifier exists for each (state, action) pair (step 4);
+4. *select* an action by eq. 3 over the candidates' Q-values (step 5);
+5. *predict* the next state message with the world model (the add-delete R-classifiers);
+6. *update* the classifier that proposed the action with eq. 1, 2 and 4 (step 6, :meth:`learn`).
+
+Steps 1-3 live in :mod:`csql_sim.processing_block`, step 5 in :mod:`csql_sim.world_model`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from csql_sim.classifier_list import ClassifierList
+from csql_sim.learners.learner import Learner, Transition
+from csql_sim.learners.params import CommonParams, CSQLParams
+from csql_sim.learners.selection import boltzmann
+from csql_sim.learners.trial import run_trial
+from csql_sim.processing_block import MatchSet, ProcessingBlock
+from csql_sim.q_classifier import QClassifier
+from csql_sim.r_classifier import RClassifier, r_classifiers
+from csql_sim.rulebase import RuleBase
+from csql_sim.world_model import WorldModel
+
+INF = float("inf")
+
+
+class ClassifierSystemLearner(Learner):
+    """The classifier-system part shared by CS-QL and the bucket-brigade learners.
+
+    Args:
+        n: number of blocks.
+        params: the learner's parameters.
+        rng: the only source of randomness.
+        rules: the R-classifiers (default: the built-in domain knowledge for n blocks).
+
+    Attributes:
+        classifiers: the classifier list (the R-classifiers, then Q-classifiers as covered).
+        world_model: the R-classifiers' world model.
+        block: the processing block that posts messages to the list.
+
+    """
+
+    def __init__(self, n: int, params: CommonParams, rng: np.random.Generator,
+                 rules: tuple[RClassifier, ...] | None = None) -> None:
+        super().__init__(n, params, rng)
+        rules = r_classifiers(n) if rules is None else rules
+        self.classifiers = ClassifierList(rules)
+        self.world_model = WorldModel(rules, n)
+        self.block = ProcessingBlock(self.classifiers, self.world_model, self.new_fields)
+        self._chosen: tuple[MatchSet, int] | None = None
+
+    @property
+    def model(self) -> WorldModel:
+        """Trials run on the world model (the add-delete R-classifiers)."""
+        return self.world_model
+
+    def new_fields(self) -> dict:
+        """Field values of a freshly created Q-classifier."""
+        return {"q": self.params.q0, "strength": 1.0, "error": 0.0, "last_active": self.t, "born": self.t}
+
+    # -- act and learn -----------------------------------------------------------------
+    def act(self, observation: str, temperature: float) -> int:
+        """Post the message, select a candidate (eq. 3); returns its action index."""
+        match_set = self.block.post(observation)
+        i = self.select(match_set, temperature, self.uniforms.next())
+        self._chosen = (match_set, i)
+        return match_set.actions[i]
+
+    def value(self, observation: str, action: int) -> float:
+        """The chosen classifier's value (Q-value; strength for the bucket brigade)."""
+        match_set = self.block.post(observation)
+        return self.candidate_value(match_set.candidates[match_set.index_of(action)])
+
+    def learn(self, transition: Transition) -> None:
+        """Post the next message (covering it), tick the clock, update the chosen classifier."""
+        chosen = self._chosen
+        if chosen is None or chosen[0].message != transition.observation \
+                or chosen[0].actions[chosen[1]] != transition.action:
+            match_set = self.block.post(transition.observation)
+            chosen = (match_set, match_set.index_of(transition.action))
+        nxt = None if transition.terminated else self.block.post(transition.next_observation)
+        self.t += 1
+        self.update(chosen[0], chosen[1], nxt, self.t)
+        self._chosen = None
+
+    # -- what each method supplies -----------------------------------------------------
+    def candidate_value(self, c: QClassifier) -> float:
+        """A candidate's value for selection and the test task's mean."""
+        return c.q
+
+    def select(self, match_set: MatchSet, temperature: float, u: float) -> int:
+        """Step 5: choose a candidate with uniform ``u``."""
+        raise NotImplementedError
+
+    def update(self, match_set: MatchSet, i: int, nxt: MatchSet | None, t: int) -> None:
+        """Step 6: credit candidate ``i`` (``nxt`` is None at the goal) at step ``t``."""
+        raise NotImplementedError
+
+    # -- export --------------------------------------------------------------------------
+    def settle(self) -> None:
+        """Bring every Q-classifier's age up to now."""
+        unit = self.params.age_unit
+        for c in self.classifiers.q_classifiers:
+            c.age = (self.t - c.born) / unit
+
+    def rulebase(self, meta: dict | None = None) -> RuleBase:
+        """The whole classifier list (R and Q), settled to the current step."""
+        self.settle()
+        return RuleBase(blocks=self.n, classifiers=list(self.classifiers), meta=dict(meta or {}))
+
+
+class CSQL(ClassifierSystemLearner):
+    """Classifier-system Q-learning (section 4) with eq. 1-4."""
+
+    method = "cs-ql"
+    params: CSQLParams
+
+    def __init__(self, n: int, params: CSQLParams, rng: np.random.Generator,
+                 rules: tuple[RClassifier, ...] | None = None) -> None:
+        super().__init__(n, params, rng, rules)
+        self._gamma, self._eta, self._payoff = params.gamma, params.eta, params.payoff
+
+    def select(self, match_set: MatchSet, temperature: float, u: float) -> int:
+        """Boltzmann selection over the candidates' Q-values (eq. 3).
+
+        A lone candidate (6 of the 22 states for n=3 have one legal action) is chosen
+        without evaluating eq. 3; the uniform is consumed either way.
+        """
+        qs = match_set.candidates
+        if len(qs) == 1:
+            return 0
+        return boltzmann([c.q for c in qs], temperature, u)
+
+    def update(self, match_set: MatchSet, i: int, nxt: MatchSet | None, t: int) -> None:
+        """Eq. 2's epsilon, eq. 1's Q update; |epsilon| reset, last_active = t.
+
+        The growth of |epsilon| by ``error_increment`` per step is applied lazily from
+        ``last_active`` (see :meth:`error`), so an update touches one classifier only.
+        """
+        c = match_set.candidates[i]
+        if nxt is None:
+            target = self._payoff
+        else:
+            best = -INF
+            for d in nxt.candidates:
+                if d.q > best:
+                    best = d.q
+            target = self._gamma * best
+        eps = target - c.q
+        c.q += self._eta * eps
+        c.error = eps if eps >= 0.0 else -eps
+        c.last_active = t
+
+    def error(self, c: QClassifier) -> float:
+        """|epsilon| now: the last prediction error plus the growth since (section 4)."""
+        return c.error + self.params.error_increment * (self.t - c.last_active)
+
+    def settle(self) -> None:
+        """Fold the lazy |epsilon| growth into ``error`` and set strength (eq. 4) and age."""
+        super().settle()
+        for c in self.classifiers.q_classifiers:
+            c.error = self.error(c)
+            c.strength = 1.0 - c.error
+            c.last_active = self.t
+
+    def sweep(self) -> int:
+        """Greedy planning passes over every (start, goal) pair on the world model.
+
+        Each pass predicts every pair's greedy path with the add-delete R-classifiers and
+        updates its classifiers with eq. 1-2, so each becomes active. Passes repeat until
+        no update in a pass has |epsilon| above ``sweep_tolerance`` (at most
+        ``sweep_passes``). Returns the steps taken.
+        """
+        p = self.params
+        before = self.t
+        count = len(self.world.states)
+        for _ in range(p.sweep_passes):
+            start_t = self.t
+            for goal in range(count):
+                for start in range(count):
+                    if start != goal:
+                        run_trial(self, start, goal, 0.0, cap=count)
+            worst = max((c.error for c in self.classifiers.q_classifiers if c.last_active >= start_t), default=0.0)
+            if worst <= p.sweep_tolerance:
+                break
+        return self.t - before

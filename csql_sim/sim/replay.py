@@ -1,0 +1,52 @@
+"""Pose replay: snapshots of a running scene, and replay scenes posed from them.
+
+During an episode a :class:`~csql_sim.sim.recording.Recorder` takes a :class:`Snapshot`
+(every cube's pose, every Panda joint) at frame times; for rendering, a replay-only
+:class:`~csql_sim.sim.scene.Scene` (never stepped) is set to each snapshot in turn.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.scene import Pose, Scene
+
+PANDA_JOINTS = range(11)  # seven arm joints, two fixed hand joints, two fingers
+
+
+@dataclass(frozen=True)
+class Snapshot:
+    """Every cube's pose and every Panda joint position at one instant."""
+
+    poses: tuple[Pose, ...]
+    joints: tuple[float, ...]
+
+
+def take_snapshot(scene: Scene) -> Snapshot:
+    """The scene's cube poses and Panda joint positions now."""
+    return Snapshot(poses=tuple(scene.block_pose(i) for i in range(scene.n)),
+                    joints=tuple(scene.joint_positions(scene.bodies["panda"], PANDA_JOINTS)))
+
+
+def replay_scene(n: int, config: SimConfig = DEFAULT_CONFIG) -> Scene:
+    """A scene for replay only: the bodies are posed from snapshots and never stepped."""
+    return Scene(n, config, physics=False)
+
+
+def apply_snapshot(scene: Scene, poses: tuple[Pose, ...], joints: tuple[float, ...]) -> None:
+    """Pose a replay scene's cubes and Panda joints (never a physics scene during an episode).
+
+    Raises:
+        RuntimeError: if ``scene`` is a physics scene.
+    """
+    if not scene.replay_only:
+        raise RuntimeError("apply_snapshot is for replay scenes only")
+    for i, pose in enumerate(poses):
+        scene.set_block_pose(i, pose.position, pose.orientation)
+    panda = scene.bodies["panda"]
+    for j, q in enumerate(joints):
+        scene.reset_joint(panda, j, q)
+
+
+__all__ = ["Snapshot", "apply_snapshot", "replay_scene", "take_snapshot"]
