@@ -1,11 +1,20 @@
-"""Breadth-first optimal planner over the world model: the yardstick for learned plans."""
+"""Breadth-first optimal planner: the yardstick for learned plans, and planning on a world model.
+
+:func:`distance`, :func:`optimal_actions` and :func:`bfs_plan` search the true world
+(:class:`csql_sim.world.BlocksWorld`): they are the yardstick every learned plan is measured
+against, independent of any agent's knowledge. :class:`BfsPolicy` plans either on the true
+world or, given a :class:`~csql_sim.world_model.WorldModel`, on what the R-classifiers say
+(for example rules discovered from experience).
+"""
 
 from __future__ import annotations
 
 import functools
 from collections import deque
 
+from csql_sim.message import decode_code, format_state_message, layout, parse_state_message
 from csql_sim.world import Action, BlocksWorld, State, WorldError
+from csql_sim.world_model import WorldModel
 
 
 class NoPlanError(WorldError):
@@ -71,13 +80,76 @@ def _check_same_world(a: State, b: State) -> None:
         raise WorldError(f"start has {a.n} blocks but goal has {b.n}")
 
 
+def _model_graph(model: WorldModel) -> tuple[tuple[tuple[int, int], ...], ...]:
+    """Per state index: the (action index, next state index) pairs the world model allows."""
+    world = BlocksWorld.of(model.n)
+    rows = []
+    for state in world.states:
+        message = format_state_message(state, 0)
+        pairs = []
+        for action in model.legal_actions(message):
+            parsed = parse_state_message(model.predict(message, action), model.n)
+            pairs.append((decode_code(action[1 : 1 + layout(model.n).action_width]) - 1,
+                          world.state_index(parsed.state)))
+        rows.append(tuple(pairs))
+    return tuple(rows)
+
+
 class BfsPolicy:
-    """The policy interface backed by the BFS planner: the optimal next action."""
+    """The policy interface backed by breadth-first search: an optimal next action.
+
+    Args:
+        world_model: plan on this world model; None (the default) plans on the true world.
+
+    Ties are broken by the stable action order.
+    """
 
     name = "bfs"
-    blocks: int | None = None
+
+    def __init__(self, world_model: WorldModel | None = None) -> None:
+        self.world_model = world_model
+        self.blocks: int | None = None if world_model is None else world_model.n
+        self._graph: tuple[tuple[tuple[int, int], ...], ...] | None = None
+        self._distances: dict[int, list[int]] = {}
 
     def act(self, state: State, goal: State) -> Action | None:
-        """The first action of an optimal plan from ``state``, or None at the goal."""
-        choices = optimal_actions(state, goal)
-        return choices[0] if choices else None
+        """The first action of an optimal plan from ``state``, or None at the goal.
+
+        Raises:
+            NoPlanError: when the world model connects ``state`` to no path to ``goal``.
+        """
+        if self.world_model is None:
+            choices = optimal_actions(state, goal)
+            return choices[0] if choices else None
+        world = BlocksWorld.of(state.n)
+        s, g = world.state_index(state), world.state_index(goal)
+        if s == g:
+            return None
+        dist = self._distances_to(g)
+        assert self._graph is not None
+        for action, nxt in sorted(self._graph[s]):
+            if dist[nxt] == dist[s] - 1 >= 0:
+                return world.actions[action]
+        raise NoPlanError(f"the world model gives no plan from {state.notation()} to {goal.notation()}")
+
+    def _distances_to(self, goal: int) -> list[int]:
+        """Plan lengths to ``goal`` on the world model's graph (-1: unreachable), memoized."""
+        if goal not in self._distances:
+            if self._graph is None:
+                assert self.world_model is not None
+                self._graph = _model_graph(self.world_model)
+            preds: list[list[int]] = [[] for _ in self._graph]
+            for s, pairs in enumerate(self._graph):
+                for _, nxt in pairs:
+                    preds[nxt].append(s)
+            dist = [-1] * len(self._graph)
+            dist[goal] = 0
+            queue = deque([goal])
+            while queue:
+                s = queue.popleft()
+                for p in preds[s]:
+                    if dist[p] < 0:
+                        dist[p] = dist[s] + 1
+                        queue.append(p)
+            self._distances[goal] = dist
+        return self._distances[goal]

@@ -57,3 +57,25 @@ def test_bfs_policy():
     goal = parse_config("BAC")
     assert policy.act(goal, goal) is None
     assert policy.act(parse_config("CBA"), goal).name() == "unstack(A,B)"
+
+
+def test_bfs_on_the_world_model_equals_bfs_on_the_world():
+    from csql_sim.policy import check_all_pairs
+    from csql_sim.world_model import WorldModel
+
+    results = check_all_pairs(BfsPolicy(WorldModel.for_blocks(3)), 3)
+    assert len(results) == 462 and all(r.optimal for r in results)
+
+
+def test_bfs_on_a_world_model_that_forbids_pickups_finds_no_plan():
+    from csql_sim.planner import NoPlanError
+    from csql_sim.r_classifier import PreconditionRule, generate_rules
+    from csql_sim.world_model import WorldModel
+
+    rules = [r for r in generate_rules(3) if not (isinstance(r, PreconditionRule) and r.action[8:12] == "1000"
+                                                  and r.action[13] == "t")]
+    policy = BfsPolicy(WorldModel(rules, 3))
+    with pytest.raises(NoPlanError):
+        policy.act(parse_config("A,B,C"), parse_config("CBA"))
+    # unstacking is still allowed, so taking a tower apart still has a plan
+    assert policy.act(parse_config("CBA"), parse_config("A,B,C")) is not None
