@@ -1,22 +1,30 @@
 """Save and load a classifier list as versioned YAML, atomically.
 
-Format (``version: 1``)::
+Format (``version: 2``)::
 
     format: csql-sim rule base
-    version: 1
+    version: 2
     blocks: 3
     meta: {method: cs-ql, trials: 2500, seed: 0}
+    count: 918
     classifiers:
     - {kind: R, condition: 'S#1#####b#####0#', action: A10000001000ab00}
     - {kind: Q, condition: S0111000ttt0000C, action: A70000001000at00,
        strength: 0.9992, q: 0.857, age: 3.27, error: 0.0006}
 
 R-classifiers carry only kind, condition and action; Q-classifiers also strength, q
-(Q-value), age and error (|epsilon|, prediction error).
+(Q-value), age and error (|epsilon|, prediction error). ``count`` is the number of
+classifiers: a file cut anywhere, even at a line boundary, is refused. Version 1 files
+(without ``count``) are refused too, since their truncation cannot be detected.
+
+Reading is guarded (:mod:`csql_sim.files`): regular files only, at most
+:data:`MAX_FILE_BYTES`, no YAML aliases, bounded nesting. Every condition and action is
+checked against the stated number of blocks, and every number must be finite.
 """
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -26,14 +34,16 @@ import yaml
 
 from csql_sim.classifier_list import Classifier
 from csql_sim.errors import CsqlError
-from csql_sim.files import write_atomic
-from csql_sim.message import layout
+from csql_sim.files import InputFileError, load_yaml, read_text_file, write_atomic
+from csql_sim.message import MessageError, layout, parse_action_message, parse_state_message
 from csql_sim.q_classifier import QClassifier
 from csql_sim.r_classifier import parse_r_classifier
-from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.world import BLOCK_NAMES, MAX_BLOCKS, MIN_BLOCKS, all_actions
 
 FORMAT = "csql-sim rule base"
-VERSION = 1
+VERSION = 2
+MAX_FILE_BYTES = 16 * 1024 * 1024
+"""Largest rule file read (an n=4 base is about 4.5 MB)."""
 Q_FIELDS = ("strength", "q", "age", "error")
 
 
@@ -70,6 +80,7 @@ def dumps(rulebase: RuleBase) -> str:
         "version": VERSION,
         "blocks": rulebase.blocks,
         "meta": dict(rulebase.meta),
+        "count": len(rows),
         "classifiers": rows,
     }
     return yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=200)
@@ -82,42 +93,86 @@ def save(path: str | os.PathLike, rulebase: RuleBase) -> Path:
 
 def load(path: str | os.PathLike) -> RuleBase:
     """Read a rule base; any problem is a one-line RuleBaseError naming the file."""
-    p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise RuleBaseError(f"{p}: no such rule file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RuleBaseError(f"{p}: cannot read rule file ({exc.__class__.__name__})") from None
-    return loads(text, source=str(p))
+        text = read_text_file(path, MAX_FILE_BYTES, "rule file")
+    except InputFileError as exc:
+        raise RuleBaseError(str(exc)) from None
+    return loads(text, source=os.fspath(path))
 
 
 def loads(text: str, source: str = "<string>") -> RuleBase:
     """Parse rule-base YAML text (see the module docstring)."""
     try:
-        doc = yaml.safe_load(text)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}" if mark is not None else ""
-        raise RuleBaseError(f"{source}: not valid YAML{where} (truncated or corrupt?)") from None
+        doc = load_yaml(text, source)
+    except InputFileError as exc:
+        raise RuleBaseError(str(exc)) from None
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise RuleBaseError(f"{source}: not a csql-sim rule base (missing 'format: {FORMAT}')")
+    if doc.get("version") == 1:
+        raise RuleBaseError(f"{source}: version 1 rule files record no classifier count, so a cut file cannot be "
+                            f"detected; write it again with 'csql-sim train' (version {VERSION})")
     if doc.get("version") != VERSION:
         raise RuleBaseError(f"{source}: unsupported rule-base version {doc.get('version')!r} (expected {VERSION})")
     n = doc.get("blocks")
-    if not isinstance(n, int) or not MIN_BLOCKS <= n <= MAX_BLOCKS:
+    if isinstance(n, bool) or not isinstance(n, int) or not MIN_BLOCKS <= n <= MAX_BLOCKS:
         raise RuleBaseError(f"{source}: 'blocks' must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {n!r}")
     rows = doc.get("classifiers")
     if not isinstance(rows, list):
         raise RuleBaseError(f"{source}: 'classifiers' must be a list")
+    count = doc.get("count")
+    if isinstance(count, bool) or not isinstance(count, int):
+        raise RuleBaseError(f"{source}: 'count' (the number of classifiers) must be an integer, got {count!r}")
+    if count != len(rows):
+        raise RuleBaseError(f"{source}: holds {len(rows)} classifiers but its header says {count} (cut or edited?)")
     meta = doc.get("meta") or {}
     if not isinstance(meta, dict):
         raise RuleBaseError(f"{source}: 'meta' must be a mapping")
+    return RuleBase(blocks=n, classifiers=list(_classifiers(rows, n, source)), meta=meta)
+
+
+def _pattern_problem(text: str, n: int) -> str | None:
+    """Why an R-classifier's condition or output cannot be an n-block pattern (None if it can)."""
+    lay = layout(n)
+    names = BLOCK_NAMES.lower()
+    for pos, ch in enumerate(text):
+        if ch in names and ch not in names[:n]:
+            return f"position {pos} names block {ch.upper()}, but the file is for {n} blocks"
+    if text[:1] in ("S", "A"):
+        code = text[1 : 1 + lay.action_width]
+        if "#" not in code and code.isalnum() and int(code, 36) > len(all_actions(n)):
+            return f"action code {code} is beyond the {len(all_actions(n))} actions of {n} blocks"
+    if text[:1] == "S":
+        for start in (lay.clear_start, lay.on_start):
+            for i in range(n, len(BLOCK_NAMES)):
+                ch = text[start + i]
+                if ch not in "0#":
+                    return f"position {start + i} is {ch!r}, but block {BLOCK_NAMES[i]} is not in the world"
+    return None
+
+
+def _check_strings(kind: str, cond: str, act: str, n: int, seen: dict[str, bool]) -> str | None:
+    """Why a classifier's condition or action does not fit n blocks (None if they fit)."""
+    try:
+        if kind == "Q":
+            if cond not in seen:
+                parse_state_message(cond, n)
+                seen[cond] = True
+            if act not in seen:
+                parse_action_message(act, n)
+                seen[act] = True
+            return None
+    except MessageError as exc:
+        return f"not a {n}-block message ({exc})"
+    for name, value in (("condition", cond), ("action", act)):
+        problem = _pattern_problem(value, n)
+        if problem:
+            return f"{name} {value!r}: {problem}"
+    return None
+
+
+def _classifiers(rows: list, n: int, source: str) -> Iterable[Classifier]:
     width = layout(n).length
-    return RuleBase(blocks=n, classifiers=list(_classifiers(rows, width, source)), meta=meta)
-
-
-def _classifiers(rows: list, width: int, source: str) -> Iterable[Classifier]:
+    seen: dict[str, bool] = {}
     for k, row in enumerate(rows, start=1):
         where = f"{source}: classifier {k}"
         if not isinstance(row, dict):
@@ -129,6 +184,9 @@ def _classifiers(rows: list, width: int, source: str) -> Iterable[Classifier]:
         for name, value in (("condition", cond), ("action", act)):
             if not isinstance(value, str) or len(value) != width:
                 raise RuleBaseError(f"{where}: {name} must be a {width}-character string, got {value!r}")
+        problem = _check_strings(kind, cond, act, n, seen)
+        if problem:
+            raise RuleBaseError(f"{where}: {problem}")
         if kind == "R":
             try:
                 yield parse_r_classifier(cond, act)
@@ -137,8 +195,16 @@ def _classifiers(rows: list, width: int, source: str) -> Iterable[Classifier]:
             continue
         c = QClassifier(cond, act)
         for name in Q_FIELDS:
-            value = row.get(name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise RuleBaseError(f"{where}: {name} must be a number, got {value!r}")
-            setattr(c, name, float(value))
+            setattr(c, name, _number(row.get(name), name, where))
         yield c
+
+
+def _number(value: object, name: str, where: str) -> float:
+    """A finite number (age and error also non-negative)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise RuleBaseError(f"{where}: {name} must be a number, got {value!r}")
+    if not math.isfinite(value):
+        raise RuleBaseError(f"{where}: {name} must be finite, got {value!r}")
+    if name in ("age", "error") and value < 0:
+        raise RuleBaseError(f"{where}: {name} must be >= 0, got {value!r}")
+    return float(value)

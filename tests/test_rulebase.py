@@ -21,7 +21,8 @@ def test_round_trip(tmp_path):
     assert (got.condition, got.action, got.q, got.strength, got.age, got.error) == (
         want.condition, want.action, want.q, want.strength, want.age, want.error)
     text = path.read_text()
-    assert text.startswith("format: csql-sim rule base\nversion: 1\n")
+    assert text.startswith("format: csql-sim rule base\nversion: 2\n")
+    assert f"\ncount: {len(_sample().classifiers)}\n" in text
     assert [p.name for p in tmp_path.iterdir()] == ["rules.yaml"]  # no temporary left behind
 
 
@@ -42,11 +43,11 @@ def test_truncated_file(tmp_path):
     ("text", "fragment"),
     [
         ("just a string", "not a csql-sim rule base"),
-        ("format: other\nversion: 1", "not a csql-sim rule base"),
+        ("format: other\nversion: 2", "not a csql-sim rule base"),
         ("format: csql-sim rule base\nversion: 9\nblocks: 3\nclassifiers: []", "version 9"),
-        ("format: csql-sim rule base\nversion: 1\nblocks: 8\nclassifiers: []", "'blocks'"),
-        ("format: csql-sim rule base\nversion: 1\nblocks: 3\nclassifiers: [{kind: X}]", "kind must be"),
-        ("format: csql-sim rule base\nversion: 1\nblocks: 3\nclassifiers: [{kind: R, condition: S1, action: S}]",
+        ("format: csql-sim rule base\nversion: 2\nblocks: 8\ncount: 0\nclassifiers: []", "'blocks'"),
+        ("format: csql-sim rule base\nversion: 2\nblocks: 3\ncount: 1\nclassifiers: [{kind: X}]", "kind must be"),
+        ("format: csql-sim rule base\nversion: 2\nblocks: 3\ncount: 1\nclassifiers: [{kind: R, condition: S1, action: S}]",
          "16-character"),
         ("format: [unclosed", "not valid YAML"),
     ],
@@ -58,8 +59,87 @@ def test_foreign_or_corrupt(text, fragment):
 
 def test_q_fields_required():
     text = (
-        "format: csql-sim rule base\nversion: 1\nblocks: 3\n"
+        "format: csql-sim rule base\nversion: 2\nblocks: 3\ncount: 1\n"
         "classifiers: [{kind: Q, condition: S0111000ttt0000C, action: A70000001000at00, q: 0.5}]"
     )
     with pytest.raises(RuleBaseError, match="strength must be a number"):
         loads(text)
+
+
+HEADER = "format: csql-sim rule base\nversion: 2\nblocks: 3\ncount: 1\n"
+Q_ROW = "{kind: Q, condition: S0111000ttt0000C, action: A70000001000at00, q: %s, strength: %s, age: 1, error: %s}"
+
+
+def test_cut_at_a_line_boundary_is_refused(tmp_path):
+    path = save(tmp_path / "rules.yaml", _sample())
+    lines = path.read_text().splitlines(keepends=True)
+    path.write_text("".join(lines[:-1]))  # the last classifier's line removed: still valid YAML
+    with pytest.raises(RuleBaseError, match=f"holds {len(_sample().classifiers) - 1} classifiers but its header "
+                                            f"says {len(_sample().classifiers)}"):
+        load(path)
+
+
+def test_version_1_is_refused_because_a_cut_cannot_be_seen():
+    with pytest.raises(RuleBaseError, match="version 1 rule files record no classifier count"):
+        loads("format: csql-sim rule base\nversion: 1\nblocks: 3\nclassifiers: []")
+
+
+@pytest.mark.parametrize(("q", "strength", "error", "fragment"), [
+    (".nan", "1", "0", "q must be finite"),
+    ("0.5", ".inf", "0", "strength must be finite"),
+    ("0.5", "1", "-.inf", "error must be finite"),
+    ("0.5", "1", "-0.1", "error must be >= 0"),
+])
+def test_non_finite_numbers_are_refused(q, strength, error, fragment):
+    with pytest.raises(RuleBaseError, match=fragment):
+        loads(HEADER + "classifiers: [" + Q_ROW % (q, strength, error) + "]")
+
+
+def test_a_3_block_file_relabelled_as_2_blocks_is_refused(tmp_path):
+    path = save(tmp_path / "rules.yaml", _sample())
+    path.write_text(path.read_text().replace("\nblocks: 3\n", "\nblocks: 2\n"))
+    with pytest.raises(RuleBaseError, match="classifier 2: condition .* names block C, but the file is for 2 blocks"):
+        load(path)
+
+
+def test_a_relabelled_q_classifier_is_refused():
+    text = HEADER.replace("blocks: 3", "blocks: 2") + "classifiers: [" + Q_ROW % (0.5, 1, 0) + "]"
+    with pytest.raises(RuleBaseError, match="classifier 1: not a 2-block message"):
+        loads(text)
+
+
+@pytest.mark.parametrize("where", ["blocks", "condition"])
+def test_yaml_aliases_are_refused_fast(where):
+    laughs = "a: &a [x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"{chr(98 + k)}: &{chr(98 + k)} [{', '.join(['*' + chr(97 + k)] * 9)}]\n" for k in range(8))
+    if where == "blocks":
+        text = laughs + HEADER.replace("blocks: 3", "blocks: *i") + "classifiers: []"
+    else:
+        text = HEADER + laughs + "classifiers: [{kind: R, condition: *i, action: A70000001000at00}]"
+    with pytest.raises(RuleBaseError, match=r"YAML aliases \(\*a\) are not allowed"):
+        loads(text)
+
+
+def test_deep_nesting_is_refused():
+    text = HEADER + "meta: " + "[" * 1000 + "]" * 1000 + "\nclassifiers: []"
+    with pytest.raises(RuleBaseError, match="nested deeper than 32 levels"):
+        loads(text)
+
+
+def test_only_regular_files_are_read(tmp_path):
+    with pytest.raises(RuleBaseError, match="/dev/zero: a device, pipe or socket, not a regular rule file"):
+        load("/dev/zero")
+    with pytest.raises(RuleBaseError, match="a folder, not a regular rule file"):
+        load(tmp_path)
+
+
+def test_a_huge_file_is_refused_before_reading(tmp_path):
+    import time
+
+    path = tmp_path / "big.yaml"
+    with open(path, "wb") as fh:
+        fh.truncate(50 * 1024 * 1024)  # a 50 MB (sparse) file
+    began = time.perf_counter()
+    with pytest.raises(RuleBaseError, match="above the 16,777,216-byte limit"):
+        load(path)
+    assert time.perf_counter() - began < 1.0
