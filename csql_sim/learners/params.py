@@ -2,22 +2,62 @@
 
 Symbols follow the paper: gamma (eq. 2), eta (eq. 1), T (eq. 3). The temperature
 schedule is per trial: ``T_k = max(T_min, T0 * decay**k)`` for training trial ``k``.
+
+Every parameter has a range, written next to its default in the class docstring and
+checked when the dataclass is built (from code, a dict or a ``--params`` file): a value
+outside it, NaN or infinity is a one-line :class:`ParamsError`.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from dataclasses import dataclass, fields
-from pathlib import Path
-
-import yaml
+from typing import ClassVar
 
 from csql_sim.errors import CsqlError
+from csql_sim.files import InputFileError, load_yaml, read_text_file
+
+MAX_FILE_BYTES = 1024 * 1024
+"""Largest parameter file read."""
 
 
 class ParamsError(CsqlError):
     """A bad parameter file or value."""
+
+
+@dataclass(frozen=True)
+class Bounds:
+    """A closed or open interval of finite values, printed as ``[0, 1]``, ``(0, 1]``, ``>= 1``."""
+
+    low: float = -math.inf
+    high: float = math.inf
+    low_open: bool = False
+    high_open: bool = False
+
+    def __str__(self) -> str:
+        if self.high == math.inf:
+            if self.low == -math.inf:
+                return "finite"
+            return f"{'>' if self.low_open else '>='} {self.low:g}"
+        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
+
+    def contains(self, value: float) -> bool:
+        """Whether ``value`` is finite and inside the interval."""
+        if not math.isfinite(value):
+            return False
+        above = value > self.low if self.low_open else value >= self.low
+        below = value < self.high if self.high_open else value <= self.high
+        return above and below
+
+
+POSITIVE = Bounds(0.0, low_open=True)
+NON_NEGATIVE = Bounds(0.0)
+UNIT = Bounds(0.0, 1.0)
+UNIT_NO_ZERO = Bounds(0.0, 1.0, low_open=True)
+FINITE = Bounds()
+AT_LEAST_ONE = Bounds(1.0)
 
 
 @dataclass(frozen=True)
@@ -26,21 +66,46 @@ class CommonParams:
 
     Attributes:
         t0: T at trial 0 (eq. 3); Q-values lie in [0, 1], so 0.5 is close to uniform.
-        t_decay: T shrinks by this factor per training trial.
-        t_min: floor of T (near-greedy; keeps exp() finite).
+            Range > 0; default 0.5.
+        t_decay: T shrinks by this factor per training trial. Range (0, 1]; default 0.996.
+        t_min: floor of T (near-greedy; keeps exp() finite). Range > 0; default 0.0005.
         step_cap: a trial ends unreached after this many steps. Random walks need 168
             (legal actions) and 1584 (all 18) steps on the test task, so the cap only
-            trims the rare very long walks of the first trials.
+            trims the rare very long walks of the first trials. Range >= 1 (an integer);
+            default 10000.
         age_unit: steps per unit of age. Figure 6's ages (~3.2 after 2500 trials of about
-            13 steps) read as 10,000 steps per unit.
+            13 steps) read as 10,000 steps per unit. Range > 0; default 10000.
 
     """
+
+    RANGES: ClassVar[dict[str, Bounds]] = {
+        "t0": POSITIVE, "t_decay": UNIT_NO_ZERO, "t_min": POSITIVE, "step_cap": AT_LEAST_ONE, "age_unit": POSITIVE,
+    }
 
     t0: float = 0.5  # T_0
     t_decay: float = 0.996  # T_{k+1} = T_k * decay
     t_min: float = 0.0005  # T floor
     step_cap: int = 10000  # steps per trial
     age_unit: float = 10000.0  # steps per unit of age (Figure 6)
+
+    def __post_init__(self) -> None:
+        """Check every field against its range (see the class docstrings)."""
+        for f in fields(self):
+            value = getattr(self, f.name)
+            bounds = self.bounds(f.name)
+            if bounds is None or isinstance(value, bool):
+                continue
+            if isinstance(value, (int, float)) and not bounds.contains(value):
+                raise ParamsError(f"{f.name} must be {_describe(bounds)}, got {value!r}")
+
+    @classmethod
+    def bounds(cls, name: str) -> Bounds | None:
+        """The range of parameter ``name`` (None for flags)."""
+        for klass in cls.__mro__:
+            ranges = klass.__dict__.get("RANGES", {})
+            if name in ranges:
+                return ranges[name]
+        return None
 
     def temperature(self, trial: int) -> float:
         """T for training trial ``trial`` (eq. 3's T)."""
@@ -53,13 +118,19 @@ class QLearningParams(CommonParams):
 
     Attributes:
         gamma: discount gamma (eq. 2); Figure 6's Q-values are powers of 0.95.
-        eta: step size eta (eq. 1).
-        payoff: r on reaching the goal (0 otherwise).
-        q0: initial Q-hat.
+            Range [0, 1]; default 0.95.
+        eta: step size eta (eq. 1). Range (0, 1]; default 0.5.
+        payoff: r on reaching the goal (0 otherwise). Range finite; default 1.
+        q0: initial Q-hat. Range finite; default 0.
         error_increment: growth of |epsilon| per step since a classifier (or table entry)
             was last active (section 4; Figure 6's PredErr column steps by 0.0002).
+            Range >= 0; default 0.0002.
 
     """
+
+    RANGES: ClassVar[dict[str, Bounds]] = {
+        "gamma": UNIT, "eta": UNIT_NO_ZERO, "payoff": FINITE, "q0": FINITE, "error_increment": NON_NEGATIVE,
+    }
 
     gamma: float = 0.95  # gamma, eq. 2
     eta: float = 0.5  # eta, eq. 1
@@ -85,15 +156,20 @@ class CSQLParams(QLearningParams):
         t_decay: CS-QL's own temperature decay. With LT-QL's 0.996 CS-QL first reaches the
             optimal 8 steps at trial 850; with 0.9955 at 700, as in the paper, while LT-QL
             (0.996) stays at the paper's 1150. Measured over 50 cycles x 2500 trials.
+            Range (0, 1]; default 0.9955.
         sweep: after the trials, one greedy planning pass over every (start, goal) pair
             on the world model (the add-delete R-classifiers), updating with eq. 1-2. Each
             pair's greedy classifier is then active within one pass (~2,000 steps) with a
-            small |epsilon|, so pruning at 0.1 keeps exactly one per pair. False is the paper-faithful variant.
-        sweep_passes: the most passes of the sweep.
+            small |epsilon|, so pruning at 0.1 keeps exactly one per pair. False is the
+            paper-faithful variant. A flag (true or false); default true.
+        sweep_passes: the most passes of the sweep. Range >= 0 (an integer); default 50.
         sweep_tolerance: the sweep stops after a pass whose largest |epsilon| is at most
-            this (Q-values then agree with eq. 2 along every greedy path).
+            this (Q-values then agree with eq. 2 along every greedy path). Range >= 0;
+            default 0.001.
 
     """
+
+    RANGES: ClassVar[dict[str, Bounds]] = {"sweep_passes": NON_NEGATIVE, "sweep_tolerance": NON_NEGATIVE}
 
     t_decay: float = 0.9955  # T_{k+1} = T_k * decay; reproduces "optimal by ~700 trials"
     sweep: bool = True  # final planning sweep (ours; False = paper)
@@ -113,16 +189,26 @@ class BucketBrigadeParams(CommonParams):
 
     Attributes:
         bid: bid coefficient (fraction of strength bid by the active classifier).
-        tax: tax rate on matched, not selected candidates.
-        payoff: payoff at the goal.
-        s0: initial strength (positive, for the roulette wheel).
+            Range (0, 1]; default 0.2.
+        tax: tax rate on matched, not selected candidates. Range [0, 1]; default 0.
+        payoff: payoff at the goal. Range finite; default 1.
+        s0: initial strength (positive, for the roulette wheel). Range > 0; default 0.01.
 
     """
+
+    RANGES: ClassVar[dict[str, Bounds]] = {"bid": UNIT_NO_ZERO, "tax": UNIT, "payoff": FINITE, "s0": POSITIVE}
 
     bid: float = 0.2  # bid coefficient c_bid
     tax: float = 0.0  # bid tax on unselected candidates
     payoff: float = 1.0  # payoff at the goal
     s0: float = 0.01  # initial strength
+
+
+def _describe(bounds: Bounds) -> str:
+    text = str(bounds)
+    if text == "finite":
+        return "a finite number"
+    return f"in {text}" if text[0] in "[(" else text
 
 
 PARAMS_BY_METHOD: dict[str, type[CommonParams]] = {
@@ -159,7 +245,10 @@ def with_overrides(params: CommonParams, overrides: dict, source: str = "paramet
         if not ok:
             raise ParamsError(f"{source}: {key} must be {type(current).__name__}, got {value!r}")
         clean[key] = value
-    return dataclasses.replace(params, **clean)
+    try:
+        return dataclasses.replace(params, **clean)
+    except ParamsError as exc:
+        raise ParamsError(f"{source}: {exc}") from None
 
 
 def load_params(path: str | os.PathLike, method: str) -> CommonParams:
@@ -168,13 +257,11 @@ def load_params(path: str | os.PathLike, method: str) -> CommonParams:
     The file is either a flat mapping of parameters, or a mapping from method names to
     such mappings (only ``method``'s entry is applied).
     """
-    p = Path(path)
+    p = os.fspath(path)
     try:
-        doc = yaml.safe_load(p.read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise ParamsError(f"{p}: no such parameter file") from None
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise ParamsError(f"{p}: cannot read parameters ({exc.__class__.__name__})") from None
+        doc = load_yaml(read_text_file(p, MAX_FILE_BYTES, "parameter file"), p)
+    except InputFileError as exc:
+        raise ParamsError(str(exc)) from None
     if doc is None:
         doc = {}
     if not isinstance(doc, dict):

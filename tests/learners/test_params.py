@@ -51,3 +51,60 @@ def test_missing_file_and_wrong_dataclass():
         resolve_params("cs-ql", load_params.__globals__["TabularParams"]())
     with pytest.raises(ParamsError, match="unknown method"):
         make_learner("q-magic")
+
+
+@pytest.mark.parametrize(
+    ("text", "fragment"),
+    [("gamma: .nan\n", "gamma must be in [0, 1], got nan"), ("gamma: 1.5\n", "gamma must be in [0, 1], got 1.5"),
+     ("t0: -0.5\n", "t0 must be > 0, got -0.5"), ("t_min: 0\n", "t_min must be > 0"),
+     ("eta: 0\n", "eta must be in (0, 1], got 0.0"), ("eta: 1.01\n", "eta must be in (0, 1]"),
+     ("t_decay: 2\n", "t_decay must be in (0, 1], got 2.0"), ("step_cap: 0\n", "step_cap must be >= 1, got 0"),
+     ("step_cap: -5\n", "step_cap must be >= 1"), ("age_unit: 0\n", "age_unit must be > 0"),
+     ("payoff: .inf\n", "payoff must be a finite number"), ("error_increment: -1\n", "error_increment must be >= 0"),
+     ("sweep_passes: -1\n", "sweep_passes must be >= 0"), ("cs-bb-rw: {bid: 0}\ncs-ql: {}\n", None)],
+)
+def test_out_of_range_parameters_are_refused(tmp_path, text, fragment):
+    path = tmp_path / "p.yaml"
+    path.write_text(text)
+    if fragment is None:  # the bucket-brigade entry is not applied to cs-ql ...
+        load_params(path, "cs-ql")
+        with pytest.raises(ParamsError, match=r"bid must be in \(0, 1\], got 0"):  # ... but is to cs-bb-rw
+            load_params(path, "cs-bb-rw")
+        return
+    with pytest.raises(ParamsError) as info:
+        load_params(path, "cs-ql")
+    assert str(info.value) == f"{path}: {fragment}" or str(info.value).startswith(f"{path}: {fragment}")
+
+
+def test_ranges_are_checked_from_code_too():
+    with pytest.raises(ParamsError, match="gamma"):
+        CSQLParams(gamma=float("nan"))
+    with pytest.raises(ParamsError, match="tax must be in"):
+        resolve_params("cs-bb-bz", {"tax": 1.5})
+
+
+@pytest.mark.parametrize("method", ["lt-ql", "cs-ql", "cs-bb-bz"])
+def test_every_parameter_documents_its_range_and_default(method):
+    params = resolve_params(method, None)
+    docs = " ".join("".join(k.__doc__ or "" for k in type(params).__mro__).split())
+    for f in dataclasses.fields(params):
+        default = getattr(params, f.name)
+        bounds = type(params).bounds(f.name)
+        shown = "true" if default is True else f"{default:g}"
+        if bounds is None:
+            assert f"{f.name}:" in docs and f"default {shown}" in docs
+            continue
+        # the field's entry, in the nearest class that documents it, names its range and default
+        entry = next(d.split(f" {f.name}: ", 1)[1] for k in type(params).__mro__
+                     if f" {f.name}: " in (d := " ".join((k.__doc__ or "").split())))
+        assert f"Range {bounds}" in entry.split("default", 1)[0]
+        assert entry.split("default ", 1)[1].startswith(f"{shown}.")
+
+
+def test_parameter_files_are_guarded(tmp_path):
+    laughs = tmp_path / "laughs.yaml"
+    laughs.write_text("a: &a [1, 1, 1, 1]\nb: &b [*a, *a, *a, *a]\neta: *b\n")
+    with pytest.raises(ParamsError, match="aliases"):
+        load_params(laughs, "cs-ql")
+    with pytest.raises(ParamsError, match="not a regular parameter file"):
+        load_params("/dev/zero", "cs-ql")
