@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import json
 import os
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -12,9 +11,10 @@ import numpy as np
 from tqdm import tqdm
 
 from csql_sim.errors import CsqlError
-from csql_sim.files import write_atomic
+from csql_sim.files import write_or_keep
 from csql_sim.notation import parse_config
 from csql_sim.policy import Policy, load_policy
+from csql_sim.workers import worker_count, worker_pool
 from csql_sim.world import all_states
 from csql_sim.world_model import WorldModel
 
@@ -174,16 +174,17 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         pairs: ``"all"`` or the size of a seeded sample of start/goal pairs.
         seeds: episodes per pair (each episode has its own seed, reported with failures).
         perturb: jitter start scenes, nudge cubes, drop carried cubes.
-        workers: processes (default: every core).
+        workers: processes (default: every core; at most one per episode). They die with
+            this process; an exception (Ctrl-C) ends them at once.
         rules: a rule-base file; the BFS planner when None.
         perception: ``"pose"`` or ``"camera"``.
         progress: show a tqdm bar on stderr.
     """
     policy = load_policy(rules, n)  # fail fast on a bad file, before starting workers
     specs = make_specs(n, pairs, seeds)
-    workers = workers or os.cpu_count() or 1
-    if workers < 1:
+    if workers is not None and workers < 1:
         raise CsqlError(f"--workers must be positive, got {workers}")
+    workers = worker_count(workers, len(specs))
     init = (rules, n, perturb, perception)
     bar = tqdm(total=len(specs), desc="episodes", unit="ep", disable=not progress)
     summaries: list[EpisodeSummary] = []
@@ -194,7 +195,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
                 summaries.append(runner.run(spec))
                 bar.update()
         else:
-            with ProcessPoolExecutor(max_workers=workers, initializer=_init_worker, initargs=init) as pool:
+            with worker_pool(workers, _init_worker, init) as pool:
                 for summary in pool.map(_run_in_worker, specs, chunksize=max(1, len(specs) // (workers * 16))):
                     summaries.append(summary)
                     bar.update()
@@ -219,5 +220,5 @@ def summarise(summaries: list[EpisodeSummary]) -> EvalReport:
 
 
 def write_json(report: EvalReport, path: str | os.PathLike) -> Path:
-    """Write the report's JSON atomically."""
-    return write_atomic(path, json.dumps(report.to_dict(), indent=1) + "\n")
+    """Write the report's JSON atomically (kept in the temporary folder if that fails)."""
+    return write_or_keep([(path, json.dumps(report.to_dict(), indent=1) + "\n")])[0]

@@ -12,18 +12,19 @@ import csv
 import io
 import os
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from csql_sim.errors import CsqlError
-from csql_sim.files import atomic_output, write_atomic
+from csql_sim.files import write_or_keep
 from csql_sim.learners import METHODS, Curve, make_learner, run_training
 from csql_sim.learners.params import CommonParams, resolve_params
 from csql_sim.planner import distance
 from csql_sim.task import test_task
+from csql_sim.workers import worker_count, worker_pool
 
 CSV_COLUMNS = ("method", "trial", "steps_mean", "steps_std", "value_mean", "value_std")
 
@@ -115,7 +116,7 @@ def _run_cycles(jobs: list[CycleJob], workers: int, progress: bool) -> list[Curv
                 if bar is not None:
                     bar.update()
         else:
-            with ProcessPoolExecutor(max_workers=workers) as pool:
+            with worker_pool(workers) as pool:
                 futures = {pool.submit(run_cycle, j.method, j.trials, j.seed, j.n, j.params): k
                            for k, j in enumerate(jobs)}
                 for future in as_completed(futures):
@@ -145,7 +146,8 @@ def run_experiment(
         cycles: independent agents per method.
         trials: training trials per cycle.
         seed: root of the per-cycle seed sequences (cycle c of every method gets the same).
-        workers: processes (default ``os.cpu_count()``); 1 runs in this process.
+        workers: processes (default ``os.cpu_count()``, at most one per cycle); 1 runs in
+            this process. Workers die with this process; an exception (Ctrl-C) ends them at once.
         n: number of blocks.
         params: per-method parameters, or a YAML file (flat or keyed by method).
         progress: show a tqdm bar on stderr.
@@ -154,7 +156,7 @@ def run_experiment(
     resolved = _resolve(methods, cycles, trials, params)
     seeds = np.random.SeedSequence(seed).spawn(cycles)
     jobs = [CycleJob(m, trials, seeds[c], n, resolved[m]) for m in methods for c in range(cycles)]
-    curves = _run_cycles(jobs, workers or os.cpu_count() or 1, progress)
+    curves = _run_cycles(jobs, worker_count(workers, len(jobs)), progress)
     results = []
     for k, m in enumerate(methods):
         runs = curves[k * cycles : (k + 1) * cycles]
@@ -180,12 +182,12 @@ def csv_text(result: ExperimentResult) -> str:
 
 
 def write_csv(path: str | os.PathLike, result: ExperimentResult) -> Path:
-    """Write :func:`csv_text` atomically."""
-    return write_atomic(path, csv_text(result))
+    """Write :func:`csv_text` atomically (kept in the temporary folder if that fails)."""
+    return write_or_keep([(path, csv_text(result))])[0]
 
 
-def write_png(path: str | os.PathLike, result: ExperimentResult) -> Path:
-    """Draw Figure 7's two panels (steps; value per step) and write the PNG atomically."""
+def png_bytes(result: ExperimentResult) -> bytes:
+    """Figure 7's two panels (steps; value per step) as PNG bytes."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -209,9 +211,25 @@ def write_png(path: str | os.PathLike, result: ExperimentResult) -> Path:
         ax.grid(alpha=0.3)
     fig.suptitle(f"Figure 7: mean over {result.cycles} cycles of {result.trials} trials")
     fig.tight_layout()
-    with atomic_output(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-    return Path(path)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110)
+    return buffer.getvalue()
+
+
+def write_png(path: str | os.PathLike, result: ExperimentResult) -> Path:
+    """Draw Figure 7 and write the PNG atomically (kept in the temporary folder if that fails)."""
+    return write_or_keep([(path, png_bytes(result))])[0]
+
+
+def write_figure7(folder: str | os.PathLike, result: ExperimentResult) -> list[Path]:
+    """Write ``figure7.csv`` and ``figure7.png`` into ``folder``.
+
+    Raises:
+        OutputError: if either cannot be written; every unwritten file is kept in the
+            temporary folder and the message says where.
+    """
+    return write_or_keep([(os.path.join(folder, "figure7.csv"), csv_text(result)),
+                          (os.path.join(folder, "figure7.png"), png_bytes(result))])
 
 
 def summary_lines(result: ExperimentResult) -> list[str]:

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 from collections.abc import Callable
 
 from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS
@@ -30,3 +32,35 @@ def int_type(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
 positive_int = int_type(1)
 non_negative_int = int_type(0)
 blocks_arg = int_type(MIN_BLOCKS, MAX_BLOCKS)
+seed_arg = non_negative_int
+"""Seeds are non-negative integers (numpy's SeedSequence refuses negative ones)."""
+
+
+def threshold_arg(text: str) -> float:
+    """Argparse type for a strength threshold: a number in [0, 1] (strengths are at most 1)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number in [0, 1], got {text!r}") from None
+    if not 0.0 <= value <= 1.0:  # also refuses nan
+        raise argparse.ArgumentTypeError(f"must be a number in [0, 1], got {text}")
+    return value
+
+
+def add_quiet(parser: argparse.ArgumentParser) -> None:
+    """The one progress flag of every command: ``--quiet`` (``--no-progress`` is an alias)."""
+    parser.add_argument("--quiet", "--no-progress", dest="quiet", action="store_true",
+                        help="no progress bars (shown only when stderr is a terminal anyway)")
+
+
+def show_progress(args: argparse.Namespace) -> bool:
+    """Progress bars only when stderr is a terminal and --quiet was not given."""
+    return not getattr(args, "quiet", False) and sys.stderr.isatty()
+
+
+def warn_workers(workers: int | None) -> None:
+    """One warning line on stderr when ``--workers`` asks for more processes than cores."""
+    cores = os.cpu_count() or 1
+    if workers is not None and workers > cores:
+        print(f"csql-sim: warning: --workers {workers} is more than the {cores} cores; "
+              f"extra processes only share them", file=sys.stderr)

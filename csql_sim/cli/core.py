@@ -23,6 +23,17 @@ def read_task(start: str, goal: str, n: int | None) -> tuple[State, State]:
     return s, g
 
 
+def read_task_for_rules(start: str, goal: str, n: int | None, rules: str | None) -> tuple[State, State]:
+    """A task for a rule file of ``n`` blocks: a task of another size is an error naming the file."""
+    if rules is None or n is None:
+        return read_task(start, goal, n)
+    s, g = read_task(start, goal, None)
+    if s.n != n:
+        raise CsqlError(f"rule file {rules!r} is for {n} blocks, but the task {s.notation()} -> {g.notation()} "
+                        f"has {s.n}")
+    return s, g
+
+
 # ------------------------------------------------------------------ states
 def cmd_states(args: argparse.Namespace) -> int:
     world = BlocksWorld.of(args.blocks)
@@ -107,7 +118,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         return 0 if summary["optimal"] == summary["pairs"] else 1
     if not args.start or not args.goal:
         raise CsqlError("plan needs --start and --goal (or --all)")
-    start, goal = read_task(args.start, args.goal, n)
+    start, goal = read_task_for_rules(args.start, args.goal, n, args.rules if args.planner != "bfs" else None)
     result = rollout(policy, start, goal)
     if not result.reached:
         raise CsqlError(f"no plan from {start.notation()} to {goal.notation()}: {result.reason}")

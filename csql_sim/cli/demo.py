@@ -7,30 +7,30 @@ from __future__ import annotations
 
 import argparse
 import os
-from pathlib import Path
 
-from csql_sim.cli.args import positive_int
+from csql_sim.cli.args import add_quiet, positive_int, seed_arg, show_progress, threshold_arg, warn_workers
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.cli.sim import print_episode
+    from csql_sim.files import check_output_folder, write_or_keep
     from csql_sim.learners import count_q, figure6_table, prune, train
     from csql_sim.policy import QPolicy, check_all_pairs
-    from csql_sim.rulebase import save
+    from csql_sim.rulebase import dumps
     from csql_sim.sim import check_video_options, render_episode
     from csql_sim.task import test_task
 
-    out = Path(args.out)
+    out = check_output_folder(args.out)
     video = out / "test_task.mp4"
     check_video_options(video, args.width, args.height, args.fps)
+    warn_workers(args.workers)
     task = test_task(3)
     start, goal = task.start, task.goal
 
     print(f"[1/4] training CS-QL: {args.trials} trials, seed {args.seed}")
-    learned = train("cs-ql", trials=args.trials, seed=args.seed, progress=True)
-    save(out / "rules.yaml", learned)
+    learned = train("cs-ql", trials=args.trials, seed=args.seed, progress=show_progress(args))
     pruned = prune(learned, args.threshold)
-    save(out / "pruned.yaml", pruned)
+    write_or_keep([(out / "rules.yaml", dumps(learned)), (out / "pruned.yaml", dumps(pruned))])
     before, after = count_q(learned), count_q(pruned)
     policy = QPolicy.from_rulebase(pruned)
     results = check_all_pairs(policy, pruned.blocks)
@@ -44,7 +44,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
     print(f"[4/4] executing the learned plan on the simulated Panda and rendering {video}")
     result, path = render_episode(start, goal, video, policy, seed=args.seed, width=args.width,
-                                  height=args.height, fps=args.fps, workers=args.workers)
+                                  height=args.height, fps=args.fps, workers=args.workers,
+                                  progress=show_progress(args))
     print_episode(result)
     print(f"video: {path}")
     if result.success:
@@ -59,11 +60,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("demo", help="train CS-QL, prune, show Figure 6, run the test task on the arm, write a video")
     p.add_argument("--out", default="out", help="output folder (default out/)")
     p.add_argument("--trials", type=positive_int, default=2500, help="training trials (default 2500)")
-    p.add_argument("--seed", type=int, default=0, help="seed for training and the episode (default 0)")
-    p.add_argument("--threshold", type=float, default=0.1, help="pruning strength threshold (default 0.1)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed for training and the episode (default 0)")
+    p.add_argument("--threshold", type=threshold_arg, default=0.1,
+                   help="pruning strength threshold in [0, 1] (default 0.1)")
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
     p.add_argument("--height", type=positive_int, default=480, help="frame height (default 480)")
     p.add_argument("--fps", type=positive_int, default=30, help="frames per simulated second (default 30)")
     p.add_argument("--workers", type=positive_int, default=os.cpu_count() or 1,
                    help="rendering processes (default: all cores)")
+    add_quiet(p)
     p.set_defaults(func=cmd_demo)

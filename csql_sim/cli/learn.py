@@ -6,15 +6,24 @@ import argparse
 import os
 import time
 
-from csql_sim.cli.args import blocks_arg, non_negative_int, positive_int
-from csql_sim.cli.core import read_task
+from csql_sim.cli.args import (
+    add_quiet,
+    blocks_arg,
+    non_negative_int,
+    positive_int,
+    seed_arg,
+    show_progress,
+    threshold_arg,
+    warn_workers,
+)
+from csql_sim.cli.core import read_task_for_rules
 from csql_sim.errors import CsqlError
 
 
 def _methods(text: str) -> list[str]:
     from csql_sim.learners import METHODS
 
-    names = [m.strip().lower() for m in text.split(",") if m.strip()]
+    names = list(dict.fromkeys(m.strip().lower() for m in text.split(",") if m.strip()))  # once each, in order
     for m in names:
         if m not in METHODS:
             raise argparse.ArgumentTypeError(f"unknown method {m!r}; choose from {','.join(METHODS)}")
@@ -25,16 +34,18 @@ def _methods(text: str) -> list[str]:
 
 # ------------------------------------------------------------------ experiment
 def cmd_experiment(args: argparse.Namespace) -> int:
-    from csql_sim.experiment import run_experiment, summary_lines, write_csv, write_png
+    from csql_sim.experiment import run_experiment, summary_lines, write_figure7
+    from csql_sim.files import check_output_folder
 
+    check_output_folder(args.out)
+    warn_workers(args.workers)
     began = time.perf_counter()
     result = run_experiment(
         methods=args.methods, cycles=args.cycles, trials=args.trials, seed=args.seed,
-        workers=args.workers, n=args.blocks, params=args.params, progress=not args.no_progress,
+        workers=args.workers, n=args.blocks, params=args.params, progress=show_progress(args),
     )
     wall = time.perf_counter() - began
-    csv_path = write_csv(os.path.join(args.out, "figure7.csv"), result)
-    png_path = write_png(os.path.join(args.out, "figure7.png"), result)
+    csv_path, png_path = write_figure7(args.out, result)
     for line in summary_lines(result):
         print(line)
     print(f"wall time {wall:.1f} s with {args.workers or os.cpu_count()} workers")
@@ -44,13 +55,15 @@ def cmd_experiment(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ train
 def cmd_train(args: argparse.Namespace) -> int:
+    from csql_sim.files import check_output_file, write_or_keep
     from csql_sim.learners import count_q, train
-    from csql_sim.rulebase import save
+    from csql_sim.rulebase import dumps
 
+    check_output_file(args.out, "rule file")
     began = time.perf_counter()
-    rb = train(args.method, args.trials, args.seed, args.blocks, args.params, progress=not args.no_progress)
+    rb = train(args.method, args.trials, args.seed, args.blocks, args.params, progress=show_progress(args))
     wall = time.perf_counter() - began
-    path = save(args.out, rb)
+    path = write_or_keep([(args.out, dumps(rb))])[0]
     r_count = sum(1 for c in rb.classifiers if c.kind == "R")
     print(
         f"{args.method}: {args.trials} trials, seed {args.seed}, {rb.meta['steps']} steps in {wall:.2f} s; "
@@ -69,19 +82,21 @@ def cmd_show(args: argparse.Namespace) -> int:
         raise CsqlError("show needs both --start and --goal, or neither")
     start = goal = None
     if args.start is not None:
-        start, goal = read_task(args.start, args.goal, rb.blocks)
+        start, goal = read_task_for_rules(args.start, args.goal, rb.blocks, args.rules)
     print(figure6_table(rb, start, goal))
     return 0
 
 
 # ------------------------------------------------------------------ prune
 def cmd_prune(args: argparse.Namespace) -> int:
+    from csql_sim.files import check_output_file, write_or_keep
     from csql_sim.learners import count_q, prune
-    from csql_sim.rulebase import load, save
+    from csql_sim.rulebase import dumps, load
 
+    check_output_file(args.out, "rule file")
     rb = load(args.rules)
     pruned = prune(rb, args.threshold)
-    path = save(args.out, pruned)
+    path = write_or_keep([(args.out, dumps(pruned))])[0]
     print(f"Q-classifiers: {count_q(rb)} before, {count_q(pruned)} after pruning at {args.threshold:g}; wrote {path}")
     return 0
 
@@ -100,13 +115,6 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _threshold(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
-
-
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``experiment``, ``train``, ``show``, ``prune`` and ``bench`` to the subparsers."""
     from csql_sim.learners import METHODS
@@ -115,22 +123,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--methods", type=_methods, default=list(METHODS), help=f"comma list (default {','.join(METHODS)})")
     p.add_argument("--cycles", type=positive_int, default=50, help="cycles per method (default 50)")
     p.add_argument("--trials", type=non_negative_int, default=2500, help="trials per cycle (default 2500)")
-    p.add_argument("--seed", type=non_negative_int, default=0, help="root seed (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="root seed (default 0)")
     p.add_argument("--workers", type=positive_int, default=None, help="processes (default: all cores)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
     p.add_argument("--params", help="YAML parameter overrides (flat, or keyed by method)")
     p.add_argument("--out", required=True, help="folder for figure7.csv and figure7.png")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_quiet(p)
     p.set_defaults(func=cmd_experiment)
 
     p = sub.add_parser("train", help="train one agent and save its classifier list")
     p.add_argument("--method", choices=METHODS, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
-    p.add_argument("--seed", type=non_negative_int, default=0, help="seed (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
     p.add_argument("--params", help="YAML parameter overrides")
     p.add_argument("--out", required=True, help="rule file to write (YAML)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_quiet(p)
     p.set_defaults(func=cmd_train)
 
     p = sub.add_parser("show", help="print Q-classifiers in Figure 6's table form")
@@ -141,13 +149,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser("prune", help="remove Q-classifiers below a strength threshold")
     p.add_argument("rules", help="a rule file from 'csql-sim train'")
-    p.add_argument("--threshold", type=_threshold, default=0.1, help="strength threshold (default 0.1)")
+    p.add_argument("--threshold", type=threshold_arg, default=0.1, help="strength threshold in [0, 1] (default 0.1)")
     p.add_argument("--out", required=True, help="rule file to write")
     p.set_defaults(func=cmd_prune)
 
     p = sub.add_parser("bench", help="time CS-QL against a plain dict-based Q-learner on the same trials")
     p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
-    p.add_argument("--seed", type=non_negative_int, default=0, help="seed (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--repeats", type=positive_int, default=15, help="best of this many runs (default 15)")
     p.set_defaults(func=cmd_bench)
 

@@ -7,8 +7,8 @@ import os
 import sys
 from typing import TYPE_CHECKING
 
-from csql_sim.cli.args import blocks_arg, positive_int
-from csql_sim.cli.core import read_task
+from csql_sim.cli.args import add_quiet, blocks_arg, positive_int, seed_arg, show_progress, warn_workers
+from csql_sim.cli.core import read_task_for_rules
 from csql_sim.errors import CsqlError
 
 if TYPE_CHECKING:
@@ -35,15 +35,17 @@ def print_episode(result: EpisodeResult) -> None:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from csql_sim.sim import load_policy, render_episode
+    from csql_sim.sim import check_video_options, load_policy, render_episode
 
     if not args.start or not args.goal:
         raise CsqlError("render needs --start and --goal")
-    start, goal = read_task(args.start, args.goal, None)
+    check_video_options(args.out, args.width, args.height, args.fps)
+    warn_workers(args.workers)
+    start, goal = read_task_for_rules(args.start, args.goal, None, args.rules)
     policy = load_policy(args.rules, start.n)
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
-                                  perception=args.perception)
+                                  perception=args.perception, progress=show_progress(args))
     print_episode(result)
     frames = len(result.recording.frames) if result.recording else 0
     print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height})")
@@ -52,10 +54,15 @@ def cmd_render(args: argparse.Namespace) -> int:
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
     from csql_sim.evaluate import evaluate, write_json
+    from csql_sim.files import check_output_file
+
+    if args.json:
+        check_output_file(args.json, "JSON report")
+    warn_workers(args.workers)
 
     report = evaluate(n=args.blocks, pairs=args.pairs, seeds=args.seeds, perturb=args.perturb,
                       workers=args.workers, rules=args.rules, perception=args.perception,
-                      progress=not args.quiet)
+                      progress=show_progress(args))
     print(report.text())
     if args.json:
         path = write_json(report, args.json)
@@ -74,10 +81,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
     p.add_argument("--height", type=positive_int, default=480, help="frame height (default 480)")
     p.add_argument("--fps", type=positive_int, default=30, help="frames per simulated second (default 30)")
-    p.add_argument("--seed", type=int, default=0, help="episode seed (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="episode seed (default 0)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
     p.add_argument("--workers", type=positive_int, default=cores, help=f"render processes (default {cores})")
+    add_quiet(p)
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("evaluate", help="run physical episodes over start/goal pairs and report success")
@@ -89,7 +97,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
     p.add_argument("--workers", type=positive_int, default=cores, help=f"processes (default {cores})")
     p.add_argument("--json", help="also write the report as JSON to this file")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    add_quiet(p)
     p.set_defaults(func=cmd_evaluate)
 
 

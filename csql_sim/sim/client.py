@@ -27,30 +27,35 @@ from csql_sim.sim.config import PhysicsConfig
 
 
 def _import_quietly(name: str) -> ModuleType:
-    """Import the module ``name`` with the C-level stdout (fd 1) sent to stderr.
+    """Import the module ``name`` with the C-level stdout and stderr sent to the null device.
 
-    pybullet's extension prints a "pybullet build time: ..." banner with C ``printf``
-    when it is imported, which would pollute the CLI's stdout. The banner is flushed
-    out of C's stdio buffer while fd 1 still points at stderr, then fd 1 is restored.
-    Where file descriptors cannot be duplicated, the module is imported plainly (and
-    where C's buffer cannot be flushed via ctypes, the banner may still reach stdout).
+    pybullet's extension prints a "pybullet build time: ..." banner from C when it is
+    imported (on stderr in current wheels, on stdout in older ones), which would pollute
+    the CLI's output or make a one-line error two lines. The banner is flushed out of C's
+    stdio buffers while fds 1 and 2 still point at the null device, then both are
+    restored. Where file descriptors cannot be duplicated, the module is imported plainly.
     """
+    for stream in (sys.stdout, sys.stderr):
+        if stream is not None:
+            stream.flush()
     try:
-        if sys.stdout is not None:
-            sys.stdout.flush()
-        saved = os.dup(1)
+        saved = [os.dup(1), os.dup(2)]
     except (OSError, ValueError):
         return importlib.import_module(name)
+    null = os.open(os.devnull, os.O_WRONLY)
     try:
-        os.dup2(2, 1)
+        os.dup2(null, 1)
+        os.dup2(null, 2)
         return importlib.import_module(name)
     finally:
         try:
             ctypes.CDLL(None).fflush(None)
         except (OSError, AttributeError, TypeError):
             pass
-        os.dup2(saved, 1)
-        os.close(saved)
+        os.dup2(saved[0], 1)
+        os.dup2(saved[1], 2)
+        for fd in (*saved, null):
+            os.close(fd)
 
 
 pybullet = _import_quietly("pybullet")

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import imageio.v2 as imageio
@@ -18,12 +17,13 @@ from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
 from csql_sim.errors import CsqlError
-from csql_sim.files import atomic_output
+from csql_sim.files import atomic_output, check_output_file
 from csql_sim.sim.camera import RENDER_CAMERA, Camera, capture
 from csql_sim.sim.config import SimConfig
 from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.replay import apply_snapshot, replay_scene
 from csql_sim.sim.scene import Scene
+from csql_sim.workers import worker_count, worker_pool
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
@@ -35,7 +35,7 @@ class VideoError(CsqlError):
 
 
 def check_video_options(path: str | os.PathLike, width: int, height: int, fps: int) -> Path:
-    """Validate the output path and frame settings; returns the path."""
+    """Validate the output path (a writable regular file) and frame settings; returns the path."""
     out = Path(path)
     if out.suffix.lower() not in VIDEO_SUFFIXES:
         raise VideoError(f"video file must end in .mp4 or .gif, got {str(out)!r}")
@@ -45,6 +45,7 @@ def check_video_options(path: str | os.PathLike, width: int, height: int, fps: i
         raise VideoError(f"mp4 frames need an even width and height, got {width}x{height}")
     if not 1 <= fps <= 120:
         raise VideoError(f"fps must be 1..120, got {fps}")
+    check_output_file(out, "video file")
     return out
 
 
@@ -154,21 +155,25 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
     out = check_video_options(path, width, height, fps)
     if not recording.frames:
         raise VideoError("the recording has no frames")
-    workers = workers or os.cpu_count() or 1
-    chunk = max(1, min(16, len(recording.frames) // (4 * workers) or 1))
+    cores = workers or os.cpu_count() or 1
+    chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
     bar = tqdm(total=len(recording.frames), desc=f"render {out.name}", unit="frame", disable=not progress)
+    rendered = _map_chunks(recording, chunks, width, height, camera, worker_count(workers, len(chunks)))
     try:
         with atomic_output(out) as tmp, _open_writer(tmp, fps, out.suffix.lower()) as writer:
             last = None
-            for rgb_list in _map_chunks(recording, _chunks(recording.frames, chunk), width, height, camera,
-                                        workers):
+            for rgb_list in rendered:
                 for rgb in rgb_list:
                     writer.append_data(rgb)
                     last = rgb
                 bar.update(len(rgb_list))
             for _ in range(hold_frames(fps)):
                 writer.append_data(last)
+    except (OSError, RuntimeError) as exc:  # the encoder's errors are many lines: keep the first
+        first = next((line for line in str(exc).splitlines() if line.strip()), exc.__class__.__name__)
+        raise VideoError(f"cannot write video {str(out)!r} ({first.strip()})") from None
     finally:
+        rendered.close()  # ends the rendering workers if the encoder failed
         bar.close()
     return out
 
@@ -186,6 +191,6 @@ def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, hei
             renderer.close()
         return
     k = len(chunks)
-    with ProcessPoolExecutor(max_workers=workers, initializer=_init_render_worker) as pool:
+    with worker_pool(workers, _init_render_worker) as pool:
         yield from pool.map(_render_in_worker, [n] * k, [config] * k, chunks, [width] * k, [height] * k,
                             [camera] * k)
