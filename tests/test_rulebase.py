@@ -47,7 +47,8 @@ def test_truncated_file(tmp_path):
         ("format: csql-sim rule base\nversion: 9\nblocks: 3\nclassifiers: []", "version 9"),
         ("format: csql-sim rule base\nversion: 2\nblocks: 8\ncount: 0\nclassifiers: []", "'blocks'"),
         ("format: csql-sim rule base\nversion: 2\nblocks: 3\ncount: 1\nclassifiers: [{kind: X}]", "kind must be"),
-        ("format: csql-sim rule base\nversion: 2\nblocks: 3\ncount: 1\nclassifiers: [{kind: R, condition: S1, action: S}]",
+        ("format: csql-sim rule base\nversion: 2\nblocks: 3\ncount: 1\n"
+         "classifiers: [{kind: R, condition: S1, action: S}]",
          "16-character"),
         ("format: [unclosed", "not valid YAML"),
     ],

@@ -6,9 +6,9 @@ import pty
 import select
 import signal
 import struct
-import termios
 import subprocess
 import sys
+import termios
 import time
 
 import pytest
