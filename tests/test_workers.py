@@ -84,3 +84,12 @@ def test_workers_die_with_their_parent(tmp_path, argv, sig):
     os.kill(proc.pid, sig)  # the main process only, as a crash or an OOM kill would
     proc.communicate(timeout=30)
     assert wait_gone(workers, 5.0) < 5.0, f"orphans left: {alive(workers)}"
+
+
+@pytest.mark.slow
+def test_render_workers_and_encoder_die_with_their_parent(tmp_path):
+    proc, workers = start(tmp_path, "render", "--start", "CBA", "--goal", "BAC", "--out", "v.mp4", "--width", "320",
+                          "--height", "240", "--workers", "2", "--quiet")
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.communicate(timeout=30)
+    assert wait_gone(workers, 5.0) < 5.0, f"orphans left: {alive(workers)}"
