@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
 import time
 
 from csql_sim.cli.args import (
@@ -36,6 +35,7 @@ def _methods(text: str) -> list[str]:
 def cmd_experiment(args: argparse.Namespace) -> int:
     from csql_sim.experiment import run_experiment, summary_lines, write_figure7
     from csql_sim.files import check_output_folder
+    from csql_sim.workers import worker_count
 
     check_output_folder(args.out)
     warn_workers(args.workers)
@@ -48,7 +48,8 @@ def cmd_experiment(args: argparse.Namespace) -> int:
     csv_path, png_path = write_figure7(args.out, result)
     for line in summary_lines(result):
         print(line)
-    print(f"wall time {wall:.1f} s with {args.workers or os.cpu_count()} workers")
+    workers = worker_count(args.workers, len(args.methods) * args.cycles)
+    print(f"wall time {wall:.1f} s with {workers} worker{'s' if workers > 1 else ''}")
     print(f"wrote {csv_path} and {png_path}")
     return 0
 
