@@ -169,7 +169,7 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
                 bar.update(len(rgb_list))
             for _ in range(hold_frames(fps)):
                 writer.append_data(last)
-    except (OSError, RuntimeError) as exc:  # the encoder's errors are many lines: keep the first
+    except OSError as exc:  # a file or encoder (ffmpeg) error: many lines, keep the first
         first = next((line for line in str(exc).splitlines() if line.strip()), exc.__class__.__name__)
         raise VideoError(f"cannot write video {str(out)!r} ({first.strip()})") from None
     finally:

@@ -7,8 +7,8 @@ import time
 import pytest
 
 from csql_sim.cli import main
+from csql_sim.r_classifier import r_classifiers
 from csql_sim.rulebase import RuleBase, load, save
-from csql_sim.rules import r_classifiers
 
 
 def run(capsys, *argv):
@@ -186,7 +186,7 @@ def test_a_3_block_file_relabelled_as_2(capsys, rules3, tmp_path):
 
 
 def test_a_4_block_rule_file_with_a_3_block_task_names_the_file(capsys, tmp_path):
-    path = save(tmp_path / "r4.yaml", RuleBase(blocks=4, classifiers=r_classifiers(4)))
+    path = save(tmp_path / "r4.yaml", RuleBase(blocks=4, classifiers=list(r_classifiers(4))))
     fragment = f"rule file {str(path)!r} is for 4 blocks, but the task CBA -> BAC has 3"
     refused(capsys, "plan", "--rules", path, "--start", "CBA", "--goal", "BAC", fragment=fragment)
     refused(capsys, "show", path, "--start", "CBA", "--goal", "BAC", fragment=fragment)
