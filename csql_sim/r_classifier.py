@@ -28,6 +28,7 @@ from __future__ import annotations
 import functools
 from dataclasses import dataclass
 from importlib import resources
+from pathlib import Path
 from typing import ClassVar
 
 from csql_sim.errors import CsqlError
@@ -173,8 +174,20 @@ def load_paper_rules() -> list[RClassifier]:
     """The 36 R-classifiers of the paper (n=3), read from the packaged asset."""
     from csql_sim.rulebase import loads  # local: rulebase imports this module's neighbours
 
-    text = resources.files("csql_sim.assets").joinpath("rules", ASSET).read_text(encoding="utf-8")
-    return list(loads(text, source=ASSET).classifiers)
+    return list(loads(_asset_text(ASSET), source=ASSET).classifiers)
+
+
+def _asset_text(name: str) -> str:
+    """A rule asset's text: the installed ``csql_sim.assets``, else the checkout's ``assets/``.
+
+    The second case is a source checkout that shadows the installed package (``python -m``
+    run inside it puts the checkout first on ``sys.path``), where ``csql_sim.assets`` exists
+    only as the top-level folder.
+    """
+    try:
+        return resources.files("csql_sim.assets").joinpath("rules", name).read_text(encoding="utf-8")
+    except ModuleNotFoundError:
+        return (Path(__file__).resolve().parents[1] / "assets" / "rules" / name).read_text(encoding="utf-8")
 
 
 @functools.cache

@@ -3,6 +3,7 @@
 import subprocess
 import sys
 import zipfile
+from pathlib import Path
 
 from csql_sim.r_classifier import load_paper_rules
 
@@ -12,7 +13,7 @@ def test_the_asset_is_found_in_this_install():
 
 
 def test_the_asset_is_found_from_a_built_wheel(tmp_path):
-    root = __import__("pathlib").Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[1]
     build = subprocess.run(
         [sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(tmp_path), str(root)],
         capture_output=True, text=True, timeout=300,
@@ -32,3 +33,14 @@ def test_the_asset_is_found_from_a_built_wheel(tmp_path):
     assert run.returncode == 0, run.stderr
     where, count = run.stdout.split()
     assert where.startswith(str(site)) and count == "36"
+
+
+def test_the_asset_is_found_from_a_source_checkout_without_an_install(tmp_path):
+    root = Path(__file__).resolve().parents[1]
+    code = "import csql_sim.r_classifier as r; print(r.__file__); print(len(r.load_paper_rules()))"
+    deps = next(p for p in sys.path if p.endswith("site-packages"))
+    run = subprocess.run([sys.executable, "-S", "-c", code], capture_output=True, text=True, timeout=60,
+                         env={"PYTHONPATH": f"{root}:{deps}", "PATH": "/usr/bin:/bin"}, cwd=tmp_path)
+    assert run.returncode == 0, run.stderr
+    where, count = run.stdout.split()
+    assert where.startswith(str(root)) and count == "36"
