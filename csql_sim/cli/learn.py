@@ -34,6 +34,7 @@ def _methods(text: str) -> list[str]:
 # ------------------------------------------------------------------ experiment
 def cmd_experiment(args: argparse.Namespace) -> int:
     from csql_sim.experiment import run_experiment, summary_lines, write_figure7
+    from csql_sim.figure7_statements import evaluate, statement_lines
     from csql_sim.files import check_output_folder
     from csql_sim.workers import worker_count
 
@@ -48,6 +49,11 @@ def cmd_experiment(args: argparse.Namespace) -> int:
     csv_path, png_path = write_figure7(args.out, result)
     for line in summary_lines(result):
         print(line)
+    statements = evaluate(result)
+    if statements:
+        print(f"the paper's statements about Figure 7 ({sum(s.holds for s in statements)} of {len(statements)} hold):")
+        for line in statement_lines(statements):
+            print(f"  {line}")
     workers = worker_count(args.workers, len(args.methods) * args.cycles)
     print(f"wall time {wall:.1f} s with {workers} worker{'s' if workers > 1 else ''}")
     print(f"wrote {csv_path} and {png_path}")
