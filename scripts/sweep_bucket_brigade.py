@@ -69,17 +69,16 @@ def plot(rows: list[dict], path: Path) -> None:
         for bid in sorted({r["bid"] for r in sel}):
             line = sorted((r for r in sel if r["bid"] == bid), key=lambda r: r["s0"])
             s0 = [r["s0"] for r in line]
-            first = [r["rw_first"] if r["rw_first"] not in (None, "") else float("nan") for r in line]
-            row_axes[0].plot(s0, first, "o-", label=f"bid {bid:g}")
+            row_axes[0].plot(s0, [r["rw_best"] for r in line], "o-", label=f"bid {bid:g}")
             row_axes[1].plot(s0, [r["rw_end"] for r in line], "o-", label=f"bid {bid:g}")
             row_axes[2].plot(s0, [min(r["bz_early"], r["rw_early"]) - r["csql_early"] for r in line], "o-",
                              label=f"bid {bid:g}")
-        row_axes[0].axhspan(550, 850, color="grey", alpha=0.2)
-        row_axes[0].set_title(f"tax {tax:g}: CS-BB-RW first trial at 8 (paper ~700)")
+        row_axes[0].axhline(8, color="grey", lw=0.8)
+        row_axes[0].set_title(f"tax {tax:g}: CS-BB-RW best mean steps (optimum 8)", fontsize=9)
         row_axes[1].axhspan(56.25, 93.75, color="grey", alpha=0.2)
-        row_axes[1].set_title(f"tax {tax:g}: CS-BB-RW end steps (paper ~75)")
+        row_axes[1].set_title(f"tax {tax:g}: CS-BB-RW end steps (paper ~75)", fontsize=9)
         row_axes[2].axhline(0, color="grey", lw=0.8)
-        row_axes[2].set_title(f"tax {tax:g}: (b) bucket brigade minus CS-QL, trials 50-625")
+        row_axes[2].set_title(f"tax {tax:g}: (b) min(BZ, RW) - CS-QL value, trials 50-625", fontsize=9)
         for ax in row_axes:
             ax.set_xscale("log")
             ax.set_xlabel("s0 (initial strength)")

@@ -1,11 +1,10 @@
 """CS-BB-BZ and CS-BB-RW: the classifier system with Holland's bucket brigade (section 6).
 
 The classifier system (processing block, world model) is CS-QL's; only credit assignment
-and selection differ. No discounting. Constants (:class:`BucketBrigadeParams`): the active
-classifier bids ``bid * S`` (bid = 0.2) and pays it to the classifier active one step
-before it in the trial; at the goal it receives ``bid * payoff``; matched candidates
-that are not selected pay a tax ``tax * S`` (tax = 0 by default: Holland's bid tax is
-off, so only the brigade moves strength).
+and selection differ. No discounting. Constants (:class:`BucketBrigadeParams`, where their
+choice is explained): the active classifier bids ``bid * S`` and pays it to the
+classifier active one step before it in the trial; at the goal it receives
+``bid * payoff``; matched candidates that are not selected pay a tax ``tax * S``.
 
 The learned value is the strength; the exported rule base keeps each classifier's
 ``q`` untouched, and its ``meta["value"]`` says that greedy plans follow ``strength``.

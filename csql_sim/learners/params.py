@@ -183,25 +183,50 @@ class BucketBrigadeParams(CommonParams):
 
     Each step the active classifier pays a bid ``bid * S`` to the classifier active one
     step before it; at the goal it receives ``bid * payoff`` (the payoff enters through the
-    same bucket, as in Wilson's ZCS, so strengths tend to the payoff 1 and are comparable
-    with Q-values in Figure 7(b)). Matched candidates that were not selected pay a tax
-    ``tax * S``.
+    same bucket, as in Wilson's ZCS, so strengths tend to ``payoff`` on every chain that
+    reaches the goal). Matched candidates that were not selected pay a tax ``tax * S``.
+
+    The constants were chosen with ``scripts/sweep_bucket_brigade.py`` against the paper's
+    statements about Figure 7 (:mod:`csql_sim.figure7_statements`; docs/learning.md has
+    the sweep). ``bid`` is the speed at which strength flows back along a chain: Figure
+    7(b)'s "the bucket-brigade curves rise faster than CS-QL's" needs bid 0.8 (at 0.5 they
+    tie with CS-QL, whose eta is 0.5 but whose targets are discounted). ``s0`` sets when
+    CS-BB-RW degrades: an untried alternative wins the roulette wheel with odds ``s0 / S``
+    and, once chosen, is paid by its strong successor, so it grows about geometrically
+    from ``s0``. ``tax`` slows that growth and keeps CS-BB-BZ at the optimum once its
+    temperature is low. No setting met every statement: in the sweep CS-BB-RW's mean
+    reaches exactly 8 only at s0 = 0.002, and then it ends at 10-20 steps, not ~75.
 
     Attributes:
-        bid: bid coefficient (fraction of strength bid by the active classifier).
-            Range (0, 1]; default 0.2.
-        tax: tax rate on matched, not selected candidates. Range [0, 1]; default 0.
-        payoff: payoff at the goal. Range finite; default 1.
-        s0: initial strength (positive, for the roulette wheel). Range > 0; default 0.01.
+        bid: bid coefficient, the fraction of strength bid by the active classifier.
+            Range (0, 1]; default 0.8.
+        tax: tax rate on matched, not selected candidates. Range [0, 1), and below bid;
+            default 0.005. At tax >= bid an alternative can never grow back; at 0.1 and
+            above some cycles trap themselves in loops of taxed-out classifiers.
+        payoff: payoff at the goal. Range > 0; default 1. At 1 strengths and Q-values
+            share Figure 7(b)'s scale. The roulette wheel does not depend on it; Boltzmann
+            selection does (through T / payoff).
+        s0: initial strength (positive, for the roulette wheel). Range > 0, and at most
+            payoff; default 0.015.
 
     """
 
-    RANGES: ClassVar[dict[str, Bounds]] = {"bid": UNIT_NO_ZERO, "tax": UNIT, "payoff": FINITE, "s0": POSITIVE}
+    RANGES: ClassVar[dict[str, Bounds]] = {
+        "bid": UNIT_NO_ZERO, "tax": Bounds(0.0, 1.0, high_open=True), "payoff": POSITIVE, "s0": POSITIVE,
+    }
 
-    bid: float = 0.2  # bid coefficient c_bid
-    tax: float = 0.0  # bid tax on unselected candidates
+    bid: float = 0.8  # bid coefficient c_bid
+    tax: float = 0.005  # tax on matched, unselected candidates
     payoff: float = 1.0  # payoff at the goal
-    s0: float = 0.01  # initial strength
+    s0: float = 0.015  # initial strength
+
+    def __post_init__(self) -> None:
+        """Each range, then the two that depend on other fields (tax < bid, s0 <= payoff)."""
+        super().__post_init__()
+        if self.tax >= self.bid:
+            raise ParamsError(f"tax must be below bid ({self.bid:g}), got {self.tax!r}")
+        if self.s0 > self.payoff:
+            raise ParamsError(f"s0 must be at most payoff ({self.payoff:g}), got {self.s0!r}")
 
 
 def _describe(bounds: Bounds) -> str:

@@ -108,3 +108,19 @@ def test_parameter_files_are_guarded(tmp_path):
         load_params(laughs, "cs-ql")
     with pytest.raises(ParamsError, match="not a regular parameter file"):
         load_params("/dev/zero", "cs-ql")
+
+
+@pytest.mark.parametrize(
+    ("overrides", "fragment"),
+    [({"bid": 0.0}, r"bid must be in \(0, 1\]"), ({"bid": 1.5}, r"bid must be in \(0, 1\]"),
+     ({"tax": -0.1}, r"tax must be in \[0, 1\)"), ({"bid": 0.2, "tax": 0.2}, r"tax must be below bid \(0.2\)"),
+     ({"payoff": 0.0}, "payoff must be > 0"), ({"s0": 0.0}, "s0 must be > 0"),
+     ({"s0": 2.0}, r"s0 must be at most payoff \(1\), got 2.0")],
+)
+def test_bucket_brigade_constants_outside_their_ranges_are_rejected(tmp_path, overrides, fragment):
+    with pytest.raises(ParamsError, match=fragment):
+        resolve_params("cs-bb-rw", overrides)
+    path = tmp_path / "p.yaml"
+    path.write_text("".join(f"{k}: {v}\n" for k, v in overrides.items()))
+    with pytest.raises(ParamsError, match=fragment):
+        load_params(path, "cs-bb-bz")
