@@ -6,6 +6,7 @@ from csql_sim.figure7_statements import (
     ABOUT_TRIALS,
     END_POINTS,
     Statement,
+    end_steps,
     evaluate,
     first_reach,
     statement_lines,
@@ -99,12 +100,15 @@ def test_end_level_averages_the_last_points():
     assert "end 80.0" in statements["rw-degrades-to-75"].measured
 
 
+STABLE_AT_20 = (  # "start near" and the first trial at exactly 8 move with the cycle count; not these
+    "optimal-by-1150", "bz-stays-optimal", "b-csql-faster", "b-bb-faster", "rw-value-falls")
+
+
 def test_statements_stable_at_20_cycles_hold_with_the_default_constants():
-    """20 cycles x 2500 trials, seed 1 (about 6 s on 2 idle cores)."""
+    """20 cycles x 2500 trials, seed 1 (16 s of CPU: about 8 s on 2 idle cores)."""
     result = run_experiment(cycles=20, trials=2500, seed=1, workers=2)
     got = by_name(evaluate(result))
     for name in STABLE_AT_20:
         assert got[name].holds, f"{got[name].text}: {got[name].measured}"
-
-
-STABLE_AT_20 = ("optimal-by-1150", "bz-stays-optimal", "b-csql-faster", "b-bb-faster", "rw-value-falls")
+    rw = next(r for r in result.methods if r.method == "cs-bb-rw")
+    assert end_steps(rw) > 5 * result.optimal  # CS-BB-RW degrades (~60-70 here; "about 75" needs 50 cycles)
