@@ -79,8 +79,11 @@ def plot(rows: list[dict], path: Path) -> None:
         row_axes[1].set_title(f"tax {tax:g}: CS-BB-RW end steps (paper ~75)", fontsize=9)
         row_axes[2].axhline(0, color="grey", lw=0.8)
         row_axes[2].set_title(f"tax {tax:g}: (b) min(BZ, RW) - CS-QL value, trials 50-625", fontsize=9)
+        ticks = sorted({r["s0"] for r in sel})
         for ax in row_axes:
             ax.set_xscale("log")
+            ax.set_xticks(ticks, [f"{t:g}" for t in ticks])
+            ax.minorticks_off()
             ax.set_xlabel("s0 (initial strength)")
             ax.grid(alpha=0.3)
             ax.legend(fontsize=7)
@@ -100,9 +103,15 @@ def main() -> None:
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--workers", type=int, default=os.cpu_count())
     ap.add_argument("--out", default="sweep_bucket_brigade", help="writes OUT.csv and OUT.png")
+    ap.add_argument("--replot", action="store_true", help="redraw OUT.png from OUT.csv without running")
     args = ap.parse_args()
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
+    if args.replot:
+        with open(out.with_suffix(".csv"), newline="") as f:
+            plot([{k: float(v) if v else None for k, v in row.items()} for row in csv.DictReader(f)],
+                 out.with_suffix(".png"))
+        return
     rows = sweep(args)
     with open(out.with_suffix(".csv"), "w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
