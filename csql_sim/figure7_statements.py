@@ -46,6 +46,7 @@ the value curve and at least half of that peak (a fall, not a collapse)."""
 CS_METHODS = ("cs-ql", "cs-bb-bz", "cs-bb-rw")
 BB_METHODS = ("cs-bb-bz", "cs-bb-rw")
 Q_METHODS = ("lt-ql", "cs-ql")
+THREE = "CS-QL, CS-BB-BZ and CS-BB-RW"
 
 
 @dataclass(frozen=True)
@@ -95,21 +96,21 @@ def _near(x: float, target: float, rel: float) -> bool:
     return abs(x - target) <= rel * target
 
 
-def _starts_near(rs: list[MethodResult], target: int, label: str) -> Statement:
+def _starts_near(rs: list[MethodResult], target: int, subject: str) -> Statement:
     starts = [float(r.steps[:, 0].mean()) for r in rs]
     return Statement(
         f"start-{target}",
-        f"{label} start near {target} steps",
+        f"{subject} near {target} steps",
         all(_near(s, target, NEAR_STEPS) for s in starts),
         ", ".join(f"{r.method} {s:.0f}" for r, s in zip(rs, starts, strict=True)),
     )
 
 
-def _reach_by(rs: list[MethodResult], optimal: int, target: int, label: str) -> Statement:
+def _reach_by(rs: list[MethodResult], optimal: int, target: int, subject: str) -> Statement:
     firsts = [first_reach(r, optimal) for r in rs]
     return Statement(
         f"optimal-by-{target}",
-        f"{label} reach the optimal {optimal} steps by about trial {target}",
+        f"{subject} the optimal {optimal} steps by about trial {target}",
         all(f is not None and abs(f - target) <= ABOUT_TRIALS for f in firsts),
         ", ".join(f"{r.method} {'never' if f is None else f'trial {f}'}" for r, f in zip(rs, firsts, strict=True)),
     )
@@ -133,7 +134,7 @@ def _rw_degrades(rw: MethodResult, optimal: int) -> Statement:
         "rw-degrades-to-75",
         f"CS-BB-RW reaches {optimal} steps, then degrades to about 75",
         first is not None and _near(end, 75, ABOUT_STEPS),
-        f"best {best:.2f}, first at {optimal}: {'never' if first is None else f'trial {first}'}, end {end:.1f}",
+        f"best mean {best:.2f}, first at {optimal}: {'never' if first is None else f'trial {first}'}, end {end:.1f}",
     )
 
 
@@ -170,10 +171,10 @@ def evaluate(result: ExperimentResult) -> list[Statement]:
         return [by[m] for m in methods]
 
     checks: list[tuple[tuple[str, ...], Callable[[], Statement]]] = [
-        (CS_METHODS, lambda: _starts_near(rs(CS_METHODS), 150, "CS-QL, CS-BB-BZ and CS-BB-RW")),
-        (CS_METHODS, lambda: _reach_by(rs(CS_METHODS), opt, 700, "CS-QL, CS-BB-BZ and CS-BB-RW")),
-        (("lt-ql",), lambda: _starts_near(rs(("lt-ql",)), 1400, "LT-QL")),
-        (("lt-ql",), lambda: _reach_by(rs(("lt-ql",)), opt, 1150, "LT-QL")),
+        (CS_METHODS, lambda: _starts_near(rs(CS_METHODS), 150, f"{THREE} start")),
+        (CS_METHODS, lambda: _reach_by(rs(CS_METHODS), opt, 700, f"{THREE} reach")),
+        (("lt-ql",), lambda: _starts_near(rs(("lt-ql",)), 1400, "LT-QL starts")),
+        (("lt-ql",), lambda: _reach_by(rs(("lt-ql",)), opt, 1150, "LT-QL reaches")),
         (("cs-bb-rw",), lambda: _rw_degrades(by["cs-bb-rw"], opt)),
         (("cs-bb-bz",), lambda: _bz_stays(by["cs-bb-bz"], opt)),
         (Q_METHODS, lambda: _rises_faster(
