@@ -196,6 +196,15 @@ def read_text_file(path: str | os.PathLike, max_bytes: int, what: str = "file") 
     Raises:
         InputFileError: one line naming the file and the problem.
     """
+    data = read_bytes_file(path, max_bytes, what)
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise InputFileError(f"{os.fspath(path)}: not UTF-8 text (byte {exc.start})") from None
+
+
+def read_bytes_file(path: str | os.PathLike, max_bytes: int, what: str = "file") -> bytes:
+    """:func:`read_text_file`'s guarded read, for binary content (an ``.npz`` rule base)."""
     shown = os.fspath(path)
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
@@ -217,10 +226,7 @@ def read_text_file(path: str | os.PathLike, max_bytes: int, what: str = "file") 
             raise InputFileError(f"{shown}: cannot read {what} ({_reason(exc)})") from None
     if len(data) > max_bytes:
         raise InputFileError(f"{shown}: above the {max_bytes:,}-byte limit for a {what}")
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputFileError(f"{shown}: not UTF-8 text (byte {exc.start})") from None
+    return data
 
 
 _C_LOADER = getattr(yaml, "CSafeLoader", None)

@@ -169,11 +169,11 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None) -> Policy:
         CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
     """
     from csql_sim.planner import BfsPolicy
-    from csql_sim.rulebase import load
+    from csql_sim.rule_table import GreedyTable
 
     if path is None:
         return BfsPolicy()
-    rulebase = load(path)
-    if n is not None and rulebase.blocks != n:
-        raise CsqlError(f"rule base {os.fspath(path)!r} is for {rulebase.blocks} blocks, not {n}")
-    return QPolicy.from_rulebase(rulebase)
+    table = GreedyTable.load(path)  # QPolicy's answers as a table, from YAML or npz
+    if n is not None and table.n != n:
+        raise CsqlError(f"rule base {os.fspath(path)!r} is for {table.n} blocks, not {n}")
+    return table

@@ -1,4 +1,7 @@
-"""Save and load a classifier list as versioned YAML, atomically.
+"""Save and load a classifier list as versioned YAML, atomically (``*.npz``: the compact form).
+
+:func:`load` and :func:`save` choose the form by suffix: ``*.npz`` files are read and
+written by :mod:`csql_sim.rulebase_npz`, anything else as YAML, so every reader reads both.
 
 Format (``version: 2``)::
 
@@ -86,13 +89,26 @@ def dumps(rulebase: RuleBase) -> str:
     return yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=200)
 
 
+def is_npz(path: str | os.PathLike) -> bool:
+    """Whether ``path`` names the compact binary form (suffix ``.npz``, :mod:`csql_sim.rulebase_npz`)."""
+    return Path(path).suffix.lower() == ".npz"
+
+
 def save(path: str | os.PathLike, rulebase: RuleBase) -> Path:
-    """Write ``rulebase`` to ``path`` atomically (temporary file, then rename)."""
+    """Write ``rulebase`` to ``path`` atomically (temporary file, then rename); npz by suffix."""
+    if is_npz(path):
+        from csql_sim import rulebase_npz
+
+        return rulebase_npz.save(path, rulebase)
     return write_atomic(path, dumps(rulebase))
 
 
 def load(path: str | os.PathLike) -> RuleBase:
-    """Read a rule base; any problem is a one-line RuleBaseError naming the file."""
+    """Read a rule base (``*.npz`` or YAML); any problem is a one-line RuleBaseError naming the file."""
+    if is_npz(path):
+        from csql_sim import rulebase_npz
+
+        return rulebase_npz.load(path, RuleBaseError)
     try:
         text = read_text_file(path, MAX_FILE_BYTES, "rule file")
     except InputFileError as exc:

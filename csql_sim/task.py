@@ -7,6 +7,7 @@ state, never the plan.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 from csql_sim.notation import parse_config
@@ -41,16 +42,40 @@ class Task:
         return perceived is not None and perceived == goal
 
 
+MAXIMAL_PAIRS = {2: ("AB", "BA"), 4: ("CBDA", "BCDA"), 5: ("BCDEA", "BDCEA")}
+"""The first pair of maximal optimal length per n (4 (n - 1) actions), tabulated; a test recomputes them."""
+
+
 def test_task(n: int) -> Task:
     """The task learning curves are measured on (Figure 7).
 
-    For n = 3 the paper's: A on B on C to C on A on B (8 actions). For other n, the last
-    state of the stable order to the first (all blocks on the table).
+    For n = 3 the paper's: A on B on C to C on A on B (8 actions). For other n, a pair of
+    maximal optimal length: scanning goals in state order, the first goal whose farthest
+    start is as far as any, and its first farthest start (n = 2: AB to BA, 4 actions;
+    n = 4: CBDA to BCDA, 12; n = 5: BCDEA to BDCEA, 16; n = 6 is computed once).
     """
     if n == 3:
         return Task(parse_config(TEST_START, 3), parse_config(TEST_GOAL, 3))
+    if n in MAXIMAL_PAIRS:
+        start, goal = MAXIMAL_PAIRS[n]
+        return Task(parse_config(start, n), parse_config(goal, n))
     states = BlocksWorld.of(n).states
-    return Task(states[-1], states[0])
+    start, goal = first_maximal_pair(n)
+    return Task(states[start], states[goal])
+
+
+@functools.cache
+def first_maximal_pair(n: int) -> tuple[int, int]:
+    """(start, goal) state indices of the first pair of maximal optimal length (a BFS per goal)."""
+    from csql_sim.pair_check import distances_to
+
+    best, pair = -1, (0, 0)
+    for goal in range(len(BlocksWorld.of(n).states)):
+        dist = distances_to(n, goal)
+        far = max(dist)
+        if far > best:
+            best, pair = far, (dist.index(far), goal)
+    return pair
 
 
 test_task.__test__ = False  # type: ignore[attr-defined]  # not a pytest test despite the name

@@ -13,6 +13,7 @@ import numpy as np
 
 from csql_sim.learners.bucket_brigade import BucketBrigade, BucketBrigadeRoulette
 from csql_sim.learners.cs_ql import CSQL, ClassifierSystemLearner
+from csql_sim.learners.fast_engine import MAX_FAST_BLOCKS, FastCSQL
 from csql_sim.learners.learner import Learner, Transition
 from csql_sim.learners.lt_ql import TabularQ
 from csql_sim.learners.params import (
@@ -22,6 +23,7 @@ from csql_sim.learners.params import (
     CSQLParams,
     ParamsError,
     TabularParams,
+    default_trials,
     load_params,
     resolve_params,
 )
@@ -39,6 +41,7 @@ LEARNERS: dict[str, type[Learner]] = {
     "cs-bb-rw": BucketBrigadeRoulette,
 }
 METHODS = tuple(LEARNERS)
+ENGINES = ("fast", "reference")
 
 
 def make_learner(
@@ -48,17 +51,26 @@ def make_learner(
     rng: np.random.Generator | None = None,
     seed: int = 0,
     rules: tuple[RClassifier, ...] | None = None,
-) -> Learner:
+    engine: str | None = "reference",
+) -> Learner | FastCSQL:
     """A fresh learner of ``method``; ``rng`` defaults to ``default_rng(seed)``.
 
     ``rules`` replaces the built-in R-classifiers of the classifier-system learners
-    (LT-QL has none and refuses them).
+    (LT-QL has none and refuses them). ``engine`` picks CS-QL's implementation (see
+    :func:`train`); the other methods have the reference engine only.
     """
     if method not in LEARNERS:
         raise ParamsError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    if engine not in (None, *ENGINES):
+        raise ParamsError(f"unknown engine {engine!r}; choose from {', '.join(ENGINES)}")
     check_n(n)
-    resolved = resolve_params(method, params)
+    resolved = resolve_params(method, params, n)
     generator = rng if rng is not None else np.random.default_rng(seed)
+    fast_ok = method == "cs-ql" and n <= MAX_FAST_BLOCKS and rules is None
+    if engine == "fast" and not fast_ok:
+        raise ParamsError(f"the fast engine runs cs-ql with the built-in rules and up to {MAX_FAST_BLOCKS} blocks")
+    if fast_ok and engine in (None, "fast"):
+        return FastCSQL(n, resolved, generator)
     cls = LEARNERS[method]
     if rules is None:
         return cls(n, resolved, generator)
@@ -67,51 +79,82 @@ def make_learner(
     return cls(n, resolved, generator, rules)
 
 
-def train(
+def train_learner(
     method: str = "cs-ql",
-    trials: int = 2500,
+    trials: int | None = None,
     seed: int = 0,
     n: int = 3,
     params: CommonParams | dict | str | os.PathLike | None = None,
     progress: bool = False,
-) -> RuleBase:
-    """Train one agent and return its whole classifier list (R and Q).
-
-    Runs ``trials`` random tasks with the test task every 50 (see
-    :meth:`Learner.run`), then, for CS-QL with ``sweep`` on, the final planning sweep.
-
-    Args:
-        method: one of :data:`METHODS`.
-        trials: number of random training trials.
-        seed: seed of the one ``numpy.random.Generator``.
-        n: number of blocks.
-        params: parameters (dataclass, dict of overrides, YAML path, or None).
-        progress: show a tqdm bar on stderr.
-
-    """
-    if not isinstance(trials, int) or trials < 0:
+    engine: str | None = None,
+) -> tuple[Learner | FastCSQL, dict]:
+    """Train one agent as :func:`train` does; the learner and the rule file's ``meta``."""
+    if trials is None:
+        trials = default_trials(n)
+    if isinstance(trials, bool) or not isinstance(trials, int) or trials < 0:
         raise ParamsError(f"trials must be a non-negative integer, got {trials!r}")
-    learner = make_learner(method, n, params, seed=seed)
+    learner = make_learner(method, n, params, seed=seed, engine=engine)
     bar = None
     if progress:
         from tqdm import tqdm
 
         bar = tqdm(total=trials, desc=method, unit="trial", leave=False)
-    run_training(learner, trials, on_trial=(lambda _k: bar.update()) if bar is not None else None)
+    on_trial = (lambda _k: bar.update()) if bar is not None else None
+    if isinstance(learner, FastCSQL):
+        learner.run(trials, on_trial=on_trial)
+    else:
+        run_training(learner, trials, on_trial=on_trial)
     if bar is not None:
         bar.close()
     swept = 0
-    if isinstance(learner, CSQL) and learner.params.sweep:
+    if isinstance(learner, (CSQL, FastCSQL)) and learner.params.sweep:
         swept = learner.sweep()
         task = test_task(n)
-        run_trial(learner, learner.world.state_index(task.start), learner.world.state_index(task.goal), 0.0)
-        # ends on the test task, as Figure 6 was taken
+        start, goal = learner.world.state_index(task.start), learner.world.state_index(task.goal)
+        if isinstance(learner, FastCSQL):
+            learner.run_trial(start, goal, 0.0)
+        else:
+            run_trial(learner, start, goal, 0.0)  # ends on the test task, as Figure 6 was taken
     meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept}
+    return learner, meta
+
+
+def train(
+    method: str = "cs-ql",
+    trials: int | None = None,
+    seed: int = 0,
+    n: int = 3,
+    params: CommonParams | dict | str | os.PathLike | None = None,
+    progress: bool = False,
+    engine: str | None = None,
+) -> RuleBase:
+    """Train one agent and return its whole classifier list (R and Q).
+
+    Runs ``trials`` random tasks with the test task every 50 (see
+    :func:`~csql_sim.learners.trial.run_training`), then, for CS-QL with ``sweep`` on,
+    the final planning sweep and one greedy test task.
+
+    Args:
+        method: one of :data:`METHODS`.
+        trials: number of random training trials (None: :func:`default_trials` of n).
+        seed: seed of the one ``numpy.random.Generator``.
+        n: number of blocks.
+        params: parameters (dataclass, dict of overrides, YAML path, or None: the defaults
+            for n, :func:`~csql_sim.learners.params.defaults_for_blocks`).
+        progress: show a tqdm bar on stderr.
+        engine: ``"fast"`` (the array-backed CS-QL engine: same trajectory, same file),
+            ``"reference"`` (the classifier list), or None: fast where it applies (CS-QL
+            with the built-in rules, n <= 5), the reference otherwise.
+
+    """
+    learner, meta = train_learner(method, trials, seed, n, params, progress, engine)
     return learner.rulebase(meta)
 
 
 __all__ = [
     "CSQL",
+    "ENGINES",
+    "FastCSQL",
     "LEARNERS",
     "METHODS",
     "PARAMS_BY_METHOD",
@@ -129,6 +172,7 @@ __all__ = [
     "Transition",
     "TrialResult",
     "count_q",
+    "default_trials",
     "figure6_table",
     "greedy_path",
     "load_params",
@@ -137,4 +181,5 @@ __all__ = [
     "run_training",
     "run_trial",
     "train",
+    "train_learner",
 ]

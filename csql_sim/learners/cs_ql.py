@@ -22,6 +22,7 @@ from csql_sim.learners.learner import Learner, Transition
 from csql_sim.learners.params import CommonParams, CSQLParams
 from csql_sim.learners.selection import boltzmann
 from csql_sim.learners.trial import run_trial
+from csql_sim.message import decode_code, layout
 from csql_sim.processing_block import MatchSet, ProcessingBlock
 from csql_sim.q_classifier import QClassifier
 from csql_sim.r_classifier import RClassifier, r_classifiers
@@ -126,6 +127,7 @@ class CSQL(ClassifierSystemLearner):
                  rules: tuple[RClassifier, ...] | None = None) -> None:
         super().__init__(n, params, rng, rules)
         self._gamma, self._eta, self._payoff = params.gamma, params.eta, params.payoff
+        self._goal_at = layout(n).goal_start
 
     def select(self, match_set: MatchSet, temperature: float, u: float) -> int:
         """Boltzmann selection over the candidates' Q-values (eq. 3).
@@ -176,18 +178,70 @@ class CSQL(ClassifierSystemLearner):
         Each pass predicts every pair's greedy path with the add-delete R-classifiers and
         updates its classifiers with eq. 1-2, so each becomes active. Passes repeat until
         no update in a pass has |epsilon| above ``sweep_tolerance`` (at most
-        ``sweep_passes``). Returns the steps taken.
+        ``sweep_passes``). With ``sweep_backup_all`` every candidate of each match set on
+        the paths is backed up, not just the greedy one (:meth:`update_all`). Then
+        ``sweep_greedy_tail`` greedy passes. Returns the steps taken.
         """
         p = self.params
         before = self.t
-        count = len(self.world.states)
-        for _ in range(p.sweep_passes):
-            start_t = self.t
-            for goal in range(count):
-                for start in range(count):
-                    if start != goal:
-                        run_trial(self, start, goal, 0.0, cap=count)
-            worst = max((c.error for c in self.classifiers.q_classifiers if c.last_active >= start_t), default=0.0)
-            if worst <= p.sweep_tolerance:
-                break
+        if p.sweep_backup_all:
+            self.update = self.update_all  # learn() calls self.update; restored below
+        try:
+            for _ in range(p.sweep_passes):
+                start_t = self.t
+                self.sweep_pass()
+                worst = max((c.error for c in self.classifiers.q_classifiers if c.last_active >= start_t),
+                            default=0.0)
+                if worst <= p.sweep_tolerance:
+                    break
+        finally:
+            self.__dict__.pop("update", None)
+        for _ in range(p.sweep_greedy_tail):
+            self.sweep_pass()
         return self.t - before
+
+    def sweep_pass(self) -> None:
+        """One greedy trial (T = 0, cap = the number of states) per pair, goal-major."""
+        count = len(self.world.states)
+        for goal in range(count):
+            for start in range(count):
+                if start != goal:
+                    run_trial(self, start, goal, 0.0, cap=count)
+
+    def update_all(self, match_set: MatchSet, i: int, nxt: MatchSet | None, t: int) -> None:
+        """Dyna-style backup of every candidate (the sweep with ``sweep_backup_all``).
+
+        The selected candidate ``i`` leads the trial on (its successor ``nxt`` is already
+        posted); each other candidate's successor is predicted by the world model and
+        posted in candidate order at the step's clock ``t - 1``; then every candidate, in
+        candidate order, is updated with eq. 1-2 at step size ``sweep_eta``.
+        """
+        message = match_set.message
+        goal_message = self.message(decode_code(message[self._goal_at :]), decode_code(message[self._goal_at :]))
+        nexts: list[MatchSet | None] = []
+        self.t = t - 1
+        for j, action in enumerate(match_set.actions):
+            if j == i:
+                nexts.append(nxt)
+                continue
+            predicted = self.world_model.step(message, action)
+            nexts.append(None if predicted == goal_message else self.block.post(predicted))
+        self.t = t
+        eta = self.params.sweep_eta
+        for c, successor in zip(match_set.candidates, nexts, strict=True):
+            self.backup(c, successor, t, eta)
+
+    def backup(self, c: QClassifier, nxt: MatchSet | None, t: int, eta: float) -> None:
+        """Eq. 1-2 on ``c`` towards its successor ``nxt`` (None: the goal) with step size ``eta``."""
+        if nxt is None:
+            target = self._payoff
+        else:
+            best = -INF
+            for d in nxt.candidates:
+                if d.q > best:
+                    best = d.q
+            target = self._gamma * best
+        eps = target - c.q
+        c.q += eta * eps
+        c.error = eps if eps >= 0.0 else -eps
+        c.last_active = t

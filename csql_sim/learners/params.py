@@ -166,15 +166,32 @@ class CSQLParams(QLearningParams):
         sweep_tolerance: the sweep stops after a pass whose largest |epsilon| is at most
             this (Q-values then agree with eq. 2 along every greedy path). Range >= 0;
             default 0.001.
+        sweep_backup_all: in the sweep, back up every candidate of each node on the greedy
+            paths through the world model (Dyna-style planning, Sutton 1990), not only the
+            selected one. The greedy sweep alone cannot repair a path whose better action
+            was never tried; this one can. A flag; default false (true for n > 3, see
+            :func:`defaults_for_blocks`).
+        sweep_eta: eta of eq. 1 in those Dyna backups. The world model is deterministic,
+            so a full step is exact and the backups converge in a few passes (eta 0.5
+            needs about 20 at n = 5). Range (0, 1]; default 1.
+        sweep_greedy_tail: greedy-only passes after the sweep's passes: they leave only
+            each pair's greedy classifier recently active, so pruning by strength keeps
+            exactly one per (state, goal). Range >= 0 (an integer); default 0 (3 for n > 3).
 
     """
 
-    RANGES: ClassVar[dict[str, Bounds]] = {"sweep_passes": NON_NEGATIVE, "sweep_tolerance": NON_NEGATIVE}
+    RANGES: ClassVar[dict[str, Bounds]] = {
+        "sweep_passes": NON_NEGATIVE, "sweep_tolerance": NON_NEGATIVE, "sweep_eta": UNIT_NO_ZERO,
+        "sweep_greedy_tail": NON_NEGATIVE,
+    }
 
     t_decay: float = 0.9955  # T_{k+1} = T_k * decay; reproduces "optimal by ~700 trials"
     sweep: bool = True  # final planning sweep (ours; False = paper)
     sweep_passes: int = 50  # at most this many passes
     sweep_tolerance: float = 0.001  # stop when every |epsilon| of a pass is below
+    sweep_backup_all: bool = False  # sweep backs up every candidate (Dyna), not just the greedy one
+    sweep_eta: float = 1.0  # eta of the Dyna backups (sweep_backup_all only)
+    sweep_greedy_tail: int = 0  # greedy-only passes after the sweep's passes
 
 
 @dataclass(frozen=True)
@@ -252,6 +269,48 @@ def default_params(method: str) -> CommonParams:
         raise ParamsError(f"unknown method {method!r}; choose from {', '.join(PARAMS_BY_METHOD)}") from None
 
 
+GREEDY_PASS_STEPS = {2: 40, 3: 2046, 4: 109_208, 5: 7_292_290}
+"""Sum of the optimal plan lengths over every ordered pair: the steps of one greedy sweep
+pass once every plan is optimal (a test recomputes them; n = 6 is extrapolated)."""
+DEFAULT_TRIALS = {2: 2500, 3: 2500, 4: 20_000, 5: 20_000, 6: 50_000}
+"""Training trials per n (``csql-sim train`` and ``experiment`` without ``--trials``)."""
+
+
+def default_trials(n: int) -> int:
+    """The number of training trials used when none is given."""
+    return DEFAULT_TRIALS.get(n, 2500)
+
+
+def defaults_for_blocks(method: str, n: int) -> CommonParams:
+    """The defaults of ``method`` for n blocks; n <= 3 keeps the paper-tuned defaults unchanged.
+
+    For n > 3:
+
+    * ``t_decay = (t_min / t0) ** (1 / (0.6 * default_trials(n)))``: T reaches its floor
+      after 60% of the trials, as 0.9955 does at n = 3;
+    * ``step_cap = max(10000, 10 * states)``;
+    * ``error_increment = 0.0002 * P3 / Pn``, Pn the steps of one greedy pass over all
+      pairs (:data:`GREEDY_PASS_STEPS`): |epsilon| grows as much per sweep pass as at
+      n = 3, so pruning at 0.1 still separates each pair's greedy classifier;
+    * CS-QL: the Dyna sweep (``sweep_backup_all``) and 3 greedy passes after it.
+    """
+    base = default_params(method)
+    if n <= 3:
+        return base
+    from csql_sim.world import all_states
+
+    overrides: dict = {
+        "t_decay": (base.t_min / base.t0) ** (1.0 / (0.6 * default_trials(n))),
+        "step_cap": max(10_000, 10 * len(all_states(n))),
+    }
+    if isinstance(base, QLearningParams):
+        steps = GREEDY_PASS_STEPS.get(n, 70 * GREEDY_PASS_STEPS[5])
+        overrides["error_increment"] = base.error_increment * GREEDY_PASS_STEPS[3] / steps
+    if isinstance(base, CSQLParams):
+        overrides.update(sweep_backup_all=True, sweep_greedy_tail=3)
+    return dataclasses.replace(base, **overrides)
+
+
 def with_overrides(params: CommonParams, overrides: dict, source: str = "parameters") -> CommonParams:
     """Replace fields of ``params``; an unknown key or a wrong type is a ParamsError."""
     known = {f.name: f for f in fields(params)}
@@ -276,8 +335,8 @@ def with_overrides(params: CommonParams, overrides: dict, source: str = "paramet
         raise ParamsError(f"{source}: {exc}") from None
 
 
-def load_params(path: str | os.PathLike, method: str) -> CommonParams:
-    """Defaults of ``method`` overridden by a YAML mapping.
+def load_params(path: str | os.PathLike, method: str, n: int = 3) -> CommonParams:
+    """Defaults of ``method`` for n blocks overridden by a YAML mapping.
 
     The file is either a flat mapping of parameters, or a mapping from method names to
     such mappings (only ``method``'s entry is applied).
@@ -298,13 +357,15 @@ def load_params(path: str | os.PathLike, method: str) -> CommonParams:
         doc = doc.get(method) or {}
         if not isinstance(doc, dict):
             raise ParamsError(f"{p}: the entry for {method} must be a mapping")
-    return with_overrides(default_params(method), doc, source=str(p))
+    return with_overrides(defaults_for_blocks(method, n), doc, source=str(p))
 
 
-def resolve_params(method: str, params: CommonParams | dict | str | os.PathLike | None) -> CommonParams:
-    """Parameters from None (defaults), a dataclass, a dict of overrides or a YAML path."""
+def resolve_params(
+    method: str, params: CommonParams | dict | str | os.PathLike | None, n: int = 3
+) -> CommonParams:
+    """Parameters from None (the defaults for n blocks), a dataclass, a dict of overrides or a YAML path."""
     if params is None:
-        return default_params(method)
+        return defaults_for_blocks(method, n)
     if isinstance(params, CommonParams):
         expected = PARAMS_BY_METHOD.get(method)
         if expected is None:
@@ -313,5 +374,5 @@ def resolve_params(method: str, params: CommonParams | dict | str | os.PathLike 
             raise ParamsError(f"{method} needs {expected.__name__}, got {type(params).__name__}")
         return params
     if isinstance(params, dict):
-        return with_overrides(default_params(method), params)
-    return load_params(params, method)
+        return with_overrides(defaults_for_blocks(method, n), params)
+    return load_params(params, method, n)
