@@ -13,6 +13,7 @@ from tqdm import tqdm
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_or_keep
 from csql_sim.notation import parse_config
+from csql_sim.pairs import sample_ranks, selected_pairs
 from csql_sim.policy import Policy, load_policy
 from csql_sim.workers import worker_count, worker_pool
 from csql_sim.world import all_states
@@ -97,25 +98,23 @@ class EvalReport:
 def make_specs(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: int = 0) -> list[EpisodeSpec]:
     """Ordered (start, goal) pairs of distinct states, each with seeds 0..seeds-1.
 
+    A sample of K pairs costs O(K) (:mod:`csql_sim.pairs`): the pairs are never all listed,
+    and the sample is the one the enumerating version drew.
+
     Args:
         n: number of blocks.
         pairs: ``"all"`` or the size of a seeded random sample of pairs.
-        seeds: episodes per pair; episode k of pair i has seed ``i * seeds + k``.
+        seeds: episodes per pair; episode k of the pair of rank i has seed ``i * seeds + k``.
         sample_seed: seeds the sample of pairs.
     """
-    states = all_states(n)
-    every = [(s, g) for s in states for g in states if s != g]
-    chosen = list(range(len(every)))
     if pairs != "all":
-        if not isinstance(pairs, int) or pairs < 1:
-            raise CsqlError(f"--pairs must be 'all' or a positive integer, got {pairs!r}")
-        if pairs < len(every):
-            chosen = sorted(int(i) for i in np.random.default_rng(sample_seed).choice(len(every), pairs, replace=False))
+        sample_ranks(1, pairs)  # validates K before the states are built
     if seeds < 1:
         raise CsqlError(f"--seeds must be a positive integer, got {seeds}")
-    # every episode gets its own seed (pair index x seeds + k), so perturbations differ across pairs
-    return [EpisodeSpec(start=every[i][0].notation(), goal=every[i][1].notation(), seed=i * seeds + k)
-            for i in chosen for k in range(seeds)]
+    states = all_states(n)
+    # every episode gets its own seed (pair rank x seeds + k), so perturbations differ across pairs
+    return [EpisodeSpec(start=states[s].notation(), goal=states[g].notation(), seed=r * seeds + k)
+            for r, s, g in selected_pairs(len(states), pairs, sample_seed) for k in range(seeds)]
 
 
 class EpisodeRunner:

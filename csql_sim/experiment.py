@@ -20,7 +20,7 @@ import numpy as np
 
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_or_keep
-from csql_sim.learners import METHODS, Curve, make_learner, run_training
+from csql_sim.learners import METHODS, Curve, FastCSQL, make_learner, run_training
 from csql_sim.learners.params import CommonParams, resolve_params
 from csql_sim.planner import distance
 from csql_sim.task import test_task
@@ -71,12 +71,14 @@ class ExperimentResult:
 
 def run_cycle(method: str, trials: int, seed: np.random.SeedSequence, n: int, params: CommonParams) -> Curve:
     """One cycle: a fresh learner trained on ``trials`` tasks; its test-task curve."""
-    learner = make_learner(method, n, params, rng=np.random.default_rng(seed))
+    learner = make_learner(method, n, params, rng=np.random.default_rng(seed), engine=None)
+    if isinstance(learner, FastCSQL):  # the fast CS-QL engine: the same curve
+        return learner.run(trials)
     return run_training(learner, trials)
 
 
 def _resolve(methods: Sequence[str], cycles: int, trials: int,
-             params: dict[str, CommonParams] | str | os.PathLike | None) -> dict[str, CommonParams]:
+             params: dict[str, CommonParams] | str | os.PathLike | None, n: int = 3) -> dict[str, CommonParams]:
     """Check the experiment's shape and resolve each method's parameters."""
     if not methods:
         raise CsqlError("no methods given")
@@ -86,8 +88,8 @@ def _resolve(methods: Sequence[str], cycles: int, trials: int,
     if cycles < 1 or trials < 0:
         raise CsqlError(f"need cycles >= 1 and trials >= 0, got {cycles} and {trials}")
     if isinstance(params, dict):
-        return {m: resolve_params(m, params.get(m)) for m in methods}
-    return {m: resolve_params(m, params) for m in methods}
+        return {m: resolve_params(m, params.get(m), n) for m in methods}
+    return {m: resolve_params(m, params, n) for m in methods}
 
 
 @dataclass(frozen=True)
@@ -153,7 +155,7 @@ def run_experiment(
         progress: show a tqdm bar on stderr.
 
     """
-    resolved = _resolve(methods, cycles, trials, params)
+    resolved = _resolve(methods, cycles, trials, params, n)
     seeds = np.random.SeedSequence(seed).spawn(cycles)
     jobs = [CycleJob(m, trials, seeds[c], n, resolved[m]) for m in methods for c in range(cycles)]
     curves = _run_cycles(jobs, worker_count(workers, len(jobs)), progress)

@@ -94,6 +94,15 @@ def is_npz(path: str | os.PathLike) -> bool:
     return Path(path).suffix.lower() == ".npz"
 
 
+def file_bytes(path: str | os.PathLike, rulebase: RuleBase) -> str | bytes:
+    """The content :func:`save` would write to ``path``: npz bytes or YAML text, by suffix."""
+    if is_npz(path):
+        from csql_sim import rulebase_npz
+
+        return rulebase_npz.to_bytes(rulebase)
+    return dumps(rulebase)
+
+
 def save(path: str | os.PathLike, rulebase: RuleBase) -> Path:
     """Write ``rulebase`` to ``path`` atomically (temporary file, then rename); npz by suffix."""
     if is_npz(path):

@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 
-from csql_sim.cli.args import blocks_arg
+from csql_sim.cli.args import blocks_arg, seed_arg
 from csql_sim.errors import CsqlError
 from csql_sim.message import action_code, format_action_message, format_state_message
 from csql_sim.notation import parse_state_arg
-from csql_sim.policy import PairResult, Policy, check_all_pairs, load_policy, rollout
+from csql_sim.policy import Policy, load_policy, rollout
 from csql_sim.r_classifier import r_classifiers
 from csql_sim.world import BlocksWorld, State, WorldError
 
@@ -81,43 +81,19 @@ def _policy_for(args: argparse.Namespace) -> Policy:
     return load_policy(args.rules if planner == "rules" else None, args.blocks)
 
 
-def _summary_json(results: list[PairResult]) -> dict:
-    return {
-        "pairs": len(results),
-        "covered": sum(r.rollout.reached for r in results),
-        "optimal": sum(r.optimal for r in results),
-        "plans": [
-            {
-                "start": r.start.notation(),
-                "goal": r.goal.notation(),
-                "length": r.length,
-                "optimal_length": r.optimal_length,
-                "plan": [a.name() for a in r.rollout.actions] if r.rollout.reached else None,
-            }
-            for r in results
-        ],
-    }
-
-
 def cmd_plan(args: argparse.Namespace) -> int:
+    if args.all:
+        if args.pairs not in (None, "all"):
+            raise CsqlError("--all is --pairs all; give one of them")
+        args.pairs = "all"
     policy = _policy_for(args)
     n = policy.blocks or args.blocks
-    if args.all:
+    if args.pairs is not None:
         if args.start or args.goal:
-            raise CsqlError("--all plans every pair; do not give --start or --goal")
-        results = check_all_pairs(policy, n or 3)
-        summary = _summary_json(results)
-        if args.json:
-            print(json.dumps(summary, indent=1))
-        else:
-            print(f"pairs: {summary['pairs']}  covered: {summary['covered']}  optimal: {summary['optimal']}")
-            bad = [r for r in results if not r.optimal][:5]
-            for r in bad:
-                what = r.rollout.reason or f"length {r.length}, optimal {r.optimal_length}"
-                print(f"  {r.start.notation()} -> {r.goal.notation()}: {what}")
-        return 0 if summary["optimal"] == summary["pairs"] else 1
+            raise CsqlError("--pairs plans many pairs; do not give --start or --goal")
+        return _plan_pairs(args, policy, n or 3)
     if not args.start or not args.goal:
-        raise CsqlError("plan needs --start and --goal (or --all)")
+        raise CsqlError("plan needs --start and --goal (or --pairs all|K)")
     start, goal = read_task_for_rules(args.start, args.goal, n, args.rules if args.planner != "bfs" else None)
     result = rollout(policy, start, goal)
     if not result.reached:
@@ -128,6 +104,49 @@ def cmd_plan(args: argparse.Namespace) -> int:
         for a in result.actions:
             print(a.name())
     return 0
+
+
+def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
+    """``plan --pairs all|K``: stream each pair's plan, count the covered and optimal ones."""
+    from csql_sim.pair_check import plan_pairs
+    from csql_sim.rule_table import GreedyTable
+
+    table = policy if isinstance(policy, GreedyTable) else None
+    world = BlocksWorld.of(n)
+    names = [a.name() for a in world.actions]
+    notation = [s.notation() for s in world.states]
+    total = covered = optimal = 0
+    bad = []
+    if args.json:
+        print('{"plans": [', end="")
+    for r in plan_pairs(n, table, args.pairs, args.seed):
+        total += 1
+        covered += r.reached
+        optimal += r.optimal
+        if not r.optimal and len(bad) < 5:
+            bad.append(r)
+        if args.json:
+            entry = {"start": notation[r.start], "goal": notation[r.goal],
+                     "length": len(r.actions) if r.reached else None, "optimal_length": r.optimal_length,
+                     "plan": [names[a] for a in r.actions] if r.reached else None}
+            print(("" if total == 1 else ",") + "\n " + json.dumps(entry), end="")
+    if args.json:
+        print(f'\n], "pairs": {total}, "covered": {covered}, "optimal": {optimal}}}')
+    else:
+        print(f"pairs: {total}  covered: {covered}  optimal: {optimal}")
+        for r in bad:
+            what = r.reason or f"length {len(r.actions)}, optimal {r.optimal_length}"
+            print(f"  {notation[r.start]} -> {notation[r.goal]}: {what}")
+    return 0 if optimal == total else 1
+
+
+def _pairs_arg(text: str) -> str | int:
+    from csql_sim.pairs import parse_pairs
+
+    try:
+        return parse_pairs(text)
+    except CsqlError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from None
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -148,6 +167,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--blocks", type=blocks_arg, help="number of blocks (default: from the configuration)")
     p.add_argument("--planner", choices=("bfs", "rules"), help="bfs (default) or rules (default with --rules)")
     p.add_argument("--rules", help="a rule base from 'csql-sim train': plan greedily from its Q-classifiers")
-    p.add_argument("--all", action="store_true", help="plan every ordered pair of distinct states; print a summary")
+    p.add_argument("--pairs", type=_pairs_arg, default=None,
+                   help="plan every ordered pair of distinct states (all) or a seeded sample of K, streamed; "
+                        "print a summary")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed of the --pairs sample (default 0)")
+    p.add_argument("--all", action="store_true", help="the same as --pairs all")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_plan)

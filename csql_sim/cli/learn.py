@@ -1,4 +1,4 @@
-"""Subcommands of learning: ``experiment``, ``train``, ``show``, ``prune`` and ``bench``."""
+"""Subcommands of learning: ``experiment``, ``train``, ``show``, ``prune``, ``scaling`` and ``bench``."""
 
 from __future__ import annotations
 
@@ -36,13 +36,15 @@ def cmd_experiment(args: argparse.Namespace) -> int:
     from csql_sim.experiment import run_experiment, summary_lines, write_figure7
     from csql_sim.figure7_statements import evaluate, statement_lines
     from csql_sim.files import check_output_folder
+    from csql_sim.learners import default_trials
     from csql_sim.workers import worker_count
 
     check_output_folder(args.out)
     warn_workers(args.workers)
     began = time.perf_counter()
+    trials = args.trials if args.trials is not None else default_trials(args.blocks)
     result = run_experiment(
-        methods=args.methods, cycles=args.cycles, trials=args.trials, seed=args.seed,
+        methods=args.methods, cycles=args.cycles, trials=trials, seed=args.seed,
         workers=args.workers, n=args.blocks, params=args.params, progress=show_progress(args),
     )
     wall = time.perf_counter() - began
@@ -63,18 +65,28 @@ def cmd_experiment(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ train
 def cmd_train(args: argparse.Namespace) -> int:
     from csql_sim.files import check_output_file, write_or_keep
-    from csql_sim.learners import count_q, train
-    from csql_sim.rulebase import dumps
+    from csql_sim.learners import FastCSQL, train_learner
+    from csql_sim.rulebase import file_bytes
 
     check_output_file(args.out, "rule file")
     began = time.perf_counter()
-    rb = train(args.method, args.trials, args.seed, args.blocks, args.params, progress=show_progress(args))
-    wall = time.perf_counter() - began
-    path = write_or_keep([(args.out, dumps(rb))])[0]
-    r_count = sum(1 for c in rb.classifiers if c.kind == "R")
+    learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, args.params,
+                                  progress=show_progress(args), engine=args.engine)
+    trained = time.perf_counter()
+    if isinstance(learner, FastCSQL):
+        content = learner.file_bytes(args.out, meta)
+        r_count, q_count = learner.counts()
+    else:
+        rb = learner.rulebase(meta)
+        content = file_bytes(args.out, rb)
+        r_count = sum(1 for c in rb.classifiers if c.kind == "R")
+        q_count = len(rb.classifiers) - r_count
+    path = write_or_keep([(args.out, content)])[0]
+    engine = "fast" if isinstance(learner, FastCSQL) else "reference"
     print(
-        f"{args.method}: {args.trials} trials, seed {args.seed}, {rb.meta['steps']} steps in {wall:.2f} s; "
-        f"{r_count} R- and {count_q(rb)} Q-classifiers written to {path}"
+        f"{args.method} ({engine} engine), {args.blocks} blocks: {meta['trials']} trials, seed {args.seed}, "
+        f"{meta['steps']} steps in {trained - began:.2f} s; {r_count} R- and {q_count} Q-classifiers written to "
+        f"{path} in {time.perf_counter() - trained:.2f} s"
     )
     return 0
 
@@ -98,12 +110,12 @@ def cmd_show(args: argparse.Namespace) -> int:
 def cmd_prune(args: argparse.Namespace) -> int:
     from csql_sim.files import check_output_file, write_or_keep
     from csql_sim.learners import count_q, prune
-    from csql_sim.rulebase import dumps, load
+    from csql_sim.rulebase import file_bytes, load
 
     check_output_file(args.out, "rule file")
     rb = load(args.rules)
     pruned = prune(rb, args.threshold)
-    path = write_or_keep([(args.out, dumps(pruned))])[0]
+    path = write_or_keep([(args.out, file_bytes(args.out, pruned))])[0]
     print(f"Q-classifiers: {count_q(rb)} before, {count_q(pruned)} after pruning at {args.threshold:g}; wrote {path}")
     return 0
 
@@ -113,26 +125,59 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from csql_sim.learners.bench import bench
 
     r = bench(args.trials, args.seed, args.repeats)
-    print(f"{r.trials} trials, best of {args.repeats}, same tasks and uniforms for both learners")
-    print(f"  CS-QL (classifier system): {r.csql_steps} steps in {r.csql_seconds * 1000:.1f} ms, "
-          f"{r.csql_steps / r.csql_seconds:,.0f} steps/s")
-    print(f"  plain dict Q-learner:      {r.plain_steps} steps in {r.plain_seconds * 1000:.1f} ms, "
-          f"{r.plain_steps / r.plain_seconds:,.0f} steps/s")
-    print(f"  ratio CS-QL / plain steps per second: {r.ratio:.2f}x")
+    print(f"{r.trials} trials (n = 3), seed {args.seed}, best of {args.repeats} in CPU time; "
+          "same tasks and uniforms for every learner")
+    for label, e in (("CS-QL reference engine", r.reference), ("CS-QL fast engine", r.fast),
+                     ("plain dict Q-learner", r.plain)):
+        print(f"  {label + ':':<24} {e.steps} steps in {e.seconds * 1000:8.1f} ms, {e.rate:>12,.0f} steps/s")
+    print(f"  trajectories of the two engines identical (same rule file): {'yes' if r.identical else 'NO'}")
+    print(f"  ratio reference / plain steps per second: {r.ratio:.2f}x")
+    print(f"  ratio fast / plain steps per second:      {r.fast_ratio:.1f}x")
+    return 0 if r.identical else 1
+
+
+# ------------------------------------------------------------------ scaling
+def cmd_scaling(args: argparse.Namespace) -> int:
+    from csql_sim.files import check_output_folder
+    from csql_sim.scaling import run_scaling, write_outputs
+
+    check_output_folder(args.out)
+    rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args))
+    for r in rows:
+        when = f"all optimal after {r.trials} trials" if r.trials is not None else (
+            f"cap {args.max_trials} reached: {r.optimal_pairs} of {r.pairs} pairs optimal")
+        print(f"{r.method:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s")
+    csv_path, png_path = write_outputs(args.out, rows, args.max_trials)
+    print(f"wrote {csv_path} and {png_path}")
     return 0
 
 
+def _block_list(text: str) -> list[int]:
+    out = []
+    for part in text.split(","):
+        try:
+            n = int(part)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"expected a comma list of block counts, got {text!r}") from None
+        if not 2 <= n <= 5:
+            raise argparse.ArgumentTypeError(f"block counts must be 2..5, got {n}")
+        out.append(n)
+    return list(dict.fromkeys(out))
+
+
 def register(sub: argparse._SubParsersAction) -> None:
-    """Add ``experiment``, ``train``, ``show``, ``prune`` and ``bench`` to the subparsers."""
+    """Add ``experiment``, ``train``, ``show``, ``prune``, ``scaling`` and ``bench`` to the subparsers."""
     from csql_sim.learners import METHODS
 
     p = sub.add_parser("experiment", help="Figure 7: test-task curves of the learners over cycles")
     p.add_argument("--methods", type=_methods, default=list(METHODS), help=f"comma list (default {','.join(METHODS)})")
     p.add_argument("--cycles", type=positive_int, default=50, help="cycles per method (default 50)")
-    p.add_argument("--trials", type=non_negative_int, default=2500, help="trials per cycle (default 2500)")
+    p.add_argument("--trials", type=non_negative_int, default=None,
+                   help="trials per cycle (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=0, help="root seed (default 0)")
     p.add_argument("--workers", type=positive_int, default=None, help="processes (default: all cores)")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
+    p.add_argument("--blocks", type=blocks_arg, default=3,
+                   help="number of blocks (default 3); for n != 3 the test task is a pair of maximal optimal length")
     p.add_argument("--params", help="YAML parameter overrides (flat, or keyed by method)")
     p.add_argument("--out", required=True, help="folder for figure7.csv and figure7.png")
     add_quiet(p)
@@ -140,11 +185,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser("train", help="train one agent and save its classifier list")
     p.add_argument("--method", choices=METHODS, default="cs-ql", help="learner (default cs-ql)")
-    p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
+    p.add_argument("--trials", type=non_negative_int, default=None,
+                   help="training trials (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
-    p.add_argument("--params", help="YAML parameter overrides")
-    p.add_argument("--out", required=True, help="rule file to write (YAML)")
+    p.add_argument("--params", help="YAML parameter overrides (on top of the defaults for n)")
+    p.add_argument("--engine", choices=("fast", "reference"), default=None,
+                   help="CS-QL engine: fast (default for cs-ql up to 5 blocks) or reference; the same rule file")
+    p.add_argument("--out", required=True, help="rule file to write: *.npz (compact) or YAML")
     add_quiet(p)
     p.set_defaults(func=cmd_train)
 
@@ -160,7 +208,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", required=True, help="rule file to write")
     p.set_defaults(func=cmd_prune)
 
-    p = sub.add_parser("bench", help="time CS-QL against a plain dict-based Q-learner on the same trials")
+    p = sub.add_parser("scaling", help="trials until every pair is planned optimally, per n and method")
+    p.add_argument("--blocks", type=_block_list, default=[3, 4, 5], help="comma list of n, 2..5 (default 3,4,5)")
+    p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
+    p.add_argument("--max-trials", type=positive_int, default=20_000, help="cap per (n, method) (default 20000)")
+    p.add_argument("--out", required=True, help="folder for scaling.csv and scaling.png")
+    add_quiet(p)
+    p.set_defaults(func=cmd_scaling)
+
+    p = sub.add_parser("bench", help="time both CS-QL engines and a plain dict-based Q-learner on the same trials")
     p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--repeats", type=positive_int, default=15, help="best of this many runs (default 15)")

@@ -1,4 +1,4 @@
-"""Benchmark: CS-QL training against a plain dict-based tabular Q-learner, same trials.
+"""Benchmark: the two CS-QL engines against a plain dict-based tabular Q-learner, same trials.
 
 The plain learner is what one would write without a classifier system: a dict from
 (state, goal) to a dict of legal action -> Q, the world's integer transition table, the
@@ -60,34 +60,73 @@ def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -
 
 
 @dataclass(frozen=True)
+class EngineTiming:
+    """One learner's steps and best CPU time over the repeats."""
+
+    name: str
+    steps: int
+    seconds: float
+
+    @property
+    def rate(self) -> float:
+        """Steps per CPU second."""
+        return self.steps / self.seconds if self.seconds > 0 else float("inf")
+
+
+@dataclass(frozen=True)
 class BenchResult:
-    """Steps and best wall time of each learner over the repeats."""
+    """The three learners on the same trials, and whether the two CS-QL engines agree."""
 
     trials: int
-    csql_steps: int
-    csql_seconds: float
-    plain_steps: int
-    plain_seconds: float
+    reference: EngineTiming
+    fast: EngineTiming
+    plain: EngineTiming
+    identical: bool
 
     @property
     def ratio(self) -> float:
-        """CS-QL steps/s divided by the plain learner's steps/s (>= 1: CS-QL is faster)."""
-        return (self.csql_steps / self.csql_seconds) / (self.plain_steps / self.plain_seconds)
+        """Reference CS-QL steps/s over the plain learner's (>= 1: the classifier system is faster)."""
+        return self.reference.rate / self.plain.rate
+
+    @property
+    def fast_ratio(self) -> float:
+        """Fast CS-QL steps/s over the plain learner's."""
+        return self.fast.rate / self.plain.rate
+
+
+def _best(name: str, job, repeats: int) -> tuple[EngineTiming, object]:
+    best, steps, out = float("inf"), 0, None
+    for _ in range(repeats):
+        t0 = time.process_time()
+        out, steps = job()
+        best = min(best, time.process_time() - t0)
+    return EngineTiming(name, steps, best), out
 
 
 def bench(trials: int = 2500, seed: int = 0, repeats: int = 5) -> BenchResult:
-    """Time CS-QL and the plain learner on the same trials; the best of ``repeats`` each."""
-    from csql_sim.learners import make_learner
+    """Time the reference and the fast CS-QL engine and the plain learner on the same trials.
 
-    best_c = best_p = float("inf")
-    steps_c = steps_p = 0
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        learner = make_learner("cs-ql", 3, seed=seed)
-        run_training(learner, trials)
-        best_c = min(best_c, time.perf_counter() - t0)
-        steps_c = learner.t
-        t0 = time.perf_counter()
-        steps_p = plain_q_learning(trials, seed)
-        best_p = min(best_p, time.perf_counter() - t0)
-    return BenchResult(trials, steps_c, best_c, steps_p, best_p)
+    Times are CPU seconds of this process (``time.process_time``), the best of
+    ``repeats``, so other processes on a shared machine disturb them less. The fast
+    engine is compiled (or loaded from numba's cache) before timing. The trajectories
+    are identical when both engines write the same rule file.
+    """
+    from csql_sim.learners import FastCSQL, make_learner
+    from csql_sim.rulebase import dumps
+
+    def run(engine: str):
+        def job():
+            learner = make_learner("cs-ql", 3, seed=seed, engine=engine)
+            if isinstance(learner, FastCSQL):
+                learner.run(trials)
+            else:
+                run_training(learner, trials)
+            return learner, learner.t
+        return job
+
+    run("fast")()  # compile
+    ref, ref_learner = _best("reference", run("reference"), repeats)
+    fast, fast_learner = _best("fast", run("fast"), repeats)
+    plain, _ = _best("plain", lambda: (None, plain_q_learning(trials, seed)), repeats)
+    identical = dumps(ref_learner.rulebase()) == dumps(fast_learner.rulebase())
+    return BenchResult(trials, ref, fast, plain, identical)

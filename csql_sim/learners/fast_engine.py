@@ -31,8 +31,7 @@ from csql_sim.learners.trial import TEST_EVERY, Curve
 from csql_sim.message import decode_code, format_action_message, format_state_message, goal_code, layout
 from csql_sim.q_classifier import QClassifier
 from csql_sim.r_classifier import r_classifiers
-from csql_sim.rulebase import RuleBase, is_npz
-from csql_sim.rulebase import save as save_rulebase
+from csql_sim.rulebase import RuleBase, dumps, is_npz
 from csql_sim.rulebase_npz import arrays_to_bytes
 from csql_sim.task import test_task
 from csql_sim.world import BlocksWorld
@@ -252,11 +251,15 @@ class FastCSQL:
         """The numbers of R- and Q-classifiers."""
         return len(r_classifiers(self.n)), int(self.ctr[fk.CLS])
 
-    def save(self, path, meta: dict) -> Path:
-        """Write the rule file; ``*.npz`` straight from the arrays, YAML via :meth:`rulebase`."""
+    def file_bytes(self, path, meta: dict) -> str | bytes:
+        """The rule file's content for ``path``: npz straight from the arrays, YAML via :meth:`rulebase`."""
         if not is_npz(path):
-            return save_rulebase(path, self.rulebase(meta))
-        return write_atomic(path, arrays_to_bytes(self.n, meta, self.rule_arrays()))
+            return dumps(self.rulebase(meta))
+        return arrays_to_bytes(self.n, meta, self.rule_arrays())
+
+    def save(self, path, meta: dict) -> Path:
+        """Write the rule file atomically (npz or YAML by suffix)."""
+        return write_atomic(path, self.file_bytes(path, meta))
 
     def rulebase(self, meta: dict | None = None) -> RuleBase:
         """The whole classifier list (R, then Q in creation order), as the reference writes it."""
