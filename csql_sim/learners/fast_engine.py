@@ -24,7 +24,6 @@ import numpy as np
 
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_atomic
-from csql_sim.learners import fast_kernels as fk
 from csql_sim.learners.learner import BATCH
 from csql_sim.learners.params import CSQLParams
 from csql_sim.learners.trial import TEST_EVERY, Curve
@@ -37,6 +36,17 @@ from csql_sim.task import test_task
 from csql_sim.world import BlocksWorld
 from csql_sim.world_model import WorldModel
 
+
+class _Kernels:
+    """The compiled kernels, imported on first use: importing numba costs most of a second."""
+
+    def __getattr__(self, name: str):
+        from csql_sim.learners import fast_kernels
+
+        return getattr(fast_kernels, name)
+
+
+fk = _Kernels()
 MAX_FAST_BLOCKS = 5
 COMPENSATED_SUM = sys.version_info >= (3, 12)
 """Python 3.12 made ``sum()`` of floats compensated; the kernels follow the running Python."""
