@@ -144,6 +144,8 @@ def _value(meta: dict) -> str:
 
 def _lookup(messages: np.ndarray, start: int, end: int, table: dict[bytes, int]) -> np.ndarray:
     """Index of each message slice in ``table`` (-1 when absent), looked up once per distinct slice."""
+    if len(messages) == 0:
+        return np.zeros(0, np.int64)
     part = messages.view("S1").reshape(len(messages), -1)[:, start:end].copy().view(f"S{end - start}").ravel()
     uniq, inverse = np.unique(part, return_inverse=True)
     return np.array([table.get(u, NONE) for u in uniq.tolist()], np.int64)[inverse.ravel()]
@@ -151,6 +153,8 @@ def _lookup(messages: np.ndarray, start: int, end: int, table: dict[bytes, int])
 
 def _base36(messages: np.ndarray, start: int, end: int) -> np.ndarray:
     """The base-36 number in columns ``start:end`` of each message (huge when not a number)."""
+    if len(messages) == 0:
+        return np.zeros(0, np.int64)
     chars = messages.view("u1").reshape(len(messages), -1)[:, start:end]
     digit = np.full(256, 10**9, np.int64)
     for i, ch in enumerate(DIGITS):

@@ -176,7 +176,7 @@ class CSQLParams(QLearningParams):
             needs about 20 at n = 5). Range (0, 1]; default 1.
         sweep_greedy_tail: greedy-only passes after the sweep's passes: they leave only
             each pair's greedy classifier recently active, so pruning by strength keeps
-            exactly one per (state, goal). Range >= 0 (an integer); default 0 (3 for n > 3).
+            exactly one per (state, goal). Range >= 0 (an integer); default 0. It is 3 for n > 3.
 
     """
 
