@@ -8,7 +8,7 @@ instead of classifier objects, and its loops are compiled with numba.
 
 The domain knowledge is the same: the candidates of a state and their predicted
 successors are read off the R-classifiers (the precondition rules matched and the
-add-delete rule applied through :class:`~csql_sim.classifiers.ClassifierList`), once per
+add-delete rule applied by :class:`~csql_sim.world_model.WorldModel`), once per
 state, when the engine is built. Nothing comes from the world's own transition table.
 """
 
@@ -223,8 +223,10 @@ class FastCSQL:
         goal = self._goals(used_nodes)[node_of]
         t = self.t
         error = self.err[:used] + self.params.error_increment * (t - self.last[:used])
-        age = (t - self.node_born[:used_nodes][node_of]) / self.params.age_unit
+        born = self.node_born[:used_nodes][node_of]
+        age = (t - born) / self.params.age_unit
         return {
+            "born": born,
             "state": state,
             "goal": goal,
             "action": action,
@@ -279,18 +281,11 @@ class FastCSQL:
         messages: dict[tuple[int, int], str] = {}
         out: list = list(r_classifiers(n))
         t = self.t
-        for s, g, act, q, err, strength, age in zip(
-            a["state"].tolist(),
-            a["goal"].tolist(),
-            a["action"].tolist(),
-            a["q"].tolist(),
-            a["error"].tolist(),
-            a["strength"].tolist(),
-            a["age"].tolist(),
-            strict=True,
-        ):
+        rows = zip(a["state"].tolist(), a["goal"].tolist(), a["action"].tolist(), a["q"].tolist(),
+                   a["error"].tolist(), a["strength"].tolist(), a["age"].tolist(), a["born"].tolist(), strict=True)
+        for s, g, act, q, err, strength, age, born in rows:
             cond = messages.get((s, g))
             if cond is None:
                 cond = messages[(s, g)] = format_state_message(states[s], g)
-            out.append(QClassifier(cond, action_messages[act], q, strength, age, err, t, 0))
+            out.append(QClassifier(cond, action_messages[act], q, strength, age, err, t, born))
         return RuleBase(blocks=n, classifiers=out, meta=dict(meta or {}))

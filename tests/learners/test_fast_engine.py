@@ -32,7 +32,7 @@ def test_fast_and_reference_agree_on_n4_small():
     over = {"sweep": False}
     fast = train("cs-ql", 150, seed=2, n=4, params=over, engine="fast")
     ref = train("cs-ql", 150, seed=2, n=4, params=over, engine="reference")
-    fields = [[(c.kind, c.condition, c.action, *((c.q, c.strength, c.age, c.error) if c.kind == "Q" else ()))
+    fields = [[(c.kind, c.condition, c.action, *((c.q, c.strength, c.age, c.error, c.born) if c.kind == "Q" else ()))
                for c in rb.classifiers] for rb in (fast, ref)]
     assert fields[0] == fields[1] and len(fields[0]) > 1000
 
