@@ -10,11 +10,13 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
+from csql_sim import __version__
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_or_keep
 from csql_sim.notation import parse_config
-from csql_sim.pairs import sample_ranks, selected_pairs
+from csql_sim.pairs import check_sample_size, pair_count, selected_pairs
 from csql_sim.policy import Policy, load_policy
+from csql_sim.provenance import provenance, rules_source
 from csql_sim.workers import worker_count, worker_pool
 from csql_sim.world import all_states
 from csql_sim.world_model import WorldModel
@@ -35,9 +37,17 @@ class EpisodeSpec:
     seed: int
 
 
+@dataclass(frozen=True)
+class PerturbationEvent:
+    """A perturbation that struck an episode: during which action (0-based), and what it did."""
+
+    step: int
+    what: str
+
+
 @dataclass(frozen=True, kw_only=True)
 class EpisodeSummary:
-    """What one worker sends back about one episode (built by keyword)."""
+    """What one worker sends back about one episode (built by keyword; one ``runs`` record)."""
 
     start: str
     goal: str
@@ -48,13 +58,47 @@ class EpisodeSummary:
     length: int = 0
     optimal_length: int = 0
     sim_seconds_per_action: float = 0.0
+    sim_seconds: float = 0.0
     mismatches: int = 0
-    events: int = 0
+    perturbations: int = 0
+    events: tuple[PerturbationEvent, ...] = ()
+
+    def to_dict(self) -> dict:
+        """The episode's ``runs`` record."""
+        return {
+            "start": self.start, "goal": self.goal, "seed": self.seed, "success": self.success,
+            "reason": self.reason, "length": self.length, "optimal_length": self.optimal_length,
+            "sim_seconds": round(self.sim_seconds, 6), "mismatches": self.mismatches,
+            "perturbations": self.perturbations,
+            "events": [{"step": e.step, "what": e.what} for e in self.events],
+        }
+
+
+def plan_length_stats(runs: list[EpisodeSummary]) -> dict:
+    """Executed against optimal plan length over the successful episodes."""
+    ok = [r for r in runs if r.success]
+    if not ok:
+        return {"episodes": 0, "mean_length": None, "mean_optimal_length": None, "mean_excess": None,
+                "max_excess": None, "excess_histogram": {}}
+    excess = [r.length - r.optimal_length for r in ok]
+    return {
+        "episodes": len(ok),
+        "mean_length": float(np.mean([r.length for r in ok])),
+        "mean_optimal_length": float(np.mean([r.optimal_length for r in ok])),
+        "mean_excess": float(np.mean(excess)),
+        "max_excess": max(excess),
+        "excess_histogram": {str(k): excess.count(k) for k in sorted(set(excess))},
+    }
 
 
 @dataclass
 class EvalReport:
-    """Aggregate of an evaluation run."""
+    """Aggregate of an evaluation run.
+
+    Attributes:
+        runs: one summary per episode, in spec order.
+        config: what was run (rules file and hash, blocks, perception, ...; see :func:`evaluate`).
+    """
 
     episodes: int = 0
     successes: int = 0
@@ -63,6 +107,8 @@ class EvalReport:
     mismatches: int = 0
     perturbations: int = 0
     failures: list[dict] = field(default_factory=list)
+    runs: list[EpisodeSummary] = field(default_factory=list)
+    config: dict = field(default_factory=dict)
 
     @property
     def success_rate(self) -> float:
@@ -72,12 +118,17 @@ class EvalReport:
     def to_dict(self) -> dict:
         """The JSON document of ``--json``."""
         return {
+            "config": self.config,
             "episodes": self.episodes,
             "successes": self.successes,
             "success_rate": self.success_rate,
             "optimal": self.optimal,
             "mean_sim_seconds_per_action": self.mean_sim_seconds_per_action,
+            "perturbations": self.perturbations,
+            "mismatches": self.mismatches,
+            "plan_length": plan_length_stats(self.runs),
             "failures": self.failures,
+            "runs": [r.to_dict() for r in self.runs],
         }
 
     def text(self) -> str:
@@ -107,11 +158,11 @@ def make_specs(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: in
         seeds: episodes per pair; episode k of the pair of rank i has seed ``i * seeds + k``.
         sample_seed: seeds the sample of pairs.
     """
-    if pairs != "all":
-        sample_ranks(1, pairs)  # validates K before the states are built
     if seeds < 1:
         raise CsqlError(f"--seeds must be a positive integer, got {seeds}")
     states = all_states(n)
+    if pairs != "all":
+        check_sample_size(pairs, pair_count(len(states)))
     # every episode gets its own seed (pair rank x seeds + k), so perturbations differ across pairs
     return [EpisodeSpec(start=states[s].notation(), goal=states[g].notation(), seed=r * seeds + k)
             for r, s, g in selected_pairs(len(states), pairs, sample_seed) for k in range(seeds)]
@@ -143,10 +194,12 @@ class EpisodeRunner:
                                      world_model=self.world_model)
         except CsqlError as exc:
             return EpisodeSummary(start=spec.start, goal=spec.goal, seed=spec.seed, success=False, reason=str(exc))
+        events = tuple(PerturbationEvent(k, e) for k, e in zip(r.event_steps, r.events, strict=True)
+                       if "skipped" not in e)
         return EpisodeSummary(start=spec.start, goal=spec.goal, seed=spec.seed, success=r.success, reason=r.reason,
                               optimal=r.optimal, length=r.length, optimal_length=r.optimal_length,
-                              sim_seconds_per_action=r.sim_seconds_per_action, mismatches=len(r.mismatches),
-                              events=sum(1 for e in r.events if "skipped" not in e))
+                              sim_seconds_per_action=r.sim_seconds_per_action, sim_seconds=r.sim_seconds,
+                              mismatches=len(r.mismatches), perturbations=len(events), events=events)
 
 
 _WORKER_RUNNER: EpisodeRunner | None = None  # the one runner of an evaluation worker process
@@ -165,7 +218,7 @@ def _run_in_worker(spec: EpisodeSpec) -> EpisodeSummary:
 
 def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool = False,
              workers: int | None = None, rules: str | None = None, perception: str = "pose",
-             progress: bool = True) -> EvalReport:
+             progress: bool = True, seed: int = 0) -> EvalReport:
     """Run physical episodes for every start/goal pair in parallel processes and summarise them.
 
     Args:
@@ -178,9 +231,10 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         rules: a rule-base file; the BFS planner when None.
         perception: ``"pose"`` or ``"camera"``.
         progress: show a tqdm bar on stderr.
+        seed: seeds the sample of pairs (``pairs`` = K).
     """
-    policy = load_policy(rules, n)  # fail fast on a bad file, before starting workers
-    specs = make_specs(n, pairs, seeds)
+    policy = load_policy(rules, n, progress=progress)  # fail fast on a bad file, before starting workers
+    specs = make_specs(n, pairs, seeds, sample_seed=seed)
     if workers is not None and workers < 1:
         raise CsqlError(f"--workers must be positive, got {workers}")
     workers = worker_count(workers, len(specs))
@@ -200,24 +254,30 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
                     bar.update()
     finally:
         bar.close()
-    return summarise(summaries)
+    report = summarise(summaries)
+    report.config = {
+        "rules": rules_source(rules), "blocks": n, "perception": perception, "perturb": perturb,
+        "pairs": pairs, "seeds": seeds, "seed": seed, "workers": workers, "version": __version__,
+    }
+    return report
 
 
 def summarise(summaries: list[EpisodeSummary]) -> EvalReport:
     """Aggregate episode summaries into a report."""
-    report = EvalReport(episodes=len(summaries))
+    report = EvalReport(episodes=len(summaries), runs=list(summaries))
     spa = [s.sim_seconds_per_action for s in summaries if s.length]
     report.mean_sim_seconds_per_action = float(np.mean(spa)) if spa else 0.0
     for s in summaries:
         report.successes += s.success
         report.optimal += s.optimal
         report.mismatches += s.mismatches
-        report.perturbations += s.events
+        report.perturbations += s.perturbations
         if not s.success:
             report.failures.append({"start": s.start, "goal": s.goal, "seed": s.seed, "reason": s.reason})
     return report
 
 
 def write_json(report: EvalReport, path: str | os.PathLike) -> Path:
-    """Write the report's JSON atomically (kept in the temporary folder if that fails)."""
-    return write_or_keep([(path, json.dumps(report.to_dict(), indent=1) + "\n")])[0]
+    """Write the report's JSON with its provenance atomically (kept in the temporary folder if that fails)."""
+    doc = {**report.to_dict(), "provenance": provenance(**report.config)}
+    return write_or_keep([(path, json.dumps(doc, indent=1) + "\n")])[0]

@@ -13,8 +13,9 @@ import io
 import os
 from collections.abc import Sequence
 from concurrent.futures import as_completed
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,8 +24,12 @@ from csql_sim.files import write_or_keep
 from csql_sim.learners import METHODS, Curve, FastCSQL, make_learner, run_training
 from csql_sim.learners.params import CommonParams, resolve_params
 from csql_sim.planner import distance
+from csql_sim.provenance import provenance
 from csql_sim.task import test_task
 from csql_sim.workers import worker_count, worker_pool
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 CSV_COLUMNS = ("method", "trial", "steps_mean", "steps_std", "value_mean", "value_std")
 
@@ -67,6 +72,35 @@ class ExperimentResult:
     trials: int
     seed: int
     optimal: int
+    n: int = 3
+    test_start: str = "CBA"
+    test_goal: str = "BAC"
+    params: dict[str, CommonParams] = field(default_factory=dict)
+    workers: int = 1
+
+    @property
+    def test_task(self) -> str:
+        """The test task as ``start -> goal`` in the configuration notation."""
+        return f"{self.test_start} -> {self.test_goal}"
+
+    def provenance(self) -> dict:
+        """Package version and every parameter in force (learner parameters with overrides applied)."""
+        return provenance(methods=[r.method for r in self.methods], cycles=self.cycles, trials=self.trials,
+                          seed=self.seed, blocks=self.n, workers=self.workers, test_task=self.test_task,
+                          learner_params=self.params)
+
+    def to_dict(self) -> dict:
+        """The JSON report: test task, per-method summary and provenance."""
+        methods = []
+        for r in self.methods:
+            mean = r.steps.mean(axis=0)
+            methods.append({"method": r.method, "initial_steps": float(mean[0]),
+                            "first_optimal_trial": r.first_optimal(self.optimal), "final_steps": float(mean[-1]),
+                            "min_steps": float(mean.min()), "final_value": float(r.values.mean(axis=0)[-1])})
+        return {"blocks": self.n, "test_task": {"start": self.test_start, "goal": self.test_goal,
+                                                "optimal_length": self.optimal},
+                "cycles": self.cycles, "trials": self.trials, "seed": self.seed, "methods": methods,
+                "provenance": self.provenance()}
 
 
 def run_cycle(method: str, trials: int, seed: np.random.SeedSequence, n: int, params: CommonParams) -> Curve:
@@ -158,7 +192,8 @@ def run_experiment(
     resolved = _resolve(methods, cycles, trials, params, n)
     seeds = np.random.SeedSequence(seed).spawn(cycles)
     jobs = [CycleJob(m, trials, seeds[c], n, resolved[m]) for m in methods for c in range(cycles)]
-    curves = _run_cycles(jobs, worker_count(workers, len(jobs)), progress)
+    workers = worker_count(workers, len(jobs))
+    curves = _run_cycles(jobs, workers, progress)
     results = []
     for k, m in enumerate(methods):
         runs = curves[k * cycles : (k + 1) * cycles]
@@ -166,7 +201,8 @@ def run_experiment(
                                     steps=np.array([r.steps for r in runs], dtype=float),
                                     values=np.array([r.values for r in runs], dtype=float)))
     task = test_task(n)
-    return ExperimentResult(tuple(results), cycles, trials, seed, distance(task.start, task.goal))
+    return ExperimentResult(tuple(results), cycles, trials, seed, distance(task.start, task.goal), n,
+                            task.start.notation(), task.goal.notation(), resolved, workers)
 
 
 def csv_text(result: ExperimentResult) -> str:
@@ -188,34 +224,49 @@ def write_csv(path: str | os.PathLike, result: ExperimentResult) -> Path:
     return write_or_keep([(path, csv_text(result))])[0]
 
 
-def png_bytes(result: ExperimentResult) -> bytes:
-    """Figure 7's two panels (steps; value per step) as PNG bytes."""
-    import matplotlib
+def figure7(result: ExperimentResult) -> Figure:
+    """Figure 7's two panels (steps; value per step) as a matplotlib figure.
 
-    matplotlib.use("Agg")
-    from matplotlib.figure import Figure
+    Each method's mean over cycles is a line with a band of one standard deviation
+    (the CSV's std column; in panel (a) cut off at the optimum, which no run can beat);
+    the optimum of the test task is a labelled line.
+    """
+    from csql_sim.plots import new_figure
 
-    fig = Figure(figsize=(11, 4.2))
+    fig = new_figure(11, 4.4)
     ax_steps, ax_value = fig.subplots(1, 2)
     for r in result.methods:
-        ax_steps.plot(r.trials, r.steps.mean(axis=0), label=r.method.upper())
-        ax_value.plot(r.trials, r.values.mean(axis=0), label=r.method.upper())
-    ax_steps.axhline(result.optimal, color="grey", lw=0.8, ls=":")
+        for ax, data in ((ax_steps, r.steps), (ax_value, r.values)):
+            mean, std = data.mean(axis=0), data.std(axis=0)
+            (line,) = ax.plot(r.trials, mean, label=r.method.upper())
+            # no run can take fewer steps than the optimum: the band stops there
+            low = np.maximum(mean - std, result.optimal) if ax is ax_steps else mean - std
+            ax.fill_between(r.trials, low, mean + std, color=line.get_color(), alpha=0.15, lw=0)
+    ax_steps.axhline(result.optimal, color="black", lw=0.9, ls="--",
+                     label=f"optimum: {result.optimal} steps")
+    ax_steps.annotate(f"optimum {result.optimal}", (result.trials, result.optimal), textcoords="offset points",
+                      xytext=(0, -11), ha="right", fontsize=8)
     ax_steps.set_yscale("log")
     ax_steps.set_xlabel("trial")
     ax_steps.set_ylabel("steps in the test task")
-    ax_steps.set_title("(a) steps to perform the test task")
+    ax_steps.set_title(f"(a) steps to perform the test task {result.test_task}")
     ax_value.set_xlabel("trial")
     ax_value.set_ylabel("average Q-value / strength per step")
     ax_value.set_title("(b) average value per step in the test task")
     for ax in (ax_steps, ax_value):
-        ax.legend()
+        ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
-    fig.suptitle(f"Figure 7: mean over {result.cycles} cycles of {result.trials} trials")
+    fig.suptitle(f"Figure 7: mean and one standard deviation over {result.cycles} cycles of {result.trials} "
+                 f"trials ({result.n} blocks)")
     fig.tight_layout()
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    return buffer.getvalue()
+    return fig
+
+
+def png_bytes(result: ExperimentResult) -> bytes:
+    """Figure 7 (:func:`figure7`) as PNG bytes."""
+    from csql_sim.plots import png_bytes as figure_bytes
+
+    return figure_bytes(figure7(result))
 
 
 def write_png(path: str | os.PathLike, result: ExperimentResult) -> Path:
@@ -223,20 +274,29 @@ def write_png(path: str | os.PathLike, result: ExperimentResult) -> Path:
     return write_or_keep([(path, png_bytes(result))])[0]
 
 
+def provenance_json(result: ExperimentResult) -> str:
+    """The CSV's sidecar JSON: the report of :meth:`ExperimentResult.to_dict`."""
+    import json
+
+    return json.dumps(result.to_dict(), indent=1) + "\n"
+
+
 def write_figure7(folder: str | os.PathLike, result: ExperimentResult) -> list[Path]:
-    """Write ``figure7.csv`` and ``figure7.png`` into ``folder``.
+    """Write ``figure7.csv``, its provenance ``figure7.json`` and ``figure7.png`` into ``folder``.
 
     Raises:
-        OutputError: if either cannot be written; every unwritten file is kept in the
+        OutputError: if any cannot be written; every unwritten file is kept in the
             temporary folder and the message says where.
     """
     return write_or_keep([(os.path.join(folder, "figure7.csv"), csv_text(result)),
+                          (os.path.join(folder, "figure7.json"), provenance_json(result)),
                           (os.path.join(folder, "figure7.png"), png_bytes(result))])
 
 
 def summary_lines(result: ExperimentResult) -> list[str]:
     """Per method: initial test-task steps, first trial at the optimum, final steps."""
-    lines = [f"test task optimum: {result.optimal} steps; {result.cycles} cycles x {result.trials} trials"]
+    lines = [f"test task {result.test_task} ({result.n} blocks), optimum: {result.optimal} steps; "
+             f"{result.cycles} cycles x {result.trials} trials"]
     for r in result.methods:
         mean = r.steps.mean(axis=0)
         first = r.first_optimal(result.optimal)

@@ -35,16 +35,23 @@ def rank(start: int, goal: int, states: int) -> int:
     return start * (states - 1) + goal - (goal > start)
 
 
+def check_sample_size(k: int, total: int) -> None:
+    """``--pairs K``: a positive integer, at most the ``total`` number of pairs (the error names it)."""
+    if not isinstance(k, int) or isinstance(k, bool) or k < 1:
+        raise CsqlError(f"--pairs must be 'all' or a positive integer, got {k!r}")
+    if k > total:
+        raise CsqlError(f"--pairs {k} is more than the {total} start/goal pairs")
+
+
 def sample_ranks(states: int, k: int, seed: int = 0) -> list[int]:
     """``k`` distinct pair ranks drawn without replacement by a seeded generator, sorted.
 
     ``Generator.choice`` without replacement draws small samples by Floyd's method
-    (O(k)); the pairs themselves are never listed. ``k`` at least the number of pairs
-    gives every rank.
+    (O(k)); the pairs themselves are never listed. ``k`` equal to the number of pairs
+    gives every rank; more is an error naming the number.
     """
     total = pair_count(states)
-    if not isinstance(k, int) or isinstance(k, bool) or k < 1:
-        raise CsqlError(f"--pairs must be 'all' or a positive integer, got {k!r}")
+    check_sample_size(k, total)
     if k >= total:
         return list(range(total))
     return sorted(int(i) for i in np.random.default_rng(seed).choice(total, k, replace=False))

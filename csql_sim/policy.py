@@ -148,22 +148,40 @@ class PairResult:
         return self.length == self.optimal_length
 
 
-def check_all_pairs(policy: Policy, n: int, world_model: WorldModel | None = None) -> list[PairResult]:
-    """Roll ``policy`` out on one world model for every ordered pair of distinct states (462 for n=3)."""
+def check_all_pairs(policy: Policy, n: int, world_model: WorldModel | None = None,
+                    progress: bool = False) -> list[PairResult]:
+    """Roll ``policy`` out on one world model for every ordered pair of distinct states (462 for n=3).
+
+    Args:
+        policy: the policy to check.
+        n: number of blocks.
+        world_model: the model the rollouts run on (default: the built-in R-classifiers).
+        progress: show a tqdm bar on stderr when it takes more than a second (n=5 has
+            749,090 pairs).
+    """
+    from tqdm import tqdm
+
     model = world_model or WorldModel.for_blocks(n)
     states = BlocksWorld.of(n).states
-    return [
-        PairResult(s, g, rollout(policy, s, g, world_model=model), distance(s, g))
-        for g in states for s in states if s != g
-    ]
+    results = []
+    with tqdm(total=len(states) * (len(states) - 1), desc="pairs", unit="pair", disable=not progress,
+              leave=False, mininterval=0.5, delay=1.0) as bar:
+        for g in states:
+            for s in states:
+                if s != g:
+                    results.append(PairResult(s, g, rollout(policy, s, g, world_model=model), distance(s, g)))
+            bar.update(len(states) - 1)
+    return results
 
 
-def load_policy(path: str | os.PathLike | None, n: int | None = None) -> Policy:
+def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: bool = False) -> Policy:
     """The greedy policy of a rule base from ``csql-sim train``, or BFS when ``path`` is None.
 
     Args:
         path: a rule-base file, or None for the BFS planner.
-        n: the number of blocks the caller expects (checked against the rule base).
+        n: the number of blocks the caller expects (checked against the rule file's
+            header before its classifiers are parsed).
+        progress: show a bar while a large rule file is parsed.
 
     Raises:
         CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
@@ -173,7 +191,7 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None) -> Policy:
 
     if path is None:
         return BfsPolicy()
-    table = GreedyTable.load(path)  # QPolicy's answers as a table, from YAML or npz
+    table = GreedyTable.load(path, blocks=n, progress=progress)  # QPolicy's answers as a table, YAML or npz
     if n is not None and table.n != n:
         raise CsqlError(f"rule base {os.fspath(path)!r} is for {table.n} blocks, not {n}")
     return table

@@ -74,8 +74,15 @@ class GreedyTable:
         return cls.from_arrays(rulebase.blocks, a["kind"], a["condition"], a["action"], a[_value(rulebase.meta)])
 
     @classmethod
-    def load(cls, path: str | os.PathLike) -> GreedyTable:
-        """Read a rule file (npz arrays directly, YAML through the rule-base loader)."""
+    def load(cls, path: str | os.PathLike, blocks: int | None = None, progress: bool = False) -> GreedyTable:
+        """Read a rule file (npz arrays directly, YAML through the rule-base loader).
+
+        Args:
+            path: the rule file.
+            blocks: the number of blocks expected; a YAML file for another number is
+                refused from its header, before its classifiers are parsed.
+            progress: a bar while a large YAML file is parsed.
+        """
         from csql_sim.rulebase import RuleBaseError, is_npz, load
 
         if is_npz(path):
@@ -84,7 +91,7 @@ class GreedyTable:
             header, a = read_arrays(path, os.fspath(path), RuleBaseError)
             value = _value(header.get("meta", {}))
             return cls.from_arrays(header["blocks"], a["kind"], a["condition"], a["action"], a[value])
-        return cls.from_rulebase(load(path))
+        return cls.from_rulebase(load(path, blocks=blocks, progress=progress))
 
     def action_index(self, state: int, goal: int) -> int:
         """The greedy action index in state ``state`` for ``goal``, or -1."""

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -104,7 +105,21 @@ def file_bytes(path: str | os.PathLike, rulebase: RuleBase) -> str | bytes:
 
 
 def save(path: str | os.PathLike, rulebase: RuleBase) -> Path:
-    """Write ``rulebase`` to ``path`` atomically (temporary file, then rename); npz by suffix."""
+    """Write ``rulebase`` to the file ``path`` atomically (temporary file, then rename); npz by suffix.
+
+    Args:
+        path: the rule file to write (``*.npz``: the compact binary form).
+        rulebase: the classifier list and its provenance.
+
+    Returns:
+        The path written.
+
+    Raises:
+        TypeError: if the arguments are swapped or ``rulebase`` is not a RuleBase.
+    """
+    if not isinstance(rulebase, RuleBase):
+        hint = " (the arguments are swapped: save(path, rulebase))" if isinstance(path, RuleBase) else ""
+        raise TypeError(f"save() needs a RuleBase as 'rulebase', got {type(rulebase).__name__}{hint}")
     if is_npz(path):
         from csql_sim import rulebase_npz
 
@@ -112,25 +127,53 @@ def save(path: str | os.PathLike, rulebase: RuleBase) -> Path:
     return write_atomic(path, dumps(rulebase))
 
 
-def load(path: str | os.PathLike) -> RuleBase:
-    """Read a rule base (``*.npz`` or YAML); any problem is a one-line RuleBaseError naming the file."""
+def load(path: str | os.PathLike, blocks: int | None = None, progress: bool = False) -> RuleBase:
+    """Read a rule base (``*.npz`` or YAML); any problem is a one-line RuleBaseError naming the file.
+
+    Args:
+        path: the rule file.
+        blocks: the number of blocks the caller expects; a YAML file for another number is
+            refused after reading its header, before the classifiers are parsed.
+        progress: show a tqdm bar on stderr while the classifiers are parsed (when that
+            takes more than a second).
+    """
     if is_npz(path):
         from csql_sim import rulebase_npz
 
-        return rulebase_npz.load(path, RuleBaseError)
+        rulebase = rulebase_npz.load(path, RuleBaseError)
+        if blocks is not None and rulebase.blocks != blocks:
+            raise RuleBaseError(f"rule file {os.fspath(path)!r} is for {rulebase.blocks} blocks, not {blocks}")
+        return rulebase
     try:
         text = read_text_file(path, MAX_FILE_BYTES, "rule file")
     except InputFileError as exc:
         raise RuleBaseError(str(exc)) from None
-    return loads(text, source=os.fspath(path))
+    return loads(text, source=os.fspath(path), blocks=blocks, progress=progress)
 
 
-def loads(text: str, source: str = "<string>") -> RuleBase:
-    """Parse rule-base YAML text (see the module docstring)."""
+CHUNK_ROWS = 2000  # classifiers parsed per YAML call (one progress-bar step)
+
+
+def _yaml(text: str, source: str, first_line: int = 0) -> object:
+    """:func:`csql_sim.files.load_yaml` of a part of a file that starts at ``first_line`` (0-based)."""
     try:
-        doc = load_yaml(text, source)
+        return load_yaml(text, source)
     except InputFileError as exc:
-        raise RuleBaseError(str(exc)) from None
+        message = re.sub(r" at line (\d+)", lambda m: f" at line {int(m.group(1)) + first_line}", str(exc))
+        raise RuleBaseError(message) from None
+
+
+def _split_header(text: str) -> tuple[str, list[str], int] | None:
+    """The header text, the classifier list's lines and its first line number; None if not block style."""
+    lines = text.splitlines()
+    for k, line in enumerate(lines):
+        if line.rstrip() == "classifiers:":
+            return "\n".join(lines[:k]), lines[k + 1:], k + 1
+    return None
+
+
+def _header(doc: object, source: str, blocks: int | None) -> int:
+    """Check the format, version and number of blocks of a parsed header; returns n."""
     if not isinstance(doc, dict) or doc.get("format") != FORMAT:
         raise RuleBaseError(f"{source}: not a csql-sim rule base (missing 'format: {FORMAT}')")
     if doc.get("version") == 1:
@@ -141,7 +184,45 @@ def loads(text: str, source: str = "<string>") -> RuleBase:
     n = doc.get("blocks")
     if isinstance(n, bool) or not isinstance(n, int) or not MIN_BLOCKS <= n <= MAX_BLOCKS:
         raise RuleBaseError(f"{source}: 'blocks' must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {n!r}")
-    rows = doc.get("classifiers")
+    if blocks is not None and n != blocks:
+        raise RuleBaseError(f"rule file {source!r} is for {n} blocks, not {blocks}")
+    return n
+
+
+def _rows(lines: list[str], first_line: int, source: str, progress: bool) -> list:
+    """Parse a block-style YAML list in chunks of items (a progress-bar step each)."""
+    from tqdm import tqdm
+
+    starts = [k for k, line in enumerate(lines) if line.startswith("- ")] + [len(lines)]
+    rows: list = []
+    with tqdm(total=len(starts) - 1, desc="loading rules", unit="rule", disable=not progress, leave=False,
+              delay=1.0) as bar:
+        for a in range(0, len(starts) - 1, CHUNK_ROWS):
+            b = min(a + CHUNK_ROWS, len(starts) - 1)
+            chunk = _yaml("\n".join(lines[starts[a]:starts[b]]), source, first_line + starts[a])
+            if chunk is not None and not isinstance(chunk, list):
+                raise RuleBaseError(f"{source}: 'classifiers' must be a list")
+            rows.extend(chunk or [])
+            bar.update(b - a)
+    return rows
+
+
+def loads(text: str, source: str = "<string>", blocks: int | None = None, progress: bool = False) -> RuleBase:
+    """Parse rule-base YAML text (see the module docstring and :func:`load`).
+
+    The header (everything before ``classifiers:``) is parsed and checked first, so a
+    file for another number of blocks is refused before its classifiers are read.
+    """
+    split = _split_header(text)
+    if split is None:
+        doc = _yaml(text, source)
+        n = _header(doc, source, blocks)
+        rows = doc.get("classifiers")
+    else:
+        head, lines, first_line = split
+        doc = _yaml(head, source)
+        n = _header(doc, source, blocks)
+        rows = _rows(lines, first_line, source, progress)
     if not isinstance(rows, list):
         raise RuleBaseError(f"{source}: 'classifiers' must be a list")
     count = doc.get("count")

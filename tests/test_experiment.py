@@ -37,3 +37,21 @@ def test_cs_ql_learns_the_test_task_and_summary_names_it():
     first = method.first_optimal(8)
     assert first is not None and 0 < first <= 1000
     assert f"trial {first:>5}" in summary_lines(result)[1]
+    assert summary_lines(result)[0].startswith("test task CBA -> BAC (3 blocks), optimum: 8 steps")
+
+
+def test_figure7_png_has_std_bands_and_a_labelled_optimum(tmp_path):
+    from csql_sim.experiment import figure7, write_png
+
+    result = run_experiment(["cs-ql", "lt-ql"], cycles=3, trials=100, seed=0, workers=1)
+    assert write_png(tmp_path / "f.png", result).read_bytes()[:4] == b"\x89PNG"
+    steps_ax, value_ax = figure7(result).axes
+    for ax, data in ((steps_ax, "steps"), (value_ax, "values")):
+        bands = ax.collections
+        assert len(bands) == 2  # one band per method
+        for band, method in zip(bands, result.methods, strict=True):
+            top = band.get_paths()[0].vertices[:, 1].max()
+            values = getattr(method, data)
+            assert abs(top - (values.mean(axis=0) + values.std(axis=0)).max()) < 1e-9
+    labels = [line.get_label() for line in steps_ax.lines]
+    assert "optimum: 8 steps" in labels

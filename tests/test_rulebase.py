@@ -144,3 +144,35 @@ def test_a_huge_file_is_refused_before_reading(tmp_path):
     with pytest.raises(RuleBaseError, match="above the 16,777,216-byte limit"):
         load(path)
     assert time.perf_counter() - began < 1.0
+
+
+def test_wrong_block_count_refused_from_the_header(tmp_path):
+    rb = RuleBase(blocks=4, classifiers=list(r_classifiers(4)), meta={"method": "cs-ql"})
+    path = save(tmp_path / "four.yaml", rb)
+    # corrupt the classifier list: only a header-first check can still name the block count
+    path.write_text(path.read_text() + "- {kind: R, condition: [unclosed\n")
+    with pytest.raises(RuleBaseError, match="is for 4 blocks, not 3"):
+        load(path, blocks=3)
+    with pytest.raises(RuleBaseError, match="not valid YAML at line"):
+        load(path)
+
+
+def test_chunked_parse_equals_one_parse(tmp_path, monkeypatch):
+    import yaml
+
+    import csql_sim.rulebase as rulebase
+
+    monkeypatch.setattr(rulebase, "CHUNK_ROWS", 7)
+    path = save(tmp_path / "rules.yaml", _sample())
+    back = load(path, blocks=3, progress=True)
+    rows = yaml.safe_load(path.read_text())["classifiers"]
+    assert [(c.kind, c.condition, c.action) for c in back.classifiers] == [
+        (r["kind"], r["condition"], r["action"]) for r in rows]
+    assert len(back.classifiers) == 37
+
+
+def test_save_names_its_arguments(tmp_path):
+    rb = _sample()
+    assert load(save(path=tmp_path / "k.yaml", rulebase=rb)).blocks == 3
+    with pytest.raises(TypeError, match="swapped"):
+        save(rb, tmp_path / "x.yaml")

@@ -13,6 +13,7 @@ import sys
 
 from csql_sim import __version__
 from csql_sim.cli import core, demo, learn, sim
+from csql_sim.cli.output import check_json_output
 from csql_sim.errors import CsqlError
 
 SUBCOMMAND_MODULES = (core, learn, sim, demo)
@@ -43,6 +44,7 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script; returns the exit status."""
     args = build_parser().parse_args(argv)
     try:
+        check_json_output(args)
         return int(args.func(args) or 0)
     except CsqlError as exc:
         print(f"csql-sim: error: {' '.join(str(exc).split())}", file=sys.stderr)

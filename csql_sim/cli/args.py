@@ -64,3 +64,23 @@ def warn_workers(workers: int | None) -> None:
     if workers is not None and workers > cores:
         print(f"csql-sim: warning: --workers {workers} is more than the {cores} cores; "
               f"extra processes only share them", file=sys.stderr)
+
+
+def add_json(parser: argparse.ArgumentParser) -> None:
+    """``--json [FILE]``: JSON instead of text, to FILE or (without one) to stdout; sets ``args.json``.
+
+    ``args.json`` is None without the flag, ``"-"`` for stdout, or the file name.
+    """
+    parser.add_argument("--json", nargs="?", const="-", default=None, metavar="FILE",
+                        help="JSON instead of text: to FILE if given, otherwise to stdout")
+
+
+def add_workers(parser: argparse.ArgumentParser, what: str = "processes") -> None:
+    """``--workers K``; the default (None) is the number of cores capped at the number of tasks."""
+    parser.add_argument("--workers", type=positive_int, default=None,
+                        help=f"{what} (default: the number of cores, at most one per task)")
+
+
+def add_seed(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--seed S`` (a non-negative integer, default 0)."""
+    parser.add_argument("--seed", type=seed_arg, default=0, help=f"{what} (default 0)")

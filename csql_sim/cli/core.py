@@ -4,22 +4,50 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
+from collections.abc import Sequence
 
-from csql_sim.cli.args import blocks_arg, seed_arg
+from csql_sim.cli.args import add_json, add_quiet, blocks_arg, seed_arg, show_progress
+from csql_sim.cli.output import command_parameters, emit, json_stream
 from csql_sim.errors import CsqlError
-from csql_sim.message import action_code, format_action_message, format_state_message
+from csql_sim.message import (
+    action_code,
+    format_action_message,
+    format_state_message,
+    is_state_message,
+    parse_state_message,
+)
 from csql_sim.notation import parse_state_arg
+from csql_sim.planner import distance
 from csql_sim.policy import Policy, load_policy, rollout
+from csql_sim.provenance import provenance
 from csql_sim.r_classifier import r_classifiers
-from csql_sim.world import BlocksWorld, State, WorldError
+from csql_sim.world import Action, BlocksWorld, State, WorldError
 
 
-def read_task(start: str, goal: str, n: int | None) -> tuple[State, State]:
-    """Parse a start and goal configuration (or n=3 state messages) of one world."""
-    s = parse_state_arg(start, n)
+def read_task(start: str, goal: str | None, n: int | None) -> tuple[State, State]:
+    """Parse a start and goal configuration (or n=3 state messages) of one world.
+
+    A state message given as the start carries its own goal: it is used when ``goal`` is
+    None, and a ``goal`` that names another state is an error.
+    """
+    message_goal = None
+    if is_state_message(start.strip()):
+        parsed = parse_state_message(start.strip(), n)
+        s = parsed.state
+        message_goal = BlocksWorld.of(s.n).states[parsed.goal]
+    else:
+        s = parse_state_arg(start, n)
+    if goal is None:
+        if message_goal is None:
+            raise CsqlError("--goal is missing (only a state message as --start carries its own goal)")
+        return s, message_goal
     g = parse_state_arg(goal, n if n is not None else s.n)
     if s.n != g.n:
         raise WorldError(f"start {start!r} has {s.n} blocks but goal {goal!r} has {g.n}")
+    if message_goal is not None and g != message_goal:
+        raise CsqlError(f"--goal {goal!r} ({g.notation()}) contradicts the goal of the start message {start!r} "
+                        f"({message_goal.notation()})")
     return s, g
 
 
@@ -41,44 +69,35 @@ def cmd_states(args: argparse.Namespace) -> int:
         {"index": i, "notation": s.notation(), "message": format_state_message(s, i)}
         for i, s in enumerate(world.states)
     ]
-    if args.json:
-        print(json.dumps({"blocks": args.blocks, "count": len(rows), "states": rows}, indent=1))
-        return 0
-    print(f"{len(rows)} states for {args.blocks} blocks (message goal field = the state's own code)")
-    for r in rows:
-        print(f"{r['index']:>5}  {r['notation']:<14} {r['message']}")
+
+    def text() -> list[str]:
+        head = f"{len(rows)} states for {args.blocks} blocks (message goal field = the state's own code)"
+        return [head, *(f"{r['index']:>5}  {r['notation']:<14} {r['message']}" for r in rows)]
+
+    emit(args, {"blocks": args.blocks, "count": len(rows), "states": rows}, text)
     return 0
 
 
 # ------------------------------------------------------------------ rules
 def cmd_rules(args: argparse.Namespace) -> int:
     rules = r_classifiers(args.blocks)
-    if args.json:
-        print(json.dumps([{"kind": c.kind, "condition": c.condition, "action": c.action} for c in rules], indent=1))
-        return 0
-    for c in rules:
-        print(f"{c.kind} {c.condition} {c.action}")
+    rows = [{"kind": c.kind, "condition": c.condition, "action": c.action} for c in rules]
+    emit(args, {"blocks": args.blocks, "count": len(rows), "rules": rows},
+         lambda: [f"{r['kind']} {r['condition']} {r['action']}" for r in rows])
     return 0
 
 
 # ------------------------------------------------------------------ plan
-def _plan_json(start: State, goal: State, actions) -> dict:
-    n = start.n
-    return {
-        "start": start.notation(),
-        "goal": goal.notation(),
-        "plan": [
-            {"code": action_code(a, n), "name": a.name(), "message": format_action_message(a, n)} for a in actions
-        ],
-        "length": len(actions),
-    }
+def plan_steps(actions: Sequence[Action], n: int) -> list[dict]:
+    """The JSON of a plan: one ``{"code", "name", "message"}`` object per action."""
+    return [{"code": action_code(a, n), "name": a.name(), "message": format_action_message(a, n)} for a in actions]
 
 
 def _policy_for(args: argparse.Namespace) -> Policy:
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
         raise CsqlError("--planner rules needs --rules FILE")
-    return load_policy(args.rules if planner == "rules" else None, args.blocks)
+    return load_policy(args.rules if planner == "rules" else None, args.blocks, progress=show_progress(args))
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -92,47 +111,70 @@ def cmd_plan(args: argparse.Namespace) -> int:
         if args.start or args.goal:
             raise CsqlError("--pairs plans many pairs; do not give --start or --goal")
         return _plan_pairs(args, policy, n or 3)
-    if not args.start or not args.goal:
+    if not args.start:
         raise CsqlError("plan needs --start and --goal (or --pairs all|K)")
     start, goal = read_task_for_rules(args.start, args.goal, n, args.rules if args.planner != "bfs" else None)
     result = rollout(policy, start, goal)
+    doc = {"start": start.notation(), "goal": goal.notation(), "blocks": start.n,
+           "plan": plan_steps(result.actions, start.n) if result.reached else None,
+           "length": len(result.actions) if result.reached else None,
+           "optimal_length": distance(start, goal), "reason": result.reason}
     if not result.reached:
-        raise CsqlError(f"no plan from {start.notation()} to {goal.notation()}: {result.reason}")
-    if args.json:
-        print(json.dumps(_plan_json(start, goal, result.actions), indent=1))
+        emit(args, doc)
+        print(f"csql-sim: no plan from {start.notation()} to {goal.notation()}: {result.reason}", file=sys.stderr)
+        return 1
+    if start == goal:
+        emit(args, doc, f"the start {start.notation()} is the goal: 0 actions")
     else:
-        for a in result.actions:
-            print(a.name())
+        emit(args, doc, lambda: [a.name() for a in result.actions])
     return 0
 
 
 def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
-    """``plan --pairs all|K``: stream each pair's plan, count the covered and optimal ones."""
+    """``plan --pairs all|K``: stream each pair's plan, count the covered and optimal ones.
+
+    With ``--json`` the plans are streamed into one JSON object (stdout or the file):
+    ``{"blocks", "plans": [...], "pairs", "covered", "optimal", "provenance"}``, each plan
+    as :func:`pair_record` makes it.
+    """
+    from tqdm import tqdm
+
     from csql_sim.pair_check import plan_pairs
+    from csql_sim.pairs import check_sample_size, pair_count
     from csql_sim.rule_table import GreedyTable
 
     table = policy if isinstance(policy, GreedyTable) else None
     world = BlocksWorld.of(n)
-    names = [a.name() for a in world.actions]
+    total_pairs = pair_count(len(world.states))
+    if args.pairs != "all":
+        check_sample_size(args.pairs, total_pairs)
+    steps = plan_steps(world.actions, n)
     notation = [s.notation() for s in world.states]
     total = covered = optimal = 0
     bad = []
-    if args.json:
-        print('{"plans": [', end="")
-    for r in plan_pairs(n, table, args.pairs, args.seed):
-        total += 1
-        covered += r.reached
-        optimal += r.optimal
-        if not r.optimal and len(bad) < 5:
-            bad.append(r)
-        if args.json:
-            entry = {"start": notation[r.start], "goal": notation[r.goal],
-                     "length": len(r.actions) if r.reached else None, "optimal_length": r.optimal_length,
-                     "plan": [names[a] for a in r.actions] if r.reached else None}
-            print(("" if total == 1 else ",") + "\n " + json.dumps(entry), end="")
-    if args.json:
-        print(f'\n], "pairs": {total}, "covered": {covered}, "optimal": {optimal}}}')
-    else:
+    with json_stream(args) as out, tqdm(total=total_pairs if args.pairs == "all" else args.pairs, desc="pairs",
+                                        unit="pair", disable=not show_progress(args), leave=False, delay=1.0,
+                                        mininterval=0.5) as bar:
+        if out is not None:
+            out.write(f'{{"blocks": {n}, "plans": [')
+        for r in plan_pairs(n, table, args.pairs, args.seed):
+            total += 1
+            covered += r.reached
+            optimal += r.optimal
+            bar.update()
+            if not r.optimal and len(bad) < 5:
+                bad.append(r)
+            if out is not None:
+                entry = {"start": notation[r.start], "goal": notation[r.goal],
+                         "length": len(r.actions) if r.reached else None, "optimal_length": r.optimal_length,
+                         "optimal": r.optimal, "plan": [steps[a] for a in r.actions] if r.reached else None,
+                         "reason": r.reason}
+                out.write(("" if total == 1 else ",") + "\n " + json.dumps(entry))
+        if out is not None:
+            tail = {"pairs": total, "covered": covered, "optimal": optimal,
+                    "provenance": provenance(**command_parameters(args))}
+            out.write("\n], " + json.dumps(tail)[1:] + "\n")
+    if out is None:
         print(f"pairs: {total}  covered: {covered}  optimal: {optimal}")
         for r in bad:
             what = r.reason or f"length {len(r.actions)}, optimal {r.optimal_length}"
@@ -153,17 +195,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add ``states``, ``rules`` and ``plan`` to the subparsers."""
     p = sub.add_parser("states", help="list every state of the n-block world")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_json(p)
     p.set_defaults(func=cmd_states)
 
     p = sub.add_parser("rules", help="print the R-classifiers (Figure 5 for n=3)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_json(p)
     p.set_defaults(func=cmd_rules)
 
     p = sub.add_parser("plan", help="plan from a start to a goal configuration")
-    p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C), or an n=3 state message")
-    p.add_argument("--goal", help="goal configuration, e.g. BAC")
+    p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C), or a state message (with its goal)")
+    p.add_argument("--goal", help="goal configuration, e.g. BAC (default: the goal of a state message --start)")
     p.add_argument("--blocks", type=blocks_arg, help="number of blocks (default: from the configuration)")
     p.add_argument("--planner", choices=("bfs", "rules"), help="bfs (default) or rules (default with --rules)")
     p.add_argument("--rules", help="a rule base from 'csql-sim train': plan greedily from its Q-classifiers")
@@ -172,5 +214,6 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "print a summary")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the --pairs sample (default 0)")
     p.add_argument("--all", action="store_true", help="the same as --pairs all")
-    p.add_argument("--json", action="store_true", help="print JSON")
+    add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_plan)

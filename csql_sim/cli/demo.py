@@ -6,9 +6,17 @@ The README's first quick-start command runs it with its defaults.
 from __future__ import annotations
 
 import argparse
-import os
 
-from csql_sim.cli.args import add_quiet, positive_int, seed_arg, show_progress, threshold_arg, warn_workers
+from csql_sim.cli.args import (
+    add_quiet,
+    add_workers,
+    blocks_arg,
+    positive_int,
+    seed_arg,
+    show_progress,
+    threshold_arg,
+    warn_workers,
+)
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
@@ -16,6 +24,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.files import check_output_folder, write_or_keep
     from csql_sim.learners import count_q, figure6_table, prune, train
     from csql_sim.policy import QPolicy, check_all_pairs
+    from csql_sim.provenance import rules_source
     from csql_sim.rulebase import dumps
     from csql_sim.sim import check_video_options, render_episode
     from csql_sim.task import test_task
@@ -24,28 +33,30 @@ def cmd_demo(args: argparse.Namespace) -> int:
     video = out / "test_task.mp4"
     check_video_options(video, args.width, args.height, args.fps)
     warn_workers(args.workers)
-    task = test_task(3)
+    task = test_task(args.blocks)
     start, goal = task.start, task.goal
+    progress = show_progress(args)
 
-    print(f"[1/4] training CS-QL: {args.trials} trials, seed {args.seed}")
-    learned = train("cs-ql", trials=args.trials, seed=args.seed, progress=show_progress(args))
+    print(f"[1/4] training CS-QL: {args.blocks} blocks, {args.trials} trials, seed {args.seed}")
+    learned = train("cs-ql", trials=args.trials, seed=args.seed, n=args.blocks, progress=progress)
     pruned = prune(learned, args.threshold)
     write_or_keep([(out / "rules.yaml", dumps(learned)), (out / "pruned.yaml", dumps(pruned))])
     before, after = count_q(learned), count_q(pruned)
     policy = QPolicy.from_rulebase(pruned)
-    results = check_all_pairs(policy, pruned.blocks)
+    results = check_all_pairs(policy, pruned.blocks, progress=progress)
     optimal = sum(r.optimal for r in results)
     print(f"[2/4] pruning at strength {args.threshold}: {before} -> {after} Q-classifiers; "
           f"the pruned rules plan {optimal}/{len(results)} start/goal pairs optimally "
           f"(rule files: {out / 'rules.yaml'}, {out / 'pruned.yaml'})")
 
-    print(f"[3/4] the test task's Q-classifiers ({start} -> {goal}), as in Figure 6:")
+    print(f"[3/4] the test task's Q-classifiers ({start.notation()} -> {goal.notation()}), as in Figure 6:")
     print(figure6_table(pruned, start, goal))
 
     print(f"[4/4] executing the learned plan on the simulated Panda and rendering {video}")
     result, path = render_episode(start, goal, video, policy, seed=args.seed, width=args.width,
-                                  height=args.height, fps=args.fps, workers=args.workers,
-                                  progress=show_progress(args))
+                                  height=args.height, fps=args.fps, workers=args.workers, progress=progress,
+                                  provenance_extra={"rules": rules_source(out / "pruned.yaml"), "trials": args.trials,
+                                                    "threshold": args.threshold})
     print_episode(result)
     print(f"video: {path}")
     if result.success:
@@ -66,7 +77,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
     p.add_argument("--height", type=positive_int, default=480, help="frame height (default 480)")
     p.add_argument("--fps", type=positive_int, default=30, help="frames per simulated second (default 30)")
-    p.add_argument("--workers", type=positive_int, default=os.cpu_count() or 1,
-                   help="rendering processes (default: all cores)")
+    p.add_argument("--blocks", type=blocks_arg, default=3,
+                   help="number of blocks (default 3: the paper's test task CBA -> BAC; see 'experiment')")
+    add_workers(p, "rendering processes")
     add_quiet(p)
     p.set_defaults(func=cmd_demo)

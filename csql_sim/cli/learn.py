@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 from csql_sim.cli.args import (
+    add_json,
     add_quiet,
+    add_workers,
     blocks_arg,
     non_negative_int,
     positive_int,
@@ -16,6 +19,7 @@ from csql_sim.cli.args import (
     warn_workers,
 )
 from csql_sim.cli.core import read_task_for_rules
+from csql_sim.cli.output import emit, json_text
 from csql_sim.errors import CsqlError
 
 
@@ -37,7 +41,6 @@ def cmd_experiment(args: argparse.Namespace) -> int:
     from csql_sim.figure7_statements import evaluate, statement_lines
     from csql_sim.files import check_output_folder
     from csql_sim.learners import default_trials
-    from csql_sim.workers import worker_count
 
     check_output_folder(args.out)
     warn_workers(args.workers)
@@ -48,17 +51,24 @@ def cmd_experiment(args: argparse.Namespace) -> int:
         workers=args.workers, n=args.blocks, params=args.params, progress=show_progress(args),
     )
     wall = time.perf_counter() - began
-    csv_path, png_path = write_figure7(args.out, result)
-    for line in summary_lines(result):
-        print(line)
+    csv_path, sidecar, png_path = write_figure7(args.out, result)
     statements = evaluate(result) if args.blocks == 3 else []  # the paper's statements are about n = 3
-    if statements:
-        print(f"the paper's statements about Figure 7 ({sum(s.holds for s in statements)} of {len(statements)} hold):")
-        for line in statement_lines(statements):
-            print(f"  {line}")
-    workers = worker_count(args.workers, len(args.methods) * args.cycles)
-    print(f"wall time {wall:.1f} s with {workers} worker{'s' if workers > 1 else ''}")
-    print(f"wrote {csv_path} and {png_path}")
+    workers = result.workers
+    doc = {**result.to_dict(), "wall_seconds": round(wall, 3),
+           "statements": [{"name": st.name, "text": st.text, "holds": st.holds, "measured": st.measured}
+                          for st in statements],
+           "files": {"csv": str(csv_path), "provenance": str(sidecar), "png": str(png_path)}}
+
+    def text() -> list[str]:
+        lines = summary_lines(result)
+        if statements:
+            held = sum(st.holds for st in statements)
+            lines.append(f"the paper's statements about Figure 7 ({held} of {len(statements)} hold):")
+            lines.extend(f"  {line}" for line in statement_lines(statements))
+        return [*lines, f"wall time {wall:.1f} s with {workers} worker{'s' if workers > 1 else ''}",
+                f"wrote {csv_path}, {sidecar} (provenance) and {png_path}"]
+
+    emit(args, doc, text)
     return 0
 
 
@@ -73,6 +83,8 @@ def cmd_train(args: argparse.Namespace) -> int:
     learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, args.params,
                                   progress=show_progress(args), engine=args.engine)
     trained = time.perf_counter()
+    if args.params:
+        meta["provenance"]["parameters"]["params_file"] = args.params
     if isinstance(learner, FastCSQL):
         content = learner.file_bytes(args.out, meta)
         r_count, q_count = learner.counts()
@@ -94,15 +106,19 @@ def cmd_train(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ show
 def cmd_show(args: argparse.Namespace) -> int:
     from csql_sim.learners import figure6_table
+    from csql_sim.learners.report import figure6_rows
     from csql_sim.rulebase import load
 
-    rb = load(args.rules)
+    rb = load(args.rules, progress=show_progress(args))
     if (args.start is None) != (args.goal is None):
         raise CsqlError("show needs both --start and --goal, or neither")
     start = goal = None
     if args.start is not None:
         start, goal = read_task_for_rules(args.start, args.goal, rb.blocks, args.rules)
-    print(figure6_table(rb, start, goal))
+    doc = {"rules": args.rules, "blocks": rb.blocks, "start": start.notation() if start else None,
+           "goal": goal.notation() if goal else None, "classifiers": figure6_rows(rb, start, goal),
+           "meta": rb.meta}
+    emit(args, doc, lambda: figure6_table(rb, start, goal))
     return 0
 
 
@@ -113,7 +129,7 @@ def cmd_prune(args: argparse.Namespace) -> int:
     from csql_sim.rulebase import file_bytes, load
 
     check_output_file(args.out, "rule file")
-    rb = load(args.rules)
+    rb = load(args.rules, progress=show_progress(args))
     pruned = prune(rb, args.threshold)
     path = write_or_keep([(args.out, file_bytes(args.out, pruned))])[0]
     print(f"Q-classifiers: {count_q(rb)} before, {count_q(pruned)} after pruning at {args.threshold:g}; wrote {path}")
@@ -123,32 +139,60 @@ def cmd_prune(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ bench
 def cmd_bench(args: argparse.Namespace) -> int:
     from csql_sim.learners.bench import bench
+    from csql_sim.provenance import provenance
 
     r = bench(args.trials, args.seed, args.repeats)
-    print(f"{r.trials} trials (n = 3), seed {args.seed}, best of {args.repeats} in CPU time; "
-          "same tasks and uniforms for every learner")
-    for label, e in (("CS-QL reference engine", r.reference), ("CS-QL fast engine", r.fast),
-                     ("plain dict Q-learner", r.plain)):
-        print(f"  {label + ':':<24} {e.steps} steps in {e.seconds * 1000:8.1f} ms, {e.rate:>12,.0f} steps/s")
-    print(f"  trajectories of the two engines identical (same rule file): {'yes' if r.identical else 'NO'}")
-    print(f"  ratio reference / plain steps per second: {r.ratio:.2f}x")
-    print(f"  ratio fast / plain steps per second:      {r.fast_ratio:.1f}x")
+    engines = {"reference": r.reference, "fast": r.fast, "plain": r.plain}
+    doc = {"trials": r.trials, "repeats": args.repeats,
+           **{k: {"steps": e.steps, "seconds": e.seconds, "steps_per_second": e.rate} for k, e in engines.items()},
+           "identical": r.identical, "ratio": r.ratio, "fast_ratio": r.fast_ratio,
+           "provenance": provenance(trials=args.trials, seed=args.seed, repeats=args.repeats)}
+
+    def text() -> list[str]:
+        lines = [f"{r.trials} trials (n = 3), seed {args.seed}, best of {args.repeats} in CPU time; "
+                 "same tasks and uniforms for every learner"]
+        for label, e in (("CS-QL reference engine", r.reference), ("CS-QL fast engine", r.fast),
+                         ("plain dict Q-learner", r.plain)):
+            lines.append(f"  {label + ':':<24} {e.steps} steps in {e.seconds * 1000:8.1f} ms, {e.rate:>12,.0f} steps/s")
+        return [*lines,
+                f"  trajectories of the two engines identical (same rule file): {'yes' if r.identical else 'NO'}",
+                f"  ratio reference / plain steps per second: {r.ratio:.2f}x",
+                f"  ratio fast / plain steps per second:      {r.fast_ratio:.1f}x"]
+
+    emit(args, doc, text)
     return 0 if r.identical else 1
 
 
 # ------------------------------------------------------------------ scaling
 def cmd_scaling(args: argparse.Namespace) -> int:
-    from csql_sim.files import check_output_folder
+    from csql_sim.files import check_output_folder, write_or_keep
+    from csql_sim.provenance import plain, provenance
     from csql_sim.scaling import run_scaling, write_outputs
 
     check_output_folder(args.out)
     rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args))
-    for r in rows:
-        when = f"all optimal after {r.trials} trials" if r.trials is not None else (
-            f"cap {args.max_trials} reached: {r.optimal_pairs} of {r.pairs} pairs optimal")
-        print(f"{r.method:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s")
     csv_path, png_path = write_outputs(args.out, rows, args.max_trials)
-    print(f"wrote {csv_path} and {png_path}")
+    record = provenance(blocks=args.blocks, methods=args.methods, seed=args.seed, max_trials=args.max_trials)
+    doc = {"rows": plain(rows), "files": {"csv": str(csv_path), "png": str(png_path)}, "provenance": record}
+    sidecar = write_or_keep([(os.path.join(args.out, "scaling.json"), json_text(doc))])[0]
+
+    def text() -> list[str]:
+        lines = []
+        for r in rows:
+            when = f"all optimal after {r.trials} trials" if r.trials is not None else (
+                f"cap {args.max_trials} reached: {r.optimal_pairs} of {r.pairs} pairs optimal")
+            lines.append(f"{r.method:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s")
+        return [*lines, f"wrote {csv_path}, {sidecar} (provenance) and {png_path}"]
+
+    emit(args, doc, text)
+    return 0
+
+
+# ------------------------------------------------------------------ params
+def cmd_params(args: argparse.Namespace) -> int:
+    from csql_sim.learners.params import params_yaml
+
+    print(params_yaml(args.method, args.blocks), end="")
     return 0
 
 
@@ -175,11 +219,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--trials", type=non_negative_int, default=None,
                    help="trials per cycle (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=0, help="root seed (default 0)")
-    p.add_argument("--workers", type=positive_int, default=None, help="processes (default: all cores)")
+    add_workers(p)
     p.add_argument("--blocks", type=blocks_arg, default=3,
                    help="number of blocks (default 3); for n != 3 the test task is a pair of maximal optimal length")
     p.add_argument("--params", help="YAML parameter overrides (flat, or keyed by method)")
-    p.add_argument("--out", required=True, help="folder for figure7.csv and figure7.png")
+    p.add_argument("--out", required=True, help="folder for figure7.csv, figure7.json (provenance), figure7.png")
+    add_json(p)
     add_quiet(p)
     p.set_defaults(func=cmd_experiment)
 
@@ -200,12 +245,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("rules", help="a rule file from 'csql-sim train'")
     p.add_argument("--start", help="with --goal: show just the greedy path's classifiers")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
+    add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_show)
 
     p = sub.add_parser("prune", help="remove Q-classifiers below a strength threshold")
     p.add_argument("rules", help="a rule file from 'csql-sim train'")
     p.add_argument("--threshold", type=threshold_arg, default=0.1, help="strength threshold in [0, 1] (default 0.1)")
     p.add_argument("--out", required=True, help="rule file to write")
+    add_quiet(p)
     p.set_defaults(func=cmd_prune)
 
     p = sub.add_parser("scaling", help="trials until every pair is planned optimally, per n and method")
@@ -213,7 +261,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--max-trials", type=positive_int, default=20_000, help="cap per (n, method) (default 20000)")
-    p.add_argument("--out", required=True, help="folder for scaling.csv and scaling.png")
+    p.add_argument("--out", required=True, help="folder for scaling.csv, scaling.json (provenance) and scaling.png")
+    add_json(p)
     add_quiet(p)
     p.set_defaults(func=cmd_scaling)
 
@@ -221,7 +270,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--repeats", type=positive_int, default=15, help="best of this many runs (default 15)")
+    add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_bench)
+
+    p = sub.add_parser("params", help="print a learner's default parameters as YAML that --params accepts")
+    p.add_argument("--method", choices=METHODS, default="cs-ql", help="learner (default cs-ql)")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
+    p.set_defaults(func=cmd_params)
 
 
 __all__ = ["register"]

@@ -3,15 +3,26 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from typing import TYPE_CHECKING
 
-from csql_sim.cli.args import add_quiet, blocks_arg, positive_int, seed_arg, show_progress, warn_workers
+from csql_sim.cli.args import (
+    add_json,
+    add_quiet,
+    add_seed,
+    add_workers,
+    blocks_arg,
+    positive_int,
+    seed_arg,
+    show_progress,
+    warn_workers,
+)
 from csql_sim.cli.core import read_task_for_rules
+from csql_sim.cli.output import emit
 from csql_sim.errors import CsqlError
 
 if TYPE_CHECKING:
+    from csql_sim.evaluate import EvalReport
     from csql_sim.sim.executor import EpisodeResult
 
 
@@ -23,56 +34,76 @@ def pairs_arg(text: str) -> str | int:
 
 
 def print_episode(result: EpisodeResult) -> None:
-    """Print an episode: verdict, every executed step (message, action, sim time, mismatch), events."""
-    verdict = "reached the goal" if result.success else f"FAILED: {result.reason}"
-    print(f"{result.start} -> {result.goal}: {verdict} in {result.length} actions "
-          f"(optimal {result.optimal_length}), {result.sim_seconds:.2f} s simulated")
-    for step in result.steps:
-        flag = "" if not step.mismatch else f"   mismatch: predicted {step.predicted}, perceived {step.perceived}"
-        print(f"  {step.message}  {step.action:<14} {step.sim_seconds:.2f} s{flag}")
-    for event in result.events:
-        print(f"  perturbation: {event}")
+    """Print an episode (:func:`csql_sim.sim.report.episode_lines`)."""
+    from csql_sim.sim.report import episode_lines
+
+    print("\n".join(episode_lines(result)))
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from csql_sim.sim import check_video_options, load_policy, render_episode
+    from csql_sim.provenance import rules_source
+    from csql_sim.sim import check_video_options, load_policy, render_episode, sidecar_path, video_frame_count
 
-    if not args.start or not args.goal:
+    if not args.start:
         raise CsqlError("render needs --start and --goal")
     check_video_options(args.out, args.width, args.height, args.fps)
     warn_workers(args.workers)
     start, goal = read_task_for_rules(args.start, args.goal, None, args.rules)
-    policy = load_policy(args.rules, start.n)
+    policy = load_policy(args.rules, start.n, progress=show_progress(args))
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
-                                  perception=args.perception, progress=show_progress(args))
+                                  perception=args.perception, progress=show_progress(args),
+                                  provenance_extra={"rules": rules_source(args.rules)})
     print_episode(result)
-    frames = len(result.recording.frames) if result.recording else 0
-    print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height})")
+    frames = video_frame_count(result.recording, args.fps) if result.recording else 0
+    print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height}; "
+          f"provenance in {sidecar_path(path)})")
     return 0 if result.success else 1
 
 
+def _rate(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number in 0..1, got {text!r}") from None
+    if not 0.0 <= value <= 1.0:  # also refuses nan
+        raise argparse.ArgumentTypeError(f"must be a number in 0..1, got {text}")
+    return value
+
+
+def evaluate_status(report: EvalReport, min_success: float | None) -> int:
+    """0 when the run succeeded: every episode, or a success rate of at least ``min_success``."""
+    if min_success is None:
+        return 0 if report.episodes and report.successes == report.episodes else 1
+    return 0 if report.episodes and report.success_rate >= min_success else 1
+
+
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from csql_sim.evaluate import evaluate, write_json
+    from csql_sim.evaluate import evaluate
     from csql_sim.files import check_output_file
+    from csql_sim.provenance import provenance
 
-    if args.json:
-        check_output_file(args.json, "JSON report")
+    if args.plot:
+        if not args.plot.lower().endswith(".png"):
+            raise CsqlError(f"--plot must name a .png file, got {args.plot!r}")
+        check_output_file(args.plot, "plot")
     warn_workers(args.workers)
-
     report = evaluate(n=args.blocks, pairs=args.pairs, seeds=args.seeds, perturb=args.perturb,
                       workers=args.workers, rules=args.rules, perception=args.perception,
-                      progress=show_progress(args))
-    print(report.text())
-    if args.json:
-        path = write_json(report, args.json)
-        print(f"wrote {path}", file=sys.stderr)
-    return 0
+                      progress=show_progress(args), seed=args.seed)
+    status = evaluate_status(report, args.min_success)
+    emit(args, {**report.to_dict(), "min_success": args.min_success, "status": status,
+                "provenance": provenance(command="evaluate", **report.config, min_success=args.min_success)},
+         report.text)
+    if args.plot:
+        from csql_sim.plots import write_evaluation_png
+
+        print(f"wrote {write_evaluation_png(report, args.plot)}", file=sys.stderr)
+    return status
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``render`` and ``evaluate`` to the subparsers."""
-    cores = os.cpu_count() or 1
     p = sub.add_parser("render", help="execute a plan on the simulated Panda and write a captioned video")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
@@ -84,7 +115,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=seed_arg, default=0, help="episode seed (default 0)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
-    p.add_argument("--workers", type=positive_int, default=cores, help=f"render processes (default {cores})")
+    add_workers(p, "render processes")
     add_quiet(p)
     p.set_defaults(func=cmd_render)
 
@@ -92,11 +123,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rules", help="a rule base from 'csql-sim train' (default: the BFS planner)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
     p.add_argument("--pairs", type=pairs_arg, default="all", help="'all' (default) or a sample size K")
+    add_seed(p, "seed of the sample of pairs")
     p.add_argument("--seeds", type=positive_int, default=1, help="episodes per pair (default 1)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
-    p.add_argument("--workers", type=positive_int, default=cores, help=f"processes (default {cores})")
-    p.add_argument("--json", help="also write the report as JSON to this file")
+    p.add_argument("--min-success", type=_rate, metavar="RATE",
+                   help="exit 0 when the success rate is at least RATE (default: every episode must succeed)")
+    p.add_argument("--plot", metavar="FILE.png", help="draw outcomes, plan lengths and perturbations to a PNG")
+    add_workers(p)
+    add_json(p)
     add_quiet(p)
     p.set_defaults(func=cmd_evaluate)
 

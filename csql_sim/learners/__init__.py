@@ -29,6 +29,7 @@ from csql_sim.learners.params import (
 )
 from csql_sim.learners.report import count_q, figure6_table, greedy_path, prune
 from csql_sim.learners.trial import Curve, TrialResult, run_training, run_trial
+from csql_sim.provenance import provenance
 from csql_sim.r_classifier import RClassifier
 from csql_sim.rulebase import RuleBase
 from csql_sim.task import test_task
@@ -108,14 +109,17 @@ def train_learner(
         bar.close()
     swept = 0
     if isinstance(learner, (CSQL, FastCSQL)) and learner.params.sweep:
-        swept = learner.sweep()
+        swept = _sweep(learner, progress)
         task = test_task(n)
         start, goal = learner.world.state_index(task.start), learner.world.state_index(task.goal)
         if isinstance(learner, FastCSQL):
             learner.run_trial(start, goal, 0.0)
         else:
             run_trial(learner, start, goal, 0.0)  # ends on the test task, as Figure 6 was taken
-    meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept}
+    # the engine is left out: both engines give the same trajectory and the same file
+    meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept,
+            "provenance": provenance(method=method, trials=trials, seed=seed, blocks=n,
+                                     learner_params=learner.params)}
     return learner, meta
 
 
@@ -149,6 +153,18 @@ def train(
     """
     learner, meta = train_learner(method, trials, seed, n, params, progress, engine)
     return learner.rulebase(meta)
+
+
+def _sweep(learner: CSQL | FastCSQL, progress: bool) -> int:
+    """The CS-QL planning sweep, with a bar over its passes when ``progress`` (and it lasts over a second)."""
+    if not progress:
+        return learner.sweep()
+    from tqdm import tqdm
+
+    p = learner.params
+    with tqdm(total=p.sweep_passes + p.sweep_greedy_tail, desc="sweep (passes, at most)", unit="pass",
+              leave=False, delay=1.0) as bar:
+        return learner.sweep(on_pass=bar.update)
 
 
 __all__ = [

@@ -15,6 +15,8 @@ Steps 1-3 live in :mod:`csql_sim.processing_block`, step 5 in :mod:`csql_sim.wor
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
 from csql_sim.classifier_list import ClassifierList
@@ -172,7 +174,7 @@ class CSQL(ClassifierSystemLearner):
             c.strength = 1.0 - c.error
             c.last_active = self.t
 
-    def sweep(self) -> int:
+    def sweep(self, on_pass: Callable[[], None] | None = None) -> int:
         """Greedy planning passes over every (start, goal) pair on the world model.
 
         Each pass predicts every pair's greedy path with the add-delete R-classifiers and
@@ -181,6 +183,9 @@ class CSQL(ClassifierSystemLearner):
         ``sweep_passes``). With ``sweep_backup_all`` every candidate of each match set on
         the paths is backed up, not just the greedy one (:meth:`update_all`). Then
         ``sweep_greedy_tail`` greedy passes. Returns the steps taken.
+
+        Args:
+            on_pass: called after each pass (progress).
         """
         p = self.params
         before = self.t
@@ -190,6 +195,8 @@ class CSQL(ClassifierSystemLearner):
             for _ in range(p.sweep_passes):
                 start_t = self.t
                 self.sweep_pass()
+                if on_pass is not None:
+                    on_pass()
                 worst = max((c.error for c in self.classifiers.q_classifiers if c.last_active >= start_t),
                             default=0.0)
                 if worst <= p.sweep_tolerance:
@@ -198,6 +205,8 @@ class CSQL(ClassifierSystemLearner):
             self.__dict__.pop("update", None)
         for _ in range(p.sweep_greedy_tail):
             self.sweep_pass()
+            if on_pass is not None:
+                on_pass()
         return self.t - before
 
     def sweep_pass(self) -> None:

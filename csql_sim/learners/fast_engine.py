@@ -196,13 +196,19 @@ class FastCSQL:
         steps, _, _ = fk.trial(start, goal, temperature, cap, True, 0.0, *self._state())
         return int(steps)
 
-    def sweep(self) -> int:
-        """:meth:`CSQL.sweep`: greedy passes over every pair until |epsilon| <= tolerance."""
+    def sweep(self, on_pass: Callable[[], None] | None = None) -> int:
+        """:meth:`CSQL.sweep`: greedy passes over every pair until |epsilon| <= tolerance.
+
+        Args:
+            on_pass: called after each pass (progress).
+        """
         p = self.params
         before = self.t
         for _ in range(p.sweep_passes):
             start_t = self.t
             fk.sweep_pass(p.sweep_eta if p.sweep_backup_all else 0.0, *self._state())
+            if on_pass is not None:
+                on_pass()
             used = int(self.ctr[fk.CLS])
             active = self.last[:used] >= start_t
             worst = float(self.err[:used][active].max()) if active.any() else 0.0
@@ -210,6 +216,8 @@ class FastCSQL:
                 break
         for _ in range(p.sweep_greedy_tail):
             fk.sweep_pass(0.0, *self._state())
+            if on_pass is not None:
+                on_pass()
         return self.t - before
 
     # -- export ------------------------------------------------------------------------

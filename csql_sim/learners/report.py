@@ -65,21 +65,32 @@ def _state(value: State | str, n: int) -> State:
     return value if isinstance(value, State) else parse_state_arg(value, n)
 
 
+def figure6_classifiers(rulebase: RuleBase, start: State | str | None = None,
+                        goal: State | str | None = None) -> list[QClassifier]:
+    """The Q-classifiers of Figure 6: the greedy path of a task, or all of them by goal then condition."""
+    if (start is None) != (goal is None):
+        raise CsqlError("give both a start and a goal, or neither")
+    if start is not None:
+        return greedy_path(rulebase, start, goal)
+    qs = [c for c in rulebase.classifiers if isinstance(c, QClassifier)]
+    return sorted(qs, key=lambda c: (c.condition[-1:], c.condition, c.action))
+
+
+def figure6_rows(rulebase: RuleBase, start: State | str | None = None, goal: State | str | None = None) -> list[dict]:
+    """:func:`figure6_classifiers` as JSON objects (kind, condition, action, strength, q, age, error)."""
+    return [{"kind": c.kind, "condition": c.condition, "action": c.action, "strength": c.strength, "q": c.q,
+             "age": c.age, "error": c.error} for c in figure6_classifiers(rulebase, start, goal)]
+
+
 def figure6_table(rulebase: RuleBase, start: State | str | None = None, goal: State | str | None = None) -> str:
     """The Q-classifiers in Figure 6's table form.
 
     Columns: T, Condition, Action, Strength, Q-value, Age, PredErr. With ``start`` and
-    ``goal`` (states or notation strings), just the greedy path's classifiers in order;
-    otherwise every Q-classifier,
-    sorted by goal code then condition.
+    ``goal`` (States, or notation strings such as ``"CBA"`` as ``env.reset`` accepts, or
+    state messages), just the greedy path's classifiers in order; otherwise every
+    Q-classifier, sorted by goal code then condition.
     """
-    if (start is None) != (goal is None):
-        raise CsqlError("give both a start and a goal, or neither")
-    if start is not None:
-        rows = greedy_path(rulebase, start, goal)
-    else:
-        qs = [c for c in rulebase.classifiers if isinstance(c, QClassifier)]
-        rows = sorted(qs, key=lambda c: (c.condition[-1:], c.condition, c.action))
+    rows = figure6_classifiers(rulebase, start, goal)
     table = [HEADER, *(_row(c) for c in rows)]
     widths = [max(len(r[k]) for r in table) for k in range(len(HEADER))]
     return "\n".join("  ".join(cell.ljust(w) for cell, w in zip(r, widths, strict=True)).rstrip() for r in table)

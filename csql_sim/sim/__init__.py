@@ -11,33 +11,70 @@ Main entry points:
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 
+from csql_sim.files import write_atomic
 from csql_sim.policy import Policy, load_policy
+from csql_sim.provenance import provenance
 from csql_sim.sim.env import PhysicalBlocksEnv
 from csql_sim.sim.executor import EpisodeResult, Perturbation, run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.recording import Recording
-from csql_sim.sim.render import VideoError, check_video_options, write_video
+from csql_sim.sim.render import VideoError, check_video_options, video_frame_count, write_video
+from csql_sim.sim.report import episode_lines
 from csql_sim.world import State
 
 
 def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Policy | None = None,
                    seed: int = 0, width: int = 640, height: int = 480, fps: int = 30,
                    workers: int | None = None, perturb: bool = False, perception: str = "pose",
-                   progress: bool = True) -> tuple[EpisodeResult, Path]:
-    """Run one recorded episode and write its video.
+                   progress: bool = True, provenance_extra: dict | None = None) -> tuple[EpisodeResult, Path]:
+    """Run one recorded episode, write its video and the video's provenance sidecar (``<video>.json``).
+
+    Args:
+        start: the start configuration.
+        goal: the goal configuration.
+        out: the .mp4 or .gif to write.
+        policy: any Policy; the BFS planner when None.
+        seed: the episode's seed.
+        width: frame width in pixels.
+        height: frame height in pixels.
+        fps: frames per simulated second.
+        workers: rendering processes (default: the cores, capped by the frames).
+        perturb: jitter the start, nudge a cube, drop a carried cube.
+        perception: ``"pose"`` or ``"camera"``.
+        progress: show progress bars on stderr.
+        provenance_extra: further parameters to record in the sidecar (e.g. the rule file).
 
     Returns:
         The episode result and the path of the video (written even if the episode failed).
     """
     check_video_options(out, width, height, fps)
-    result = run_physical_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
-                                  perception=perception, fps=fps)
+    from tqdm import tqdm
+
+    from csql_sim.planner import distance
+
+    with tqdm(total=distance(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
+              leave=False) as bar:
+        result = run_physical_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
+                                      perception=perception, fps=fps, on_action=lambda _k: bar.update())
     assert result.recording is not None
     path = write_video(result.recording, out, width, height, fps, workers, progress=progress)
+    record = provenance(start=start.notation(), goal=goal.notation(), policy=getattr(policy, "name", "bfs"),
+                        seed=seed, width=width, height=height, fps=fps, perturb=perturb, perception=perception,
+                        **(provenance_extra or {}))
+    record["video"] = {"file": path.name, "frames": video_frame_count(result.recording, fps),
+                       "actions": result.length, "success": result.success, "reason": result.reason}
+    write_atomic(sidecar_path(path), json.dumps(record, indent=1) + "\n")
     return result, path
+
+
+def sidecar_path(video: str | os.PathLike) -> Path:
+    """The provenance sidecar of a video: ``<video>.json``."""
+    video = Path(video)
+    return video.with_name(video.name + ".json")
 
 
 __all__ = [
@@ -48,8 +85,11 @@ __all__ = [
     "Recording",
     "SimError",
     "VideoError",
+    "episode_lines",
     "load_policy",
     "render_episode",
     "run_physical_episode",
+    "sidecar_path",
+    "video_frame_count",
     "write_video",
 ]

@@ -37,7 +37,8 @@ PERCEPTION_CAMERAS = (
     Camera(eye=(0.55, -0.85, 0.6), target=(0.5, 0.0, 0.05)),  # from the right
 )
 """Three views; each cube is located in the view that sees most of it."""
-RENDER_CAMERA = Camera(eye=(1.0, 0.5, 0.55), target=(0.47, 0.0, 0.08), fov=45.0, width=640, height=480)
+RENDER_CAMERA = Camera(eye=(1.4, 0.6, 0.7), target=(0.3, 0.0, 0.3), fov=50.0, width=640, height=480)
+"""The video view: the whole arm (base to raised hand) and the cubes, from the front right."""
 CAMERA_TOLERANCES = Tolerances(stack_z=0.012, stack_xy=0.025, table_z=0.012, hold_dist=0.03)
 """Camera estimates are coarser than poses: slightly wider tolerances."""
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -26,7 +27,7 @@ from csql_sim.policy import Policy
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.primitives import CarryHook, Status
-from csql_sim.sim.recording import Recorder, Recording
+from csql_sim.sim.recording import Caption, Recorder, Recording
 from csql_sim.sim.scene import Pose
 from csql_sim.task import Task
 from csql_sim.world import Action, BlocksWorld, State
@@ -87,6 +88,7 @@ class EpisodeResult:
     reason: str = ""
     steps: list[StepRecord] = field(default_factory=list)
     events: list[str] = field(default_factory=list)
+    event_steps: list[int] = field(default_factory=list)  # the action (0-based) during which each event struck
     sim_seconds: float = 0.0
     final_poses: tuple[Pose, ...] = ()
     recording: Recording | None = None
@@ -141,7 +143,8 @@ def run_physical_episode(start: State, goal: State, policy: Policy | None = None
                          record: bool = False, perturb: bool = False, perception: str = "pose",
                          max_actions: int | None = None, fps: int = 30, config: SimConfig = DEFAULT_CONFIG,
                          perturbation: Perturbation = PERTURBATION,
-                         world_model: WorldModel | None = None) -> EpisodeResult:
+                         world_model: WorldModel | None = None,
+                         on_action: Callable[[int], None] | None = None) -> EpisodeResult:
     """Execute ``policy`` from ``start`` to ``goal`` on the simulated arm.
 
     Args:
@@ -158,6 +161,7 @@ def run_physical_episode(start: State, goal: State, policy: Policy | None = None
         perturbation: what ``perturb`` does.
         world_model: predicts each next state and judges legality (default: the built-in
             R-classifiers, :meth:`WorldModel.for_blocks`, built once for this episode).
+        on_action: called with the number of actions executed after each one (progress).
 
     Raises:
         SimError: if the start state cannot be built.
@@ -171,7 +175,7 @@ def run_physical_episode(start: State, goal: State, policy: Policy | None = None
         world.build(start, jitter=perturb and perturbation.jitter_start)
         episode = Episode(task, world, policy or BfsPolicy(), world_model or WorldModel.for_blocks(start.n),
                           cap=cap, seed=seed, perturbation=perturbation if perturb else None,
-                          fps=fps if record else None)
+                          fps=fps if record else None, on_action=on_action)
         episode.result.wall_seconds["setup"] = episode.t_loop - t_setup
         return episode.run()
 
@@ -188,10 +192,12 @@ class Episode:
         seed: the episode's seed (reported).
         perturbation: what perturbs the episode, None for none.
         fps: recording frame rate, None for no recording.
+        on_action: called with the number of actions executed after each one.
     """
 
     def __init__(self, task: Task, world: PhysicalWorld, policy: Policy, world_model: WorldModel, *, cap: int,
-                 seed: int, perturbation: Perturbation | None, fps: int | None) -> None:
+                 seed: int, perturbation: Perturbation | None, fps: int | None,
+                 on_action: Callable[[int], None] | None = None) -> None:
         self.task, self.world, self.policy, self.model, self.cap = task, world, policy, world_model, cap
         self.goal_index = BlocksWorld.of(task.n).state_index(task.goal)
         optimal = distance(task.start, task.goal)
@@ -204,9 +210,12 @@ class Episode:
         self.begin = world.scene.steps
         self.stepping_before = world.scene.step_wall
         self.perceived = world.perceive()
+        self.on_action = on_action
         self.recorder: Recorder | None = None
         if fps is not None:
-            self.recorder = Recorder(world.scene, fps)
+            first = Caption(0, f"start {task.start.notation()}, goal {task.goal.notation()}",
+                            format_state_message(task.start, self.goal_index))
+            self.recorder = Recorder(world.scene, fps, first)
             world.add_step_hook(self.recorder)
 
     def run(self) -> EpisodeResult:
@@ -223,7 +232,8 @@ class Episode:
             result.reason = f"perception failed: {perceived.reason}"
             return False
         message = format_state_message(state, self.goal_index)
-        self._caption(f"{message}  {state.notation()}")
+        if result.steps:
+            self._caption(Caption(len(result.steps), f"perceived {state.notation()}", message))
         if self.world.reached(perceived, self.task.goal):
             result.success = True
             return False
@@ -241,9 +251,9 @@ class Episode:
         self._execute(state, message, action, predicted)
         return True
 
-    def _caption(self, text: str) -> None:
+    def _caption(self, caption: Caption) -> None:
         if self.recorder is not None:
-            self.recorder.caption = text
+            self.recorder.caption = caption
 
     def _choose(self, state: State) -> Action | None:
         """The policy's action if the world model finds it legal; None (with the reason set) otherwise."""
@@ -273,16 +283,19 @@ class Episode:
         k = len(result.steps)
         hook = _drop_hook(world, action, pert, result.events) if pert and k == self.plan.drop_at else None
         code = int(action_code(action, self.task.n), 36)
-        self._caption(f"{action.name()}  {format_state_message(state, self.goal_index, code)}")
+        self._caption(Caption(k + 1, action.name(), format_state_message(state, self.goal_index, code)))
         t0 = world.scene.steps
         status = world.execute(action, hook, self._attempt(action))
         if pert and k == self.plan.nudge_at:
             result.events.append(_nudge(world, world.rng, pert))
+        result.event_steps.extend([k] * (len(result.events) - len(result.event_steps)))
         self.perceived = world.perceive()
         seen = self.perceived.state.notation() if self.perceived.state is not None else self.perceived.reason
         result.steps.append(StepRecord(action=action.name(), message=message, status=status,
                                        predicted=predicted.notation(), perceived=seen,
                                        sim_seconds=(world.scene.steps - t0) * world.config.physics.time_step))
+        if self.on_action is not None:
+            self.on_action(len(result.steps))
 
     def finish(self) -> EpisodeResult:
         """Fill in the timings, the final poses and the recording."""
@@ -293,6 +306,8 @@ class Episode:
         result.sim_seconds = result.loop_steps * self.world.config.physics.time_step
         result.final_poses = self.world.final_poses()
         if self.recorder is not None:
+            outcome = f"goal {self.task.goal.notation()} reached" if result.success else f"FAILED: {result.reason}"
+            self.recorder.caption = Caption(len(result.steps), outcome, self.recorder.caption.message)
             result.recording = self.recorder.finish()
         return result
 

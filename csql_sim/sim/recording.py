@@ -10,12 +10,31 @@ from csql_sim.sim.scene import Pose, Scene
 
 
 @dataclass(frozen=True)
+class Caption:
+    """What a frame's caption says: ``step k/K  <what>  <message>`` (K is known when rendering).
+
+    Attributes:
+        step: actions begun so far (0 before the first).
+        what: the action under way, or the start/goal or outcome around it.
+        message: the state message posted (with the action slot set during an action).
+    """
+
+    step: int = 0
+    what: str = ""
+    message: str = ""
+
+    def text(self, total: int) -> str:
+        """The caption line for an episode of ``total`` actions."""
+        return f"step {self.step}/{total}  {self.what}  {self.message}".rstrip()
+
+
+@dataclass(frozen=True)
 class Frame:
     """One recorded instant: cube poses, Panda joint positions and the caption."""
 
     poses: tuple[Pose, ...]
     joints: tuple[float, ...]
-    caption: str
+    caption: Caption
 
 
 @dataclass
@@ -27,15 +46,20 @@ class Recording:
     config: SimConfig = DEFAULT_CONFIG
     frames: list[Frame] = field(default_factory=list)
 
+    @property
+    def actions(self) -> int:
+        """The number of actions the recorded episode began (K of the captions)."""
+        return max((f.caption.step for f in self.frames), default=0)
+
 
 class Recorder:
     """A scene step hook that snapshots the scene every 1/fps simulated seconds."""
 
-    def __init__(self, scene: Scene, fps: int, caption: str = "") -> None:
+    def __init__(self, scene: Scene, fps: int, caption: Caption | None = None) -> None:
         self.scene = scene
         self.recording = Recording(n=scene.n, fps=fps, config=scene.config)
         self.every = max(1, round(1.0 / (fps * scene.config.physics.time_step)))
-        self.caption = caption
+        self.caption = caption or Caption()
         self._capture()
 
     def _capture(self) -> None:

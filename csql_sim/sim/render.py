@@ -19,11 +19,12 @@ from tqdm import tqdm
 from csql_sim.errors import CsqlError
 from csql_sim.files import atomic_output, check_output_file
 from csql_sim.sim.camera import RENDER_CAMERA, Camera, capture
-from csql_sim.sim.config import SimConfig
+from csql_sim.sim.config import COLOURS, SimConfig
 from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.replay import apply_snapshot, replay_scene
 from csql_sim.sim.scene import Scene
 from csql_sim.workers import worker_count, worker_pool
+from csql_sim.world import BLOCK_NAMES
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
@@ -59,8 +60,11 @@ def hold_frames(fps: int) -> int:
     return max(1, round(HOLD_SECONDS * fps))
 
 
-def caption_image(rgb: np.ndarray, text: str) -> np.ndarray:
-    """Draw ``text`` on a dark strip along the bottom of the frame."""
+def caption_image(rgb: np.ndarray, text: str, legend: int = 0) -> np.ndarray:
+    """Draw ``text`` on a dark strip along the bottom, and a legend of the first ``legend`` cubes.
+
+    The legend (top left) is a coloured square with each cube's letter: A red, B green, ...
+    """
     img = Image.fromarray(rgb)
     h = img.height
     strip = max(12, int(h * CAPTION_HEIGHT))
@@ -68,6 +72,14 @@ def caption_image(rgb: np.ndarray, text: str) -> np.ndarray:
     draw.rectangle((0, h - strip, img.width, h), fill=(20, 20, 20))
     font = ImageFont.load_default(size=max(8, int(strip * 0.6)))
     draw.text((6, h - strip + strip * 0.15), text, fill=(255, 255, 255), font=font)
+    if legend:
+        box = max(8, strip * 0.8)
+        for i in range(legend):
+            x0, y0 = 4 + i * (box + 4), 4
+            colour = tuple(int(255 * c) for c in COLOURS[i][:3])
+            draw.rectangle((x0, y0, x0 + box, y0 + box), fill=colour, outline=(255, 255, 255))
+            draw.text((x0 + box / 2, y0 + box / 2), BLOCK_NAMES[i], fill=(255, 255, 255), font=font, anchor="mm",
+                      stroke_width=1, stroke_fill=(0, 0, 0))
     return np.asarray(img)
 
 
@@ -90,14 +102,18 @@ class ReplayRenderer:
         return self._scenes[key]
 
     def render(self, n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-               camera: Camera = RENDER_CAMERA) -> list[np.ndarray]:
-        """Captioned RGB frames: the replay scene set to each frame's poses, seen by ``camera``."""
+               camera: Camera = RENDER_CAMERA, total: int = 0) -> list[np.ndarray]:
+        """Captioned RGB frames: the replay scene set to each frame's poses, seen by ``camera``.
+
+        Captions read ``step k/K  <what>  <message>`` with K = ``total`` (the episode's
+        actions); a legend in the top left tells the ``n`` cubes apart.
+        """
         scene = self.scene(n, config)
         out = []
         for frame in frames:
             apply_snapshot(scene, frame.poses, frame.joints)
             rgb, _, _ = capture(scene, camera, width, height)
-            out.append(caption_image(rgb, frame.caption))
+            out.append(caption_image(rgb, frame.caption.text(total), legend=n))
         return out
 
     def close(self) -> None:
@@ -116,9 +132,9 @@ def _init_render_worker() -> None:
 
 
 def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-                      camera: Camera) -> list[np.ndarray]:
+                      camera: Camera, total: int) -> list[np.ndarray]:
     assert _WORKER_RENDERER is not None, "rendering worker started without _init_render_worker"
-    return _WORKER_RENDERER.render(n, config, frames, width, height, camera)
+    return _WORKER_RENDERER.render(n, config, frames, width, height, camera, total)
 
 
 def _chunks(frames: list[Frame], size: int) -> list[list[Frame]]:
@@ -144,7 +160,7 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         width: frame width in pixels.
         height: frame height in pixels.
         fps: playback frame rate (default: the recording's).
-        workers: rendering processes (default: every core).
+        workers: rendering processes (default: every core, at most one per 16 frames).
         camera: the rendering view.
         progress: show a tqdm bar on stderr.
 
@@ -181,16 +197,16 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
 def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, height: int, camera: Camera,
                 workers: int) -> Iterator[list[np.ndarray]]:
     """Render chunks in order, in ``workers`` processes (or in-process for one worker)."""
-    n, config = recording.n, recording.config
+    n, config, total = recording.n, recording.config, recording.actions
     if workers <= 1:
         renderer = ReplayRenderer()
         try:
             for c in chunks:
-                yield renderer.render(n, config, c, width, height, camera)
+                yield renderer.render(n, config, c, width, height, camera, total)
         finally:
             renderer.close()
         return
     k = len(chunks)
     with worker_pool(workers, _init_render_worker) as pool:
         yield from pool.map(_render_in_worker, [n] * k, [config] * k, chunks, [width] * k, [height] * k,
-                            [camera] * k)
+                            [camera] * k, [total] * k)

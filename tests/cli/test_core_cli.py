@@ -32,8 +32,9 @@ def test_rules(capsys):
     assert lines[0] == "R S#1#####b#####0# A10000001000ab00"
     assert lines[-1] == "R SI############## S0#01#####b###0#"
     code, out, _ = run(capsys, "rules", "--blocks", "4", "--json")
-    rules = json.loads(out)
-    assert len(rules) == 64 and set(rules[0]) == {"kind", "condition", "action"}
+    doc = json.loads(out)
+    assert doc["blocks"] == 4 and doc["count"] == 64 == len(doc["rules"])
+    assert set(doc["rules"][0]) == {"kind", "condition", "action"}
 
 
 def test_plan_test_task(capsys):
@@ -55,6 +56,46 @@ def test_plan_all_bfs(capsys):
     code, out, _ = run(capsys, "plan", "--all", "--json")
     doc = json.loads(out)
     assert code == 0 and doc["pairs"] == doc["covered"] == doc["optimal"] == 462
+    # a plan step is the same object in plan --all as in a single plan
+    pair = next(p for p in doc["plans"] if p["start"] == "CBA" and p["goal"] == "BAC")
+    code, out, _ = run(capsys, "plan", "--start", "CBA", "--goal", "BAC", "--json")
+    assert pair["plan"] == json.loads(out)["plan"] and pair["length"] == pair["optimal_length"] == 8
+
+
+def test_plan_start_is_goal_says_so(capsys):
+    code, out, _ = run(capsys, "plan", "--start", "CBA", "--goal", "CBA")
+    assert code == 0 and out.strip() == "the start CBA is the goal: 0 actions"
+    code, out, _ = run(capsys, "plan", "--start", "CBA", "--goal", "cba", "--json")
+    assert code == 0 and json.loads(out)["length"] == 0 and json.loads(out)["plan"] == []
+
+
+def test_state_message_start_keeps_its_goal(capsys):
+    # goal code C of the message is BAC: no --goal needed, and a contradicting --goal is an error
+    code, out, _ = run(capsys, "plan", "--start", "S0100000bct0000C", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["goal"] == "BAC" and doc["length"] == 8
+    code, out, err = run(capsys, "plan", "--start", "S0100000bct0000C", "--goal", "A,B,C")
+    assert code == 2 and out == "" and "contradicts" in err and "BAC" in err
+
+
+def test_plan_without_a_plan_exits_1(tmp_path, capsys):
+    from csql_sim.r_classifier import r_classifiers
+    from csql_sim.rulebase import RuleBase, save
+
+    empty = save(tmp_path / "empty.yaml", RuleBase(3, list(r_classifiers(3))))
+    code, out, err = run(capsys, "plan", "--rules", str(empty), "--start", "CBA", "--goal", "BAC")
+    assert code == 1 and out == "" and "no plan from CBA to BAC" in err
+    code, out, err = run(capsys, "plan", "--rules", str(empty), "--start", "CBA", "--goal", "BAC", "--json")
+    assert code == 1 and json.loads(out)["plan"] is None and "no Q-classifier" in json.loads(out)["reason"]
+    code, out, _ = run(capsys, "plan", "--rules", str(empty), "--all", "--json")
+    assert code == 1 and json.loads(out)["covered"] == 0 and json.loads(out)["plans"][0]["plan"] is None
+
+
+def test_json_to_a_file_replaces_the_text(tmp_path, capsys):
+    target = tmp_path / "states.json"
+    code, out, err = run(capsys, "states", "--json", str(target))
+    assert code == 0 and out == "" and str(target) in err
+    assert json.loads(target.read_text())["count"] == 22
 
 
 @pytest.mark.parametrize(
@@ -66,6 +107,7 @@ def test_plan_all_bfs(capsys):
         ["plan", "--start", "CBA", "--goal", "DCBA"],
         ["plan", "--start", "S0111000txt0000C", "--goal", "BAC"],
         ["plan", "--start", "CBA"],
+        ["plan", "--start", "S0100000bct0000C", "--goal", "CBA"],
         ["plan", "--rules", "/nonexistent/rules.yaml", "--all"],
         ["states", "--blocks", "9"],
         ["states", "--blocks", "x"],
@@ -91,3 +133,13 @@ def test_console_entry_point_no_traceback():
     )
     assert proc.returncode == 2
     assert proc.stderr.strip() == "csql-sim: error: unknown block D for a 3-block world in 'CBD'"
+
+
+def test_plan_pairs_sample_is_seeded_and_bounded(capsys):
+    code, out, _ = run(capsys, "plan", "--pairs", "5", "--seed", "3", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["pairs"] == 5 and doc["provenance"]["parameters"]["seed"] == 3
+    again = json.loads(run(capsys, "plan", "--pairs", "5", "--seed", "3", "--json")[1])
+    assert [(p["start"], p["goal"]) for p in again["plans"]] == [(p["start"], p["goal"]) for p in doc["plans"]]
+    code, out, err = run(capsys, "plan", "--pairs", "463")
+    assert code == 2 and out == "" and "more than the 462 start/goal pairs" in err

@@ -26,3 +26,12 @@ def test_demo_learns_prunes_executes_and_writes_video(tmp_path, capsys):
     frame = reader.get_data(0)
     assert frame.shape == (120, 160, 3)
     assert reader.count_frames() > 8 * 5  # eight primitives of most of a simulated second each
+
+
+def test_demo_takes_blocks(tmp_path, capsys):
+    code = main(["demo", "--blocks", "2", "--trials", "100", "--out", str(tmp_path), "--width", "64",
+                 "--height", "48", "--fps", "5", "--workers", "1", "--quiet"])
+    out = capsys.readouterr().out
+    assert code == 0 and "2 blocks" in out and "(AB -> BA)" in out
+    assert load(tmp_path / "pruned.yaml").blocks == 2
+    assert (tmp_path / "test_task.mp4.json").exists()

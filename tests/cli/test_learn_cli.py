@@ -1,4 +1,5 @@
 import csv
+import json
 
 import pytest
 
@@ -61,6 +62,51 @@ def test_experiment_writes_csv_and_png(tmp_path, capsys):
     rows = list(csv.DictReader((tmp_path / "figure7.csv").open()))
     assert len(rows) == 2 * 3 and rows[0]["method"] == "cs-ql" and rows[-1]["trial"] == "100"
     assert (tmp_path / "figure7.png").read_bytes()[:4] == b"\x89PNG"
+    assert "test task CBA -> BAC (3 blocks), optimum: 8 steps" in out
+    sidecar = json.loads((tmp_path / "figure7.json").read_text())
+    prov = sidecar["provenance"]
+    assert prov["version"] and prov["parameters"]["cycles"] == 2 and prov["parameters"]["trials"] == 100
+    assert prov["parameters"]["learner_params"]["cs-ql"]["t_decay"] == 0.9955
+
+
+def test_experiment_json_records_params_overrides_and_names_the_n4_test_task(tmp_path, capsys):
+    params = tmp_path / "p.yaml"
+    params.write_text("cs-ql: {eta: 0.25}\n")
+    code, out, _ = run(capsys, "experiment", "--methods", "cs-ql", "--cycles", "1", "--trials", "0",
+                       "--blocks", "4", "--out", str(tmp_path), "--quiet", "--params", str(params), "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["test_task"] == {"start": "CBDA", "goal": "BCDA", "optimal_length": 12}
+    assert doc["provenance"]["parameters"]["learner_params"]["cs-ql"]["eta"] == 0.25
+    assert doc["methods"][0]["method"] == "cs-ql"
+
+
+def test_params_prints_yaml_that_params_accepts(tmp_path, capsys):
+    import dataclasses
+
+    from csql_sim.learners.params import defaults_for_blocks, load_params
+
+    code, out, _ = run(capsys, "params", "--method", "lt-ql", "--blocks", "4")
+    assert code == 0 and out.startswith("# csql-sim")
+    path = tmp_path / "lt.yaml"
+    assert "eta: 0.5\n" in out
+    path.write_text(out.replace("eta: 0.5\n", "eta: 0.3\n"))
+    assert load_params(path, "lt-ql", 4) == dataclasses.replace(defaults_for_blocks("lt-ql", 4), eta=0.3)
+    rules = tmp_path / "r.yaml"
+    assert main(["train", "--method", "lt-ql", "--trials", "20", "--params", str(path), "--out", str(rules),
+                 "--blocks", "4", "--quiet"]) == 0
+    prov = load(rules).meta["provenance"]
+    assert prov["parameters"]["learner_params"]["eta"] == 0.3 and prov["parameters"]["params_file"] == str(path)
+    assert prov["version"] == __import__("csql_sim").__version__
+
+
+def test_show_and_bench_json(rule_files, capsys):
+    _, pruned = rule_files
+    code, out, _ = run(capsys, "show", str(pruned), "--start", "CBA", "--goal", "BAC", "--json")
+    doc = json.loads(out)
+    assert code == 0 and len(doc["classifiers"]) == 8 and doc["classifiers"][-1]["q"] == 1.0
+    code, out, _ = run(capsys, "bench", "--trials", "50", "--repeats", "1", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["trials"] == 50 and doc["ratio"] > 0 and doc["provenance"]["parameters"]["seed"] == 0
 
 
 @pytest.mark.parametrize(

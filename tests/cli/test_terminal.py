@@ -16,9 +16,9 @@ import pytest
 
 def test_no_progress_bar_or_banner_when_stderr_is_not_a_terminal(tmp_path):
     out = subprocess.run([sys.executable, "-m", "csql_sim", "evaluate", "--pairs", "2", "--workers", "2",
-                          "--json", str(tmp_path / "e.json")], capture_output=True, text=True, timeout=120)
+                          "--plot", str(tmp_path / "e.png")], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0
-    assert out.stderr == f"wrote {tmp_path / 'e.json'}\n"  # no bar, no "pybullet build time" from the workers
+    assert out.stderr == f"wrote {tmp_path / 'e.png'}\n"  # no bar, no "pybullet build time" from the workers
     assert "pybullet" not in out.stdout and out.stdout.startswith("episodes: 2\n")
 
 

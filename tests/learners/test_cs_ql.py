@@ -127,6 +127,9 @@ def test_figure6_table_for_the_test_task(trained):
     assert table[0].split() == ["T", "Condition", "Action", "Strength", "Q-value", "Age", "PredErr"]
     assert len(table) == 9 and table[-1].split()[-1] == "0.000000"
     assert len(figure6_table(trained).splitlines()) == 883
+    # the notation strings env.reset accepts (and a state message) give the same table
+    assert figure6_table(trained, "CBA", "bac") == figure6_table(trained, start, goal)
+    assert figure6_table(trained, "S0100000bct0000C", "BAC") == figure6_table(trained, start, goal)
 
 
 def test_generator_is_the_only_randomness():

@@ -20,6 +20,11 @@ def test_specs():
     assert make_specs(3, 5) == make_specs(3, 5)
     with pytest.raises(CsqlError):
         make_specs(3, 0)
+    assert len(make_specs(3, 462)) == 462
+    with pytest.raises(CsqlError, match="more than the 462 start/goal pairs"):
+        make_specs(3, 463)
+    # --seed chooses the sample, reproducibly
+    assert make_specs(3, 5, sample_seed=1) == make_specs(3, 5, sample_seed=1) != make_specs(3, 5)
 
 
 def test_runner_turns_an_error_into_a_failed_summary():
@@ -39,9 +44,35 @@ def test_evaluate_json(tmp_path):
     assert 0 < report.mean_sim_seconds_per_action <= 1.0
     out = write_json(report, tmp_path / "r.json")
     data = json.loads(out.read_text())
-    assert set(data) == {"episodes", "successes", "success_rate", "optimal", "mean_sim_seconds_per_action",
-                         "failures"}
-    assert data["optimal"] == 4
+    assert {"config", "episodes", "successes", "success_rate", "optimal", "mean_sim_seconds_per_action",
+            "perturbations", "mismatches", "plan_length", "failures", "runs", "provenance"} <= set(data)
+    assert data["optimal"] == 4 and data["perturbations"] == data["mismatches"] == 0
+    config = data["config"]
+    assert config["rules"] == {"file": None, "sha256": None} and config["blocks"] == 3
+    assert (config["perception"], config["perturb"], config["seeds"], config["seed"]) == ("pose", False, 1, 0)
+    assert config["version"] == data["provenance"]["version"]
+    runs = data["runs"]
+    assert len(runs) == 4 and set(runs[0]) >= {"start", "goal", "seed", "success", "reason", "length",
+                                                 "optimal_length", "sim_seconds", "mismatches", "perturbations"}
+    specs = make_specs(3, 4)
+    assert [(r["start"], r["goal"], r["seed"]) for r in runs] == [(t.start, t.goal, t.seed) for t in specs]
+    assert all(r["length"] == r["optimal_length"] and r["sim_seconds"] > 0 for r in runs)
+    stats = data["plan_length"]
+    assert stats["episodes"] == 4 and stats["mean_excess"] == 0
+    assert stats["mean_length"] == sum(r["length"] for r in runs) / 4
+
+
+def test_perturbed_runs_record_events_and_plot(tmp_path):
+    from csql_sim.plots import outcome_matrix, write_evaluation_png
+
+    report = evaluate(3, pairs=6, perturb=True, workers=2, progress=False, seed=3)
+    events = [e for r in report.runs for e in r.events]
+    assert report.perturbations == len(events) > 0
+    assert all(0 <= e.step < r.length for r in report.runs for e in r.events)
+    matrix = outcome_matrix(report.runs, 3)
+    assert (matrix >= 0).sum() == 6 and (matrix == 2).sum() == report.episodes - report.successes
+    png = write_evaluation_png(report, tmp_path / "eval.png")
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -56,6 +87,7 @@ def test_cli_evaluate_and_render(tmp_path, capsys):
     args = p.parse_args(["evaluate", "--pairs", "2", "--workers", "1", "--quiet", "--json", str(tmp_path / "e.json")])
     assert args.func(args) == 0
     assert json.loads((tmp_path / "e.json").read_text())["episodes"] == 2
+    assert capsys.readouterr().out == ""  # JSON instead of the text
     args = p.parse_args(["render", "--start", "A,B,C", "--goal", "BA,C", "--out", str(tmp_path / "v.gif"),
                          "--width", "64", "--height", "48", "--fps", "5", "--workers", "1"])
     assert args.func(args) == 0
@@ -73,3 +105,22 @@ def test_cli_bad_input_is_csql_error(tmp_path):
         args.func(args)
     with pytest.raises(SystemExit):
         p.parse_args(["evaluate", "--pairs", "some"])
+
+
+def test_evaluate_exit_status(tmp_path, capsys):
+    from csql_sim.r_classifier import r_classifiers
+    from csql_sim.rulebase import RuleBase, save
+
+    empty = save(tmp_path / "empty.yaml", RuleBase(3, list(r_classifiers(3))))
+    p = _parser()
+    args = p.parse_args(["evaluate", "--rules", str(empty), "--pairs", "2", "--workers", "1", "--quiet", "--json"])
+    assert args.func(args) == 1  # an empty rule base: 0 % success is a failed job
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["success_rate"] == 0 and doc["status"] == 1
+    assert doc["config"]["rules"]["sha256"] == __import__("hashlib").sha256(empty.read_bytes()).hexdigest()
+    args = p.parse_args(["evaluate", "--rules", str(empty), "--pairs", "2", "--workers", "1", "--quiet",
+                         "--min-success", "0", "--plot", str(tmp_path / "e.png")])
+    assert args.func(args) == 0  # 0 % is not below --min-success 0
+    assert (tmp_path / "e.png").stat().st_size > 1000
+    with pytest.raises(SystemExit):
+        p.parse_args(["evaluate", "--min-success", "1.5"])

@@ -147,3 +147,12 @@ def test_four_blocks_reverse_tower():
     r = run_physical_episode(start, goal, seed=0)
     assert r.success, r.reason
     assert r.length == distance(start, goal)
+
+
+def test_on_action_reports_progress_once_per_action():
+    from csql_sim.notation import parse_config as config
+    from csql_sim.sim.executor import run_physical_episode as execute
+
+    calls: list[int] = []
+    result = execute(config("A,B,C"), config("AB,C"), seed=0, on_action=calls.append)
+    assert result.success and calls == list(range(1, result.length + 1)) == [1, 2]

@@ -18,7 +18,18 @@ def test_recording_in_simulated_time(recording):
     r = run_physical_episode(parse_config("A,B,C"), parse_config("AB,C"), seed=0)
     expected = int(r.sim_seconds * 10)
     assert abs(len(recording.frames) - expected) <= 3
-    assert recording.frames[-1].caption
+    # every caption reads "step k/K  <what>  <message>"; the first names the start and the goal
+    total = recording.actions
+    assert total == r.length == 2
+    from csql_sim.message import format_state_message
+    from csql_sim.world import BlocksWorld
+
+    start_message = format_state_message(parse_config("A,B,C"), BlocksWorld.of(3).state_index(parse_config("AB,C")))
+    texts = [f.caption.text(total) for f in recording.frames]
+    assert texts[0] == f"step 0/2  start A,B,C, goal AB,C  {start_message}"
+    assert texts[-1].startswith("step 2/2  goal AB,C reached  S")
+    assert all(t.startswith("step ") and f"/{total}  " in t for t in texts)
+    assert {"pickup(B)", "stack(B,A)"} <= {f.caption.what for f in recording.frames}
 
 
 def test_mp4_frames_and_size(recording, tmp_path):
@@ -36,12 +47,47 @@ def test_gif(recording, tmp_path):
     assert len(frames) >= len(recording.frames) - 1
 
 
+def test_render_cli_prints_the_file_frame_count_and_writes_provenance(tmp_path, capsys):
+    import json
+
+    from csql_sim.cli import main
+
+    out = tmp_path / "v.mp4"
+    code = main(["render", "--start", "A,B,C", "--goal", "AB,C", "--out", str(out), "--width", "96",
+                 "--height", "72", "--fps", "10", "--workers", "1", "--quiet"])
+    printed = capsys.readouterr().out
+    frames = imageio.get_reader(out).count_frames()
+    assert code == 0 and f"({frames} frames at 10 fps" in printed
+    sidecar = json.loads((tmp_path / "v.mp4.json").read_text())
+    assert sidecar["video"]["frames"] == frames and sidecar["parameters"]["start"] == "A,B,C"
+    assert sidecar["parameters"]["rules"] == {"file": None, "sha256": None} and sidecar["version"]
+
+
 def test_caption_changes_pixels():
     import numpy as np
 
     blank = np.full((120, 160, 3), 200, dtype=np.uint8)
     out = caption_image(blank, "pickup(A) S7111000ttt0000C")
     assert out.shape == blank.shape and (out != blank).any()
+    # the legend: a red square for A, a green one for B, top left
+    legend = caption_image(blank, "x", legend=2)
+    assert tuple(legend[5, 5]) == (216, 38, 38) and tuple(legend[5, 19]) == (38, 178, 51)
+
+
+def test_render_camera_sees_the_whole_arm(recording):
+
+    from csql_sim.sim.camera import RENDER_CAMERA, capture
+    from csql_sim.sim.replay import apply_snapshot, replay_scene
+
+    with replay_scene(recording.n, recording.config) as scene:
+        panda = scene.bodies["panda"]
+        for frame in recording.frames[::3]:
+            apply_snapshot(scene, frame.poses, frame.joints)
+            _, _, seg = capture(scene, RENDER_CAMERA, 160, 120, segmentation=True)
+            arm = (seg & ((1 << 24) - 1)) == panda
+            assert arm.any()
+            # the arm never touches the top, left or right border: nothing of it is cut off
+            assert not (arm[0, :].any() or arm[:, 0].any() or arm[:, -1].any())
 
 
 @pytest.mark.parametrize("args", [("v.avi", 640, 480, 30), ("v.mp4", 641, 480, 30), ("v.gif", 8, 8, 30),
