@@ -1,4 +1,4 @@
-"""Cameras: the fixed perception camera (segmentation + depth) and rendering views."""
+"""Cameras: the fixed perception cameras (colour + depth, see rgbd.py) and rendering views."""
 
 from __future__ import annotations
 
@@ -6,8 +6,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.sim.perception import BlockObs, Observation, Tolerances
-from csql_sim.sim.robot import Panda
+from csql_sim.sim.perception import Tolerances
 from csql_sim.sim.scene import Scene, projection_matrix, view_matrix
 
 
@@ -45,7 +44,7 @@ CAMERA_TOLERANCES = Tolerances(stack_z=0.012, stack_xy=0.025, table_z=0.012, hol
 
 def capture(scene: Scene, camera: Camera, width: int, height: int, segmentation: bool = False,
             ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """RGB (h, w, 3 uint8), depth buffer and segmentation ids from the TinyRenderer."""
+    """RGB (h, w, 3 uint8), depth buffer and segmentation ids (rendering tools only) from the TinyRenderer."""
     view, proj = camera.matrices(width, height)
     return scene.render(view, proj, width, height, segmentation)
 
@@ -61,36 +60,3 @@ def unproject(camera: Camera, depth: np.ndarray, rows: np.ndarray, cols: np.ndar
     z = 2.0 * depth[rows, cols] - 1.0
     pts = inv @ np.stack([x, y, z, np.ones_like(x)])
     return (pts[:3] / pts[3]).T
-
-
-def observe_camera(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] = PERCEPTION_CAMERAS) -> Observation:
-    """Camera-mode observation: cube centres estimated from segmentation and depth.
-
-    Every camera renders a segmentation mask and a depth image; each cube is located in
-    the view that shows most of its pixels. There its visible surface points are
-    back-projected: the top is the highest visible point, the centre lies half a cube
-    below it, and horizontally at the points' centroid pushed a quarter cube away from
-    the camera (the visible faces face it). The gripper's grasp point and opening come
-    from proprioception.
-    """
-    size = scene.config.physics.cube_size
-    views = []
-    for camera in cameras:
-        _, depth, seg = capture(scene, camera, camera.width, camera.height, segmentation=True)
-        views.append((camera, depth, seg))
-    blocks = []
-    for i in range(scene.n):
-        body = scene.block_body(i)
-        camera, depth, seg = max(views, key=lambda v: int(np.count_nonzero(v[2] == body)))
-        rows, cols = np.nonzero(seg == body)
-        if len(rows) < 4:
-            blocks.append(BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False))
-            continue
-        pts = unproject(camera, depth, rows, cols)
-        top = float(np.percentile(pts[:, 2], 98))
-        centroid = pts[:, :2].mean(axis=0)
-        away = centroid - np.asarray(camera.eye[:2])
-        away /= max(float(np.linalg.norm(away)), 1e-9)
-        xy = centroid + away * size / 4
-        blocks.append(BlockObs((float(xy[0]), float(xy[1]), top - size / 2), None, 0.0))
-    return Observation(tuple(blocks), tuple(panda.ee_position()), panda.finger_width(), size)

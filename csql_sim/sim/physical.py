@@ -8,11 +8,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from csql_sim.errors import CsqlError
-from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERAS, Camera, observe_camera
+from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERAS, Camera
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.layout import place_towers
 from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, interpret, observe_poses, settled
 from csql_sim.sim.primitives import CarryHook, Pick, Status, primitive_for, settle
+from csql_sim.sim.rgbd import NO_NOISE, CameraNoise, observe_rgbd
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Pose, Scene
 from csql_sim.task import Task
@@ -32,8 +33,11 @@ class PhysicalWorld:
     Args:
         n: number of cubes.
         seed: seeds the one generator used for putdown spots and perturbations.
-        perception: ``"pose"`` (body poses) or ``"camera"`` (segmentation + depth).
+        perception: ``"pose"`` (body poses) or ``"camera"`` (colour + depth images, rgbd.py).
         config: scene settings.
+        cameras: the perception cameras.
+        camera_noise: sensor noise of camera perception; drawn from a generator of its
+            own (spawned from ``seed``), so noise never shifts the episode's other draws.
     """
 
     n: int
@@ -41,9 +45,11 @@ class PhysicalWorld:
     perception: str = "pose"
     config: SimConfig = DEFAULT_CONFIG
     cameras: tuple[Camera, ...] = PERCEPTION_CAMERAS
+    camera_noise: CameraNoise = NO_NOISE
     scene: Scene = field(init=False)
     panda: Panda = field(init=False)
     rng: np.random.Generator = field(init=False)
+    sensor_rng: np.random.Generator = field(init=False)
 
     def __post_init__(self) -> None:
         if self.perception not in PERCEPTION_MODES:
@@ -51,6 +57,7 @@ class PhysicalWorld:
         self.scene = Scene(self.n, self.config)
         self.panda = Panda(self.scene)
         self.rng = np.random.default_rng(self.seed)
+        self.sensor_rng = np.random.default_rng(np.random.SeedSequence(self.seed).spawn(1)[0])
 
     def close(self) -> None:
         """Release the physics client."""
@@ -82,7 +89,7 @@ class PhysicalWorld:
     def observe(self) -> Observation:
         """An observation in the configured perception mode."""
         if self.perception == "camera":
-            return observe_camera(self.scene, self.panda, self.cameras)
+            return observe_rgbd(self.scene, self.panda, self.cameras, self.camera_noise, self.sensor_rng)
         return observe_poses(self.scene, self.panda)
 
     def perceive(self) -> Perceived:

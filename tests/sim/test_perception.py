@@ -2,9 +2,10 @@ import pytest
 
 from csql_sim.message import format_state_message
 from csql_sim.notation import parse_config
-from csql_sim.sim.camera import CAMERA_TOLERANCES, observe_camera
+from csql_sim.sim.camera import CAMERA_TOLERANCES
 from csql_sim.sim.perception import interpret, observe_poses, state_message
 from csql_sim.sim.physical import PhysicalWorld
+from csql_sim.sim.rgbd import observe_rgbd as observe_camera
 from csql_sim.world import BlocksWorld, all_states
 
 
