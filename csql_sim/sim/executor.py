@@ -25,6 +25,7 @@ from csql_sim.message import action_code, format_state_message
 from csql_sim.planner import BfsPolicy, distance
 from csql_sim.policy import Policy
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.perception import Perceived
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.primitives import CarryHook, Status
 from csql_sim.sim.recording import Caption, Recorder, Recording
@@ -69,11 +70,12 @@ class StepRecord:
     predicted: str
     perceived: str
     sim_seconds: float
+    recovery: bool = False  # a physical recovery (e.g. flatten(X)), not a blocks-world action
 
     @property
     def mismatch(self) -> bool:
-        """True when perception disagrees with the world model."""
-        return self.predicted != self.perceived
+        """True when perception disagrees with the world model (never for a recovery)."""
+        return not self.recovery and self.predicted != self.perceived
 
 
 @dataclass(kw_only=True)
@@ -229,6 +231,10 @@ class Episode:
         result, perceived = self.result, self.perceived
         state = perceived.state
         if state is None:
+            if len(result.steps) < self.cap and (fix := _recover(self.world, perceived)) is not None:
+                result.steps.append(fix)
+                self.perceived = self.world.perceive()
+                return True
             result.reason = f"perception failed: {perceived.reason}"
             return False
         message = format_state_message(state, self.goal_index)
@@ -310,6 +316,19 @@ class Episode:
             self.recorder.caption = Caption(len(result.steps), outcome, self.recorder.caption.message)
             result.recording = self.recorder.finish()
         return result
+
+
+def _recover(world: PhysicalWorld, perceived: Perceived) -> StepRecord | None:
+    """Run the physical recovery for a failed perception (a cube resting flat nowhere), if any."""
+    t0 = world.scene.steps
+    done = world.recover(perceived)
+    if done is None:
+        return None
+    name, status = done
+    after = world.perceive()
+    seen = after.state.notation() if after.state is not None else after.reason
+    return StepRecord(action=name, message=perceived.reason, status=status, predicted="", perceived=seen,
+                      sim_seconds=(world.scene.steps - t0) * world.config.physics.time_step, recovery=True)
 
 
 def _nudge(world: PhysicalWorld, rng: np.random.Generator, pert: Perturbation) -> str:

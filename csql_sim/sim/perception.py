@@ -46,12 +46,14 @@ class BlockObs:
         tilt: angle between the nearest face normal and the vertical (None if unknown).
         yaw: rotation about the vertical, modulo 90 degrees, rad.
         visible: False if the camera saw none of it.
+        axes: the cube's three face normals (world frame, rows), or None if unknown.
     """
 
     position: tuple[float, float, float]
     tilt: float | None
     yaw: float
     visible: bool = True
+    axes: tuple[tuple[float, float, float], ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -70,6 +72,7 @@ class Perceived:
 
     state: State | None
     reason: str = ""
+    stray: int | None = None  # a visible cube, not held, that rests flat nowhere (recovery can fix it)
 
 
 def tilt_and_yaw(orientation: tuple[float, float, float, float]) -> tuple[float, float]:
@@ -93,7 +96,8 @@ def observe_poses(scene: Scene, panda: Panda) -> Observation:
     for i in range(scene.n):
         pose = scene.block_pose(i)
         tilt, yaw = tilt_and_yaw(pose.orientation)
-        blocks.append(BlockObs(pose.position, tilt, yaw))
+        axes = tuple(tuple(float(v) for v in col) for col in rotation_matrix(pose.orientation).T)
+        blocks.append(BlockObs(pose.position, tilt, yaw, axes=axes))
     return Observation(tuple(blocks), tuple(panda.ee_position()), panda.finger_width(),
                        scene.config.physics.cube_size)
 
@@ -172,7 +176,7 @@ def interpret(obs: Observation, tol: Tolerances = TOLERANCES) -> Perceived:
         if not obs.blocks[x].visible:
             return Perceived(None, f"block {BLOCK_NAMES[x]} is out of sight")
         where = ", ".join(f"{v:.3f}" for v in obs.blocks[x].position)
-        return Perceived(None, f"block {BLOCK_NAMES[x]} is not resting flat anywhere (at {where})")
+        return Perceived(None, f"block {BLOCK_NAMES[x]} is not resting flat anywhere (at {where})", stray=x)
     try:
         state = State(tuple(int(s) for s in support if s is not None))
     except WorldError as exc:

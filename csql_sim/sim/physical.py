@@ -13,11 +13,12 @@ from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.layout import place_towers
 from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, interpret, observe_poses, settled
 from csql_sim.sim.primitives import CarryHook, Pick, Status, primitive_for, settle
+from csql_sim.sim.recovery import recovery_for
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise, observe_rgbd
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Pose, Scene
 from csql_sim.task import Task
-from csql_sim.world import Action, State
+from csql_sim.world import BLOCK_NAMES, Action, State
 
 PERCEPTION_MODES = ("pose", "camera")
 
@@ -117,6 +118,14 @@ class PhysicalWorld:
     def execute(self, action: Action, carry_hook: CarryHook | None = None, attempt: int = 0) -> Status:
         """Run the primitive of ``action`` on the current observation (``attempt``: earlier failures)."""
         return primitive_for(action, attempt=attempt)(self.scene, self.panda, self.observe(), self.rng, carry_hook)
+
+    def recover(self, perceived: Perceived) -> tuple[str, Status] | None:
+        """Run the recovery primitive for a failed perception: (its name, status), or None if none applies."""
+        primitive = recovery_for(perceived)
+        if primitive is None:
+            return None
+        status = primitive(self.scene, self.panda, self.observe(), self.rng)
+        return f"{primitive.name}({BLOCK_NAMES[primitive.block]})", status
 
     def final_poses(self) -> tuple[Pose, ...]:
         """Every cube's pose now."""

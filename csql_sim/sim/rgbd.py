@@ -271,7 +271,8 @@ def estimate_cube(points: np.ndarray, eyes: np.ndarray, size: float, rng: np.ran
     tilt = math.acos(min(1.0, abs(float(axes[k, 2]))))
     side = axes[(k + 1) % 3]
     yaw = wrap_quarter(math.atan2(float(side[1]), float(side[0])))
-    return BlockObs((float(centre[0]), float(centre[1]), float(centre[2])), tilt, yaw)
+    frame = tuple(tuple(float(v) for v in a) for a in axes)
+    return BlockObs((float(centre[0]), float(centre[1]), float(centre[2])), tilt, yaw, axes=frame)
 
 
 def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] = PERCEPTION_CAMERAS,
