@@ -176,13 +176,18 @@ class EpisodeRunner:
         n: number of blocks (the world model is built once, for all episodes).
         perturb: jitter start scenes, nudge cubes, drop carried cubes.
         perception: ``"pose"`` or ``"camera"``.
+        camera_noise: (depth m, colour 8-bit levels) standard deviations of camera noise.
     """
 
-    def __init__(self, policy: Policy, n: int, perturb: bool, perception: str) -> None:
+    def __init__(self, policy: Policy, n: int, perturb: bool, perception: str,
+                 camera_noise: tuple[float, float] = (0.0, 0.0)) -> None:
+        from csql_sim.sim.rgbd import CameraNoise
+
         self.policy = policy
         self.world_model = WorldModel.for_blocks(n)
         self.perturb = perturb
         self.perception = perception
+        self.camera_noise = CameraNoise(*camera_noise)
 
     def run(self, spec: EpisodeSpec) -> EpisodeSummary:
         """Run one physical episode; a CsqlError becomes a failed summary with its message."""
@@ -191,7 +196,7 @@ class EpisodeRunner:
         try:
             r = run_physical_episode(parse_config(spec.start), parse_config(spec.goal), self.policy, seed=spec.seed,
                                      perturb=self.perturb, perception=self.perception,
-                                     world_model=self.world_model)
+                                     world_model=self.world_model, camera_noise=self.camera_noise)
         except CsqlError as exc:
             return EpisodeSummary(start=spec.start, goal=spec.goal, seed=spec.seed, success=False, reason=str(exc))
         events = tuple(PerturbationEvent(k, e) for k, e in zip(r.event_steps, r.events, strict=True)
@@ -205,10 +210,11 @@ class EpisodeRunner:
 _WORKER_RUNNER: EpisodeRunner | None = None  # the one runner of an evaluation worker process
 
 
-def _init_worker(rules: str | None, n: int, perturb: bool, perception: str) -> None:
+def _init_worker(rules: str | None, n: int, perturb: bool, perception: str,
+                 camera_noise: tuple[float, float] = (0.0, 0.0)) -> None:
     """Pool initializer: the worker process's EpisodeRunner, which lives as long as the worker."""
     global _WORKER_RUNNER
-    _WORKER_RUNNER = EpisodeRunner(load_policy(rules, n), n, perturb, perception)
+    _WORKER_RUNNER = EpisodeRunner(load_policy(rules, n), n, perturb, perception, camera_noise)
 
 
 def _run_in_worker(spec: EpisodeSpec) -> EpisodeSummary:
@@ -218,7 +224,7 @@ def _run_in_worker(spec: EpisodeSpec) -> EpisodeSummary:
 
 def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool = False,
              workers: int | None = None, rules: str | None = None, perception: str = "pose",
-             progress: bool = True, seed: int = 0) -> EvalReport:
+             progress: bool = True, seed: int = 0, camera_noise: tuple[float, float] = (0.0, 0.0)) -> EvalReport:
     """Run physical episodes for every start/goal pair in parallel processes and summarise them.
 
     Args:
@@ -232,18 +238,22 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         perception: ``"pose"`` or ``"camera"``.
         progress: show a tqdm bar on stderr.
         seed: seeds the sample of pairs (``pairs`` = K).
+        camera_noise: (depth m, colour 8-bit levels) standard deviations of camera noise.
     """
+    from csql_sim.sim.rgbd import CameraNoise
+
     policy = load_policy(rules, n, progress=progress)  # fail fast on a bad file, before starting workers
+    CameraNoise(*camera_noise)  # and on bad noise
     specs = make_specs(n, pairs, seeds, sample_seed=seed)
     if workers is not None and workers < 1:
         raise CsqlError(f"--workers must be positive, got {workers}")
     workers = worker_count(workers, len(specs))
-    init = (rules, n, perturb, perception)
+    init = (rules, n, perturb, perception, tuple(camera_noise))
     bar = tqdm(total=len(specs), desc="episodes", unit="ep", disable=not progress)
     summaries: list[EpisodeSummary] = []
     try:
         if workers == 1:
-            runner = EpisodeRunner(policy, n, perturb, perception)
+            runner = EpisodeRunner(policy, n, perturb, perception, camera_noise)
             for spec in specs:
                 summaries.append(runner.run(spec))
                 bar.update()
@@ -257,6 +267,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
     report = summarise(summaries)
     report.config = {
         "rules": rules_source(rules), "blocks": n, "perception": perception, "perturb": perturb,
+        "camera_noise": list(camera_noise),
         "pairs": pairs, "seeds": seeds, "seed": seed, "workers": workers, "version": __version__,
     }
     return report

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from typing import TYPE_CHECKING
 
@@ -42,7 +43,14 @@ def print_episode(result: EpisodeResult) -> None:
 
 def cmd_render(args: argparse.Namespace) -> int:
     from csql_sim.provenance import rules_source
-    from csql_sim.sim import check_video_options, load_policy, render_episode, sidecar_path, video_frame_count
+    from csql_sim.sim import (
+        CameraNoise,
+        check_video_options,
+        load_policy,
+        render_episode,
+        sidecar_path,
+        video_frame_count,
+    )
 
     if not args.start:
         raise CsqlError("render needs --start and --goal")
@@ -53,7 +61,8 @@ def cmd_render(args: argparse.Namespace) -> int:
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
                                   perception=args.perception, progress=show_progress(args),
-                                  provenance_extra={"rules": rules_source(args.rules)})
+                                  provenance_extra={"rules": rules_source(args.rules)},
+                                  camera_noise=CameraNoise(*args.camera_noise))
     print_episode(result)
     frames = video_frame_count(result.recording, args.fps) if result.recording else 0
     print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height}; "
@@ -90,7 +99,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     warn_workers(args.workers)
     report = evaluate(n=args.blocks, pairs=args.pairs, seeds=args.seeds, perturb=args.perturb,
                       workers=args.workers, rules=args.rules, perception=args.perception,
-                      progress=show_progress(args), seed=args.seed)
+                      progress=show_progress(args), seed=args.seed, camera_noise=args.camera_noise)
     status = evaluate_status(report, args.min_success)
     emit(args, {**report.to_dict(), "min_success": args.min_success, "status": status,
                 "provenance": provenance(command="evaluate", **report.config, min_success=args.min_success)},
@@ -100,6 +109,23 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
         print(f"wrote {write_evaluation_png(report, args.plot)}", file=sys.stderr)
     return status
+
+
+def camera_noise_arg(text: str) -> tuple[float, float]:
+    """Argparse type for --camera-noise ``DEPTH_MM[,COLOUR_LEVELS]``: (depth m, colour levels)."""
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) not in (1, 2) or not all(math.isfinite(v) and v >= 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected DEPTH_MM or DEPTH_MM,COLOUR_LEVELS (numbers >= 0), got {text!r}")
+    return values[0] / 1000.0, values[1] if len(values) == 2 else 0.0
+
+
+def _noise_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--camera-noise", type=camera_noise_arg, default=(0.0, 0.0), metavar="MM[,LEVELS]",
+                   help="camera perception noise: depth standard deviation in mm along the optical axis, "
+                        "optionally colour standard deviation in 8-bit levels (e.g. 1.5,4; default none)")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -115,6 +141,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=seed_arg, default=0, help="episode seed (default 0)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
+    _noise_arg(p)
     add_workers(p, "render processes")
     add_quiet(p)
     p.set_defaults(func=cmd_render)
@@ -127,6 +154,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seeds", type=positive_int, default=1, help="episodes per pair (default 1)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
+    _noise_arg(p)
     p.add_argument("--min-success", type=_rate, metavar="RATE",
                    help="exit 0 when the success rate is at least RATE (default: every episode must succeed)")
     p.add_argument("--plot", metavar="FILE.png", help="draw outcomes, plan lengths and perturbations to a PNG")

@@ -24,13 +24,15 @@ from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.recording import Recording
 from csql_sim.sim.render import VideoError, check_video_options, video_frame_count, write_video
 from csql_sim.sim.report import episode_lines
+from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 from csql_sim.world import State
 
 
 def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Policy | None = None,
                    seed: int = 0, width: int = 640, height: int = 480, fps: int = 30,
                    workers: int | None = None, perturb: bool = False, perception: str = "pose",
-                   progress: bool = True, provenance_extra: dict | None = None) -> tuple[EpisodeResult, Path]:
+                   progress: bool = True, provenance_extra: dict | None = None,
+                   camera_noise: CameraNoise = NO_NOISE) -> tuple[EpisodeResult, Path]:
     """Run one recorded episode, write its video and the video's provenance sidecar (``<video>.json``).
 
     Args:
@@ -47,6 +49,7 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
         perception: ``"pose"`` or ``"camera"``.
         progress: show progress bars on stderr.
         provenance_extra: further parameters to record in the sidecar (e.g. the rule file).
+        camera_noise: sensor noise of camera perception.
 
     Returns:
         The episode result and the path of the video (written even if the episode failed).
@@ -59,11 +62,13 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
     with tqdm(total=distance(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
               leave=False) as bar:
         result = run_physical_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
-                                      perception=perception, fps=fps, on_action=lambda _k: bar.update())
+                                      perception=perception, fps=fps, on_action=lambda _k: bar.update(),
+                                      camera_noise=camera_noise)
     assert result.recording is not None
     path = write_video(result.recording, out, width, height, fps, workers, progress=progress)
     record = provenance(start=start.notation(), goal=goal.notation(), policy=getattr(policy, "name", "bfs"),
                         seed=seed, width=width, height=height, fps=fps, perturb=perturb, perception=perception,
+                        camera_noise=[camera_noise.depth, camera_noise.colour],
                         **(provenance_extra or {}))
     record["video"] = {"file": path.name, "frames": video_frame_count(result.recording, fps),
                        "actions": result.length, "success": result.success, "reason": result.reason}
@@ -78,6 +83,7 @@ def sidecar_path(video: str | os.PathLike) -> Path:
 
 
 __all__ = [
+    "CameraNoise",
     "EpisodeResult",
     "Perturbation",
     "PhysicalBlocksEnv",

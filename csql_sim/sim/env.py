@@ -16,6 +16,7 @@ from csql_sim.errors import CsqlError
 from csql_sim.sim.camera import RENDER_CAMERA, capture
 from csql_sim.sim.perception import Perceived
 from csql_sim.sim.physical import PhysicalWorld
+from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 
 PHYSICS_SEED_BOUND = 2**31  # physics seeds are drawn from [0, 2**31)
 
@@ -77,17 +78,20 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         perception: ``"pose"`` or ``"camera"``.
         width: rendered image width.
         height: rendered image height.
+        camera_noise: sensor noise of camera perception.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
 
     def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
-                 perception: str = "pose", width: int = 640, height: int = 480) -> None:
+                 perception: str = "pose", width: int = 640, height: int = 480,
+                 camera_noise: CameraNoise = NO_NOISE) -> None:
         if render_mode not in (None, "rgb_array"):
             raise CsqlError(f"render_mode must be 'rgb_array' or None, got {render_mode!r}")
         super().__init__(n, max_steps, None)
         self.render_mode = render_mode
         self.perception = perception
+        self.camera_noise = camera_noise
         self.width, self.height = width, height
         self.physical: PhysicalWorld | None = None
         self.physics_seed: int | None = None
@@ -99,7 +103,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         super().reset(seed=seed, options=options)
         self.close()
         self.physics_seed = int(self.np_random.integers(PHYSICS_SEED_BOUND))
-        self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception)
+        self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception, camera_noise=self.camera_noise)
         self.physical.build(self.world.states[self.state])
         self.failure = ""
         self._sync()

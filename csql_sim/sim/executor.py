@@ -29,6 +29,7 @@ from csql_sim.sim.perception import Perceived
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.primitives import CarryHook, Status
 from csql_sim.sim.recording import Caption, Recorder, Recording
+from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 from csql_sim.sim.scene import Pose
 from csql_sim.task import Task
 from csql_sim.world import Action, BlocksWorld, State
@@ -146,7 +147,8 @@ def run_physical_episode(start: State, goal: State, policy: Policy | None = None
                          max_actions: int | None = None, fps: int = 30, config: SimConfig = DEFAULT_CONFIG,
                          perturbation: Perturbation = PERTURBATION,
                          world_model: WorldModel | None = None,
-                         on_action: Callable[[int], None] | None = None) -> EpisodeResult:
+                         on_action: Callable[[int], None] | None = None,
+                         camera_noise: CameraNoise = NO_NOISE) -> EpisodeResult:
     """Execute ``policy`` from ``start`` to ``goal`` on the simulated arm.
 
     Args:
@@ -164,6 +166,7 @@ def run_physical_episode(start: State, goal: State, policy: Policy | None = None
         world_model: predicts each next state and judges legality (default: the built-in
             R-classifiers, :meth:`WorldModel.for_blocks`, built once for this episode).
         on_action: called with the number of actions executed after each one (progress).
+        camera_noise: sensor noise of camera perception.
 
     Raises:
         SimError: if the start state cannot be built.
@@ -173,7 +176,7 @@ def run_physical_episode(start: State, goal: State, policy: Policy | None = None
     task = Task(start, goal)
     cap = default_max_actions(start, goal) if max_actions is None else max_actions
     t_setup = time.perf_counter()
-    with PhysicalWorld(start.n, seed, perception, config) as world:
+    with PhysicalWorld(start.n, seed, perception, config, camera_noise=camera_noise) as world:
         world.build(start, jitter=perturb and perturbation.jitter_start)
         episode = Episode(task, world, policy or BfsPolicy(), world_model or WorldModel.for_blocks(start.n),
                           cap=cap, seed=seed, perturbation=perturbation if perturb else None,

@@ -51,6 +51,7 @@ class PhysicalWorld:
     panda: Panda = field(init=False)
     rng: np.random.Generator = field(init=False)
     sensor_rng: np.random.Generator = field(init=False)
+    _seen: tuple[int, Observation] | None = field(init=False, default=None)  # (scene step, observation)
 
     def __post_init__(self) -> None:
         if self.perception not in PERCEPTION_MODES:
@@ -79,6 +80,7 @@ class PhysicalWorld:
         if state.n != self.n:
             raise SimError(f"state {state.notation()} has {state.n} blocks, the scene {self.n}")
         place_towers(self.scene, state, self.rng, jitter=jitter)
+        self._seen = None
         settle(self.scene, self.panda)
         held = state.held
         if held is not None:
@@ -88,10 +90,15 @@ class PhysicalWorld:
             settle(self.scene, self.panda)
 
     def observe(self) -> Observation:
-        """An observation in the configured perception mode."""
+        """An observation in the configured perception mode (one per simulation step: nothing moved since)."""
+        if self._seen is not None and self._seen[0] == self.scene.steps:
+            return self._seen[1]
         if self.perception == "camera":
-            return observe_rgbd(self.scene, self.panda, self.cameras, self.camera_noise, self.sensor_rng)
-        return observe_poses(self.scene, self.panda)
+            obs = observe_rgbd(self.scene, self.panda, self.cameras, self.camera_noise, self.sensor_rng)
+        else:
+            obs = observe_poses(self.scene, self.panda)
+        self._seen = (self.scene.steps, obs)
+        return obs
 
     def perceive(self) -> Perceived:
         """Settle, observe and interpret the scene."""

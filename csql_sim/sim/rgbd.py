@@ -51,18 +51,6 @@ class CameraNoise:
 NO_NOISE = CameraNoise()
 
 
-def parse_camera_noise(text: str) -> CameraNoise:
-    """``"DEPTH_MM[,COLOUR_LEVELS]"``, e.g. ``"2,5"``: 2 mm depth and 5 levels colour noise."""
-    parts = text.split(",")
-    try:
-        values = [float(p) for p in parts]
-    except ValueError:
-        values = []
-    if len(values) not in (1, 2):
-        raise CsqlError(f"camera noise must be DEPTH_MM or DEPTH_MM,COLOUR_LEVELS, got {text!r}")
-    return CameraNoise(values[0] / 1000.0, values[1] if len(values) == 2 else 0.0)
-
-
 @dataclass(frozen=True)
 class SegmentationLimits:
     """Colour segmentation: a pixel belongs to the cube of the nearest paint hue."""
@@ -311,4 +299,4 @@ def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] = PERCE
     return Observation(tuple(blocks), tuple(panda.ee_position()), panda.finger_width(), size)
 
 
-__all__ = ["CameraNoise", "NO_NOISE", "estimate_cube", "observe_rgbd", "parse_camera_noise", "segment"]
+__all__ = ["CameraNoise", "NO_NOISE", "estimate_cube", "observe_rgbd", "segment"]
