@@ -124,3 +124,16 @@ def test_evaluate_exit_status(tmp_path, capsys):
     assert (tmp_path / "e.png").stat().st_size > 1000
     with pytest.raises(SystemExit):
         p.parse_args(["evaluate", "--min-success", "1.5"])
+
+
+def test_camera_noise_option():
+    p = _parser()
+    assert p.parse_args(["evaluate", "--camera-noise", "1.5,4"]).camera_noise == (0.0015, 4.0)
+    assert p.parse_args(["evaluate", "--camera-noise", "2"]).camera_noise == (0.002, 0.0)
+    assert p.parse_args(["evaluate"]).camera_noise == (0.0, 0.0)
+    assert p.parse_args(["render", "--camera-noise", "0,3"]).camera_noise == (0.0, 3.0)
+    for bad in ("x", "-1", "1,2,3", "nan", "1,inf"):
+        with pytest.raises(SystemExit):
+            p.parse_args(["evaluate", "--camera-noise", bad])
+    with pytest.raises(CsqlError, match="camera noise depth"):
+        evaluate(3, pairs=1, workers=1, progress=False, camera_noise=(-0.001, 0.0))
