@@ -50,6 +50,7 @@ class Perturbation:
 
 
 PERTURBATION = Perturbation()
+BLOCKED_PICK_TRIES = 2  # consecutive picks of a cube stopped by collisions before it is dragged clear
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -293,8 +294,15 @@ class Episode:
         hook = _drop_hook(world, action, pert, result.events) if pert and k == self.plan.drop_at else None
         code = int(action_code(action, self.task.n), 36)
         self._caption(Caption(k + 1, action.name(), format_state_message(state, self.goal_index, code)))
+        attempt = self._attempt(action)
+        if action.is_pick and attempt >= BLOCKED_PICK_TRIES and "collision" in result.steps[-1].status.reason:
+            fix = _recover(world, self.perceived, blocked_pick=action.block)  # make room around it
+            if fix is not None:
+                result.steps.append(fix)
+                self.perceived = world.perceive()
+                return
         t0 = world.scene.steps
-        status = world.execute(action, hook, self._attempt(action))
+        status = world.execute(action, hook, attempt)
         if pert and k == self.plan.nudge_at:
             result.events.append(_nudge(world, world.rng, pert))
         result.event_steps.extend([k] * (len(result.events) - len(result.event_steps)))
@@ -321,16 +329,17 @@ class Episode:
         return result
 
 
-def _recover(world: PhysicalWorld, perceived: Perceived) -> StepRecord | None:
-    """Run the physical recovery for a failed perception (a cube resting flat nowhere), if any."""
+def _recover(world: PhysicalWorld, perceived: Perceived, blocked_pick: int | None = None) -> StepRecord | None:
+    """Run a physical recovery (a cube resting flat nowhere, or a pick blocked by neighbours), if any."""
     t0 = world.scene.steps
-    done = world.recover(perceived)
+    done = world.recover(perceived, blocked_pick)
     if done is None:
         return None
     name, status = done
     after = world.perceive()
     seen = after.state.notation() if after.state is not None else after.reason
-    return StepRecord(action=name, message=perceived.reason, status=status, predicted="", perceived=seen,
+    why = perceived.reason if blocked_pick is None else "picks keep colliding with neighbours"
+    return StepRecord(action=name, message=why, status=status, predicted="", perceived=seen,
                       sim_seconds=(world.scene.steps - t0) * world.config.physics.time_step, recovery=True)
 
 

@@ -13,7 +13,7 @@ from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.layout import place_towers
 from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, interpret, observe_poses, settled
 from csql_sim.sim.primitives import CarryHook, Pick, Status, primitive_for, settle
-from csql_sim.sim.recovery import recovery_for
+from csql_sim.sim.recovery import Drag, recovery_for
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise, observe_rgbd
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Pose, Scene
@@ -126,9 +126,14 @@ class PhysicalWorld:
         """Run the primitive of ``action`` on the current observation (``attempt``: earlier failures)."""
         return primitive_for(action, attempt=attempt)(self.scene, self.panda, self.observe(), self.rng, carry_hook)
 
-    def recover(self, perceived: Perceived) -> tuple[str, Status] | None:
-        """Run the recovery primitive for a failed perception: (its name, status), or None if none applies."""
-        primitive = recovery_for(perceived)
+    def recover(self, perceived: Perceived, blocked_pick: int | None = None) -> tuple[str, Status] | None:
+        """Run a recovery primitive: (its name, status), or None if none applies.
+
+        Args:
+            perceived: the last perception (a cube resting flat nowhere gets ``Flatten``).
+            blocked_pick: a cube whose picks keep colliding with its neighbours (gets ``Drag``).
+        """
+        primitive = recovery_for(perceived) if blocked_pick is None else Drag(blocked_pick)
         if primitive is None:
             return None
         status = primitive(self.scene, self.panda, self.observe(), self.rng)

@@ -1,11 +1,15 @@
-"""Physical recovery: put a cube that rests flat nowhere back flat on the table.
+"""Physical recovery: undo what the four blocks-world operators cannot.
 
-A dropped or nudged cube can end leaning against another cube, or tilted on a cube's
-edge; no blocks-world action applies to it. :class:`Flatten` re-grasps it by the two
-faces that stay vertical (the faces whose normal is the cube's most horizontal axis),
-lifts it clear, lowers it onto a free table spot until it touches, and lets go: the cube
-drops the last millimetres and lands flat. Like the pick and place primitives it only
-moves the arm; the cube moves through contact.
+* A dropped or nudged cube can end leaning against another cube, or tilted on a cube's
+  edge; no blocks-world action applies to it. :class:`Flatten` re-grasps it by the two
+  faces that stay vertical (the faces whose normal is the cube's most horizontal axis),
+  lifts it clear, lowers it onto a free table spot until it touches, and lets go: the
+  cube drops the last millimetres and lands flat.
+* A nudged cube can end so close to a tower that the open hand fits nowhere around it,
+  and every pick of it stops on a collision. :class:`Drag` presses the closed fingertips
+  on the cube's top and slides it away from its neighbours (friction of the pads).
+
+Like the pick and place primitives they only move the arm; cubes move through contact.
 """
 
 from __future__ import annotations
@@ -99,6 +103,76 @@ class Flatten:
         return Status(True, "", scene.steps - start)
 
 
+@dataclass(frozen=True)
+class DragOffsets:
+    """Named offsets of the drag, in metres."""
+
+    contact_ahead: float = 0.016  # fingertips ahead of the cube's centre, in the drag direction
+    reach_below_top: float = 0.01  # the guarded descent aims this far below the cube's top
+    press: float = 0.004  # after the pads touch the top, aim this much lower: they press on it
+    distance: float = 0.05  # how far to slide the cube
+    neighbourhood: float = 0.15  # cubes nearer than this push the drag direction away from them
+
+
+DRAG_OFFSETS = DragOffsets()
+
+
+def drag_direction(obs: Observation, block: int, offsets: DragOffsets = DRAG_OFFSETS) -> np.ndarray | None:
+    """Unit horizontal direction away from the cubes around ``block`` (nearer ones weigh more)."""
+    c = np.asarray(obs.blocks[block].position[:2])
+    away = np.zeros(2)
+    for i, b in enumerate(obs.blocks):
+        delta = c - np.asarray(b.position[:2])
+        dist = float(np.linalg.norm(delta))
+        if i != block and b.visible and 1e-6 < dist < offsets.neighbourhood:
+            away += delta / dist**2
+    norm = float(np.linalg.norm(away))
+    return away / norm if norm > 1e-9 else None
+
+
+class Drag:
+    """Slide a cube that the hand cannot reach around away from its neighbours."""
+
+    name = "drag"
+
+    def __init__(self, block: int, offsets: DragOffsets = DRAG_OFFSETS) -> None:
+        self.block = block
+        self.offsets = offsets
+
+    def __call__(self, scene: Scene, panda: Panda, obs: Observation, rng: np.random.Generator,
+                 carry_hook: CarryHook | None = None) -> Status:
+        start = scene.steps
+        cc = scene.config.control
+        off = self.offsets
+        body = scene.block_body(self.block)
+        d = drag_direction(obs, self.block, off)
+        if d is None:
+            return Status(False, f"nothing to drag {BLOCK_NAMES[self.block]} away from", 0)
+        x, y, z = obs.blocks[self.block].position
+        yaw = math.atan2(d[1], d[0])  # fingers close across the drag: the palm lies along it, away from the others
+        yaw = min((yaw + k * math.pi for k in (-1, 0, 1)), key=lambda v: abs(v - panda.yaw) if abs(v) <= 2.6 else 9.0)
+        px, py = x + d[0] * off.contact_ahead, y + d[1] * off.contact_ahead
+        below_top = z + obs.size / 2 - off.reach_below_top  # descend until the pads touch (never this low)
+        high = carry_height(obs, None)
+        panda.set_fingers(0.0)
+        panda.move_to((px, py, high), yaw, cc.move_speed, cc.move_steps)
+        panda.move_to((px, py, below_top), yaw, cc.descend_speed / 2, cc.descend_steps * 2,
+                      guard=lambda: bool(panda.touching()))
+        if panda.touching() != {body}:
+            panda.move_to((px, py, high), yaw, cc.descend_speed, cc.descend_steps)
+            return Status(False, f"could not press on {BLOCK_NAMES[self.block]}", scene.steps - start)
+        press_z = float(panda.ee_position()[2]) - off.press
+        panda.move_to((px, py, press_z), yaw, cc.descend_speed / 3, cc.descend_steps)
+        behind = panda.touching() - {body}  # brushed while pressing: the drag moves away from it
+        tx, ty = px + d[0] * off.distance, py + d[1] * off.distance
+        panda.move_to((tx, ty, press_z), yaw, cc.descend_speed / 3, cc.descend_steps * 2,
+                      guard=lambda: bool(panda.touching() - {body} - behind))
+        panda.move_to((tx, ty, high), yaw, cc.descend_speed, cc.descend_steps)
+        panda.open()
+        settle(scene, panda)
+        return Status(True, "", scene.steps - start)
+
+
 def recovery_for(perceived: Perceived) -> Flatten | None:
     """The recovery primitive for a failed perception, or None when none applies."""
     if perceived.state is None and perceived.stray is not None:
@@ -106,4 +180,5 @@ def recovery_for(perceived: Perceived) -> Flatten | None:
     return None
 
 
-__all__ = ["FLATTEN_OFFSETS", "Flatten", "FlattenOffsets", "grip_yaw", "recovery_for"]
+__all__ = ["DRAG_OFFSETS", "FLATTEN_OFFSETS", "Drag", "DragOffsets", "Flatten", "FlattenOffsets", "drag_direction",
+           "grip_yaw", "recovery_for"]
