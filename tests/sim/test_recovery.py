@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from csql_sim.notation import parse_config
+from csql_sim.notation import parse_action_name, parse_config
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.recovery import Flatten, recovery_for
@@ -58,3 +58,21 @@ def test_the_leaning_cube_episode_recovers():
     assert r.success, r.reason
     assert [s.action for s in r.steps if s.recovery] == ["flatten(A)"]
     assert r.length == r.optimal_length + 3  # pickup and the dropped stack, the flatten, then the optimal plan
+
+
+def test_a_cube_crowded_by_a_tower_is_dragged_clear_and_then_picked():
+    with PhysicalWorld(5, seed=2) as world:
+        world.build(parse_config("ABCD,E"))
+        tower = np.asarray(world.scene.block_pose(0).position)
+        world.scene.set_block_pose(4, (tower[0] + 0.02, tower[1] + 0.054, 0.0201), (0, 0, 0, 1))  # construction
+        world.settle()
+        assert world.perceive().state == parse_config("ABCD,E")
+        blocked = [world.execute(parse_action_name("pickup(E)", 5), attempt=k) for k in range(2)]
+        assert all(not s.ok and "collision" in s.reason for s in blocked), blocked
+        before = np.asarray(world.scene.block_pose(4).position)
+        name, status = world.recover(world.perceive(), blocked_pick=4)
+        assert name == "drag(E)" and status.ok, status
+        after = np.asarray(world.scene.block_pose(4).position)
+        assert np.linalg.norm(after[:2] - tower[:2]) > np.linalg.norm(before[:2] - tower[:2]) + 0.03
+        assert world.perceive().state == parse_config("ABCD,E")  # still flat on the table, the tower intact
+        assert world.execute(parse_action_name("pickup(E)", 5)).ok
