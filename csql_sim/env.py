@@ -17,6 +17,7 @@ offers the same interface) through the learner's act/learn interface, learning f
 
 from __future__ import annotations
 
+import os
 from typing import Any, NamedTuple
 
 import gymnasium as gym
@@ -24,9 +25,37 @@ import numpy as np
 
 from csql_sim.errors import CsqlError
 from csql_sim.learners.learner import Learner, Transition
-from csql_sim.message import DIGITS, format_state_message, layout
+from csql_sim.message import DIGITS, format_action_message, format_state_message, layout, parse_state_message
 from csql_sim.notation import parse_config
 from csql_sim.world import BlocksWorld, State
+
+
+def rule_transitions(world: BlocksWorld, rules: str | os.PathLike) -> list[list[int]]:
+    """``[state][action]`` -> next state index (-1: illegal) as a rule file's R-classifiers say."""
+    from csql_sim.r_classifier import AddDeleteRule, PreconditionRule
+    from csql_sim.rulebase import load
+    from csql_sim.world_model import WorldModel
+
+    base = load(rules)
+    if base.blocks != world.n:
+        raise CsqlError(f"{rules}: rules for {base.blocks} blocks, the environment has {world.n}")
+    model = WorldModel([c for c in base.classifiers if isinstance(c, (PreconditionRule, AddDeleteRule))], world.n)
+    messages = [format_action_message(a, world.n) for a in world.actions]
+    table = []
+    for state in world.states:
+        message = format_state_message(state, 0)
+        legal = set(model.legal_actions(message))
+        row = []
+        for action in messages:
+            if action not in legal:
+                row.append(-1)
+                continue
+            try:
+                row.append(world.state_index(parse_state_message(model.predict(message, action), world.n).state))
+            except CsqlError as exc:
+                raise CsqlError(f"{rules}: {action} in {message}: {exc}") from None
+        table.append(row)
+    return table
 
 
 class EnvEpisode(NamedTuple):
@@ -37,18 +66,67 @@ class EnvEpisode(NamedTuple):
 
 
 class BlocksWorldEnv(gym.Env):
-    """Gymnasium environment of the n-block world with the paper's messages.
+    """Gymnasium environment of the symbolic n-block world with the paper's messages.
+
+    Registered as ``csql_sim/BlocksWorld-v0``:
+    ``gymnasium.make("csql_sim/BlocksWorld-v0", blocks=4, rules=None, render_mode="ansi")``.
+
+    ## Description
+    n labelled blocks on a table and a one-block gripper. A task is a start and a goal
+    configuration; the agent moves blocks with the four STRIPS operators until the
+    configuration is the goal. The dynamics are those of the R-classifiers (the paper's
+    Figure 5 for n = 3, generated from the operators otherwise, or read from ``rules``):
+    the precondition rules say which actions are legal, the add-delete rules what
+    follows.
+
+    ## Action Space
+    ``Discrete(len(all_actions(n)))`` (18 for n = 3, 50 for n = 5); action ``i`` has the
+    paper's action code ``i + 1``, in the order unstack(X,Y), pickup(X), putdown(X),
+    stack(X,Y). ``info["action_mask"]`` (int8, 1 = legal) marks the legal ones; an
+    illegal action leaves the state unchanged (as LT-QL assumes) and sets
+    ``info["illegal"]``.
+
+    ## Observation Space
+    ``Text`` of fixed length (16 characters for n = 2, 3; 17 for n = 4; 18 for n = 5; 19
+    for n = 6): the state message, e.g. ``S0111000ttt0000C``: tag, action slot, clear
+    flags, what each block stands on, the held block, and the goal state's code.
+
+    ## Starting State
+    ``reset(options={"start": ..., "goal": ...})`` takes each as a
+    :class:`~csql_sim.world.State`, a configuration (``"CBA"``: A on B on C) or a state
+    index; either missing is drawn uniformly from ``np_random``, distinct from the other.
+
+    ## Rewards
+    1 on the step that reaches the goal, 0 otherwise.
+
+    ## Episode End
+    - Termination: the state is the goal.
+    - Truncation: ``max_steps`` steps have been taken (never when ``max_steps`` is None).
+
+    ## Information
+    ``reset`` and ``step`` return ``action_mask``, ``state`` and ``goal`` (as
+    :class:`~csql_sim.world.State`) and ``illegal``.
+
+    ## Seeding
+    ``reset(seed=s)`` seeds ``np_random`` (Gymnasium's contract); from it a missing goal
+    and then a missing start are drawn, nothing else: the dynamics are deterministic. So
+    the same seed and options give the same task, and the same actions the same
+    observations, in any process. A later ``reset()`` without a seed continues the
+    stream; the first ``reset()`` of an env never seeded draws fresh entropy.
 
     Args:
-        n: number of blocks.
+        n: number of blocks, 2..6 (``blocks`` in ``gymnasium.make``).
         max_steps: steps before ``truncated`` (None: never).
         render_mode: ``"ansi"`` (the state's notation and message) or None.
+        rules: a rule file whose R-classifiers define the dynamics (default: the
+            built-in ones, identical to the blocks world); Q-classifiers in it are ignored.
 
     """
 
-    metadata = {"render_modes": ["ansi"]}
+    metadata = {"render_modes": ["ansi"], "render_fps": 4}
 
-    def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None) -> None:
+    def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
+                 rules: str | os.PathLike | None = None) -> None:
         self.world = BlocksWorld.of(n)
         self.n = n
         self.max_steps = max_steps
@@ -59,9 +137,11 @@ class BlocksWorldEnv(gym.Env):
         charset = frozenset(DIGITS + DIGITS.lower() + "S#")
         self.observation_space = gym.spaces.Text(min_length=length, max_length=length, charset=charset)
         self.action_space = gym.spaces.Discrete(len(self.world.actions))
+        self.rules = rules
+        self.next_state = self.world.next_state if rules is None else rule_transitions(self.world, rules)
         self._masks = [np.zeros(len(self.world.actions), dtype=np.int8) for _ in self.world.states]
-        for s, legal in enumerate(self.world.legal):
-            self._masks[s][list(legal)] = 1
+        for s, row in enumerate(self.next_state):
+            self._masks[s][[a for a, t in enumerate(row) if t >= 0]] = 1
         self.state = 0
         self.goal = 1
         self.steps = 0
@@ -111,7 +191,7 @@ class BlocksWorldEnv(gym.Env):
         """Apply ``action`` (an index); an illegal one leaves the state unchanged."""
         if not self.action_space.contains(action):
             raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
-        nxt = self.world.next_state[self.state][int(action)]
+        nxt = self.next_state[self.state][int(action)]
         illegal = nxt < 0
         if not illegal:
             self.state = nxt

@@ -8,16 +8,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
 
 from csql_sim import __version__
+from csql_sim.backends import Backend, TaskFailure, map_tasks
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_or_keep
 from csql_sim.notation import parse_config
 from csql_sim.pairs import check_sample_size, pair_count, selected_pairs
 from csql_sim.policy import Policy, load_policy
 from csql_sim.provenance import provenance, rules_source
-from csql_sim.workers import worker_count, worker_pool
+from csql_sim.workers import worker_count
 from csql_sim.world import all_states
 from csql_sim.world_model import WorldModel
 
@@ -212,7 +212,7 @@ _WORKER_RUNNER: EpisodeRunner | None = None  # the one runner of an evaluation w
 
 def _init_worker(rules: str | None, n: int, perturb: bool, perception: str,
                  camera_noise: tuple[float, float] = (0.0, 0.0)) -> None:
-    """Pool initializer: the worker process's EpisodeRunner, which lives as long as the worker."""
+    """Worker setup (once per worker and arguments): the process's EpisodeRunner, which lives as long as it."""
     global _WORKER_RUNNER
     _WORKER_RUNNER = EpisodeRunner(load_policy(rules, n), n, perturb, perception, camera_noise)
 
@@ -224,53 +224,52 @@ def _run_in_worker(spec: EpisodeSpec) -> EpisodeSummary:
 
 def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool = False,
              workers: int | None = None, rules: str | None = None, perception: str = "pose",
-             progress: bool = True, seed: int = 0, camera_noise: tuple[float, float] = (0.0, 0.0)) -> EvalReport:
-    """Run physical episodes for every start/goal pair in parallel processes and summarise them.
+             progress: bool = True, seed: int = 0, camera_noise: tuple[float, float] = (0.0, 0.0),
+             backend: Backend | None = None) -> EvalReport:
+    """Run physical episodes for every start/goal pair in parallel and summarise them.
 
     Args:
         n: number of blocks.
         pairs: ``"all"`` or the size of a seeded sample of start/goal pairs.
         seeds: episodes per pair (each episode has its own seed, reported with failures).
         perturb: jitter start scenes, nudge cubes, drop carried cubes.
-        workers: processes (default: every core; at most one per episode). They die with
-            this process; an exception (Ctrl-C) ends them at once.
+        workers: processes (default: every core; at most one per episode), or CPUs of a
+            local Ray instance; overrides ``backend.workers``.
         rules: a rule-base file; the BFS planner when None.
         perception: ``"pose"`` or ``"camera"``.
         progress: show a tqdm bar on stderr.
         seed: seeds the sample of pairs (``pairs`` = K).
         camera_noise: (depth m, colour 8-bit levels) standard deviations of camera noise.
+        backend: where the episodes run (default: a local process pool whose workers die
+            with this process; or Ray). A task that fails in its worker is reported as a
+            failed episode.
     """
     from csql_sim.sim.rgbd import CameraNoise
 
-    policy = load_policy(rules, n, progress=progress)  # fail fast on a bad file, before starting workers
+    load_policy(rules, n, progress=progress)  # fail fast on a bad file, before starting workers
     CameraNoise(*camera_noise)  # and on bad noise
     specs = make_specs(n, pairs, seeds, sample_seed=seed)
-    if workers is not None and workers < 1:
-        raise CsqlError(f"--workers must be positive, got {workers}")
-    workers = worker_count(workers, len(specs))
-    init = (rules, n, perturb, perception, tuple(camera_noise))
-    bar = tqdm(total=len(specs), desc="episodes", unit="ep", disable=not progress)
-    summaries: list[EpisodeSummary] = []
-    try:
-        if workers == 1:
-            runner = EpisodeRunner(policy, n, perturb, perception, camera_noise)
-            for spec in specs:
-                summaries.append(runner.run(spec))
-                bar.update()
-        else:
-            with worker_pool(workers, _init_worker, init) as pool:
-                for summary in pool.map(_run_in_worker, specs, chunksize=max(1, len(specs) // (workers * 16))):
-                    summaries.append(summary)
-                    bar.update()
-    finally:
-        bar.close()
-    report = summarise(summaries)
+    backend = backend or Backend()
+    if workers is not None:
+        backend = Backend(backend.kind, workers, backend.address)
+    setup_args = (rules, n, perturb, perception, tuple(camera_noise))
+    results = map_tasks(_run_in_worker, specs, backend, setup=_init_worker, setup_args=setup_args,
+                        progress=progress, desc="episodes", unit="ep")
+    report = summarise([_failed(spec, r.reason) if isinstance(r, TaskFailure) else r
+                        for spec, r in zip(specs, results, strict=True)])
+    used = worker_count(backend.workers, len(specs)) if backend.kind == "processes" else None
     report.config = {
         "rules": rules_source(rules), "blocks": n, "perception": perception, "perturb": perturb,
         "camera_noise": list(camera_noise),
-        "pairs": pairs, "seeds": seeds, "seed": seed, "workers": workers, "version": __version__,
+        "pairs": pairs, "seeds": seeds, "seed": seed, "workers": used, "backend": backend.kind,
+        "address": backend.address, "version": __version__,
     }
     return report
+
+
+def _failed(spec: EpisodeSpec, reason: str) -> EpisodeSummary:
+    """The summary of an episode whose task failed in its worker."""
+    return EpisodeSummary(start=spec.start, goal=spec.goal, seed=spec.seed, success=False, reason=reason)
 
 
 def summarise(summaries: list[EpisodeSummary]) -> EvalReport:

@@ -12,13 +12,13 @@ import csv
 import io
 import os
 from collections.abc import Sequence
-from concurrent.futures import as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from csql_sim.backends import Backend, TaskFailure, map_tasks
 from csql_sim.errors import CsqlError
 from csql_sim.files import write_or_keep
 from csql_sim.learners import METHODS, Curve, FastCSQL, make_learner, run_training
@@ -26,7 +26,7 @@ from csql_sim.learners.params import CommonParams, resolve_params
 from csql_sim.planner import distance
 from csql_sim.provenance import provenance
 from csql_sim.task import test_task
-from csql_sim.workers import worker_count, worker_pool
+from csql_sim.workers import worker_count
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -137,32 +137,17 @@ class CycleJob:
     params: CommonParams
 
 
-def _run_cycles(jobs: list[CycleJob], workers: int, progress: bool) -> list[Curve]:
-    """Every job's curve, in job order; in ``workers`` processes when more than one."""
-    curves: list[Curve | None] = [None] * len(jobs)
-    bar = None
-    if progress:
-        from tqdm import tqdm
+def _run_job(job: CycleJob) -> Curve:
+    return run_cycle(job.method, job.trials, job.seed, job.n, job.params)
 
-        bar = tqdm(total=len(jobs), desc="cycles", unit="cycle")
-    try:
-        if workers <= 1:
-            for k, job in enumerate(jobs):
-                curves[k] = run_cycle(job.method, job.trials, job.seed, job.n, job.params)
-                if bar is not None:
-                    bar.update()
-        else:
-            with worker_pool(workers) as pool:
-                futures = {pool.submit(run_cycle, j.method, j.trials, j.seed, j.n, j.params): k
-                           for k, j in enumerate(jobs)}
-                for future in as_completed(futures):
-                    curves[futures[future]] = future.result()
-                    if bar is not None:
-                        bar.update()
-    finally:
-        if bar is not None:
-            bar.close()
-    return [c for c in curves if c is not None]
+
+def _run_cycles(jobs: list[CycleJob], backend: Backend, progress: bool) -> list[Curve]:
+    """Every job's curve, in job order, on ``backend``; a failed cycle is a one-line error."""
+    curves = map_tasks(_run_job, jobs, backend, progress=progress, desc="cycles", unit="cycle")
+    for job, curve in zip(jobs, curves, strict=True):
+        if isinstance(curve, TaskFailure):
+            raise CsqlError(f"a cycle of {job.method} failed: {curve.reason}")
+    return curves  # type: ignore[return-value]
 
 
 def run_experiment(
@@ -174,8 +159,9 @@ def run_experiment(
     n: int = 3,
     params: dict[str, CommonParams] | str | os.PathLike | None = None,
     progress: bool = False,
+    backend: Backend | None = None,
 ) -> ExperimentResult:
-    """Run ``cycles`` cycles of each method, in parallel processes when ``workers`` > 1.
+    """Run ``cycles`` cycles of each method, in parallel processes when ``workers`` > 1, or on Ray.
 
     Args:
         methods: learner names (see :data:`csql_sim.learners.METHODS`).
@@ -184,16 +170,21 @@ def run_experiment(
         seed: root of the per-cycle seed sequences (cycle c of every method gets the same).
         workers: processes (default ``os.cpu_count()``, at most one per cycle); 1 runs in
             this process. Workers die with this process; an exception (Ctrl-C) ends them at once.
+            Overrides ``backend.workers``.
         n: number of blocks.
         params: per-method parameters, or a YAML file (flat or keyed by method).
         progress: show a tqdm bar on stderr.
+        backend: where the cycles run (default: a local process pool; or Ray).
 
     """
     resolved = _resolve(methods, cycles, trials, params, n)
     seeds = np.random.SeedSequence(seed).spawn(cycles)
     jobs = [CycleJob(m, trials, seeds[c], n, resolved[m]) for m in methods for c in range(cycles)]
-    workers = worker_count(workers, len(jobs))
-    curves = _run_cycles(jobs, workers, progress)
+    backend = backend or Backend()
+    if workers is not None:
+        backend = Backend(backend.kind, workers, backend.address)
+    curves = _run_cycles(jobs, backend, progress)
+    workers = worker_count(backend.workers, len(jobs))  # the processes, or a local Ray instance's CPUs
     results = []
     for k, m in enumerate(methods):
         runs = curves[k * cycles : (k + 1) * cycles]

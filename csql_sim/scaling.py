@@ -21,6 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
+from csql_sim.backends import Backend, TaskFailure, map_tasks
+from csql_sim.errors import CsqlError
 from csql_sim.files import write_atomic
 from csql_sim.learners import FastCSQL, Learner, make_learner
 from csql_sim.learners.lt_ql import TabularQ
@@ -130,29 +132,41 @@ def run_cell(method: str, n: int, seed: int, max_trials: int) -> ScalingRow:
     return ScalingRow(method, n, trials if reached else None, learner.t, wall, good, count * (count - 1))
 
 
-def run_scaling(blocks: Sequence[int], methods: Sequence[str], seed: int = 0, max_trials: int = 20_000,
-                progress: bool = False) -> list[ScalingRow]:
-    """Every (n, method) cell in order."""
-    jobs = [(n, m) for n in blocks for m in methods]
-    if "cs-ql" in methods:
-        make_learner("cs-ql", 2, engine="fast").run(1)  # type: ignore[union-attr]  # load the compiled kernels before timing
-    bar = None
-    if progress:
-        from tqdm import tqdm
+@dataclass(frozen=True)
+class CellJob:
+    """One (method, n) cell to run."""
 
-        bar = tqdm(total=len(jobs), desc="scaling", unit="cell")
-    rows = []
-    try:
-        for n, m in jobs:
-            if bar is not None:
-                bar.set_postfix_str(f"{m} n={n}")
-            rows.append(run_cell(m, n, seed, max_trials))
-            if bar is not None:
-                bar.update()
-    finally:
-        if bar is not None:
-            bar.close()
-    return rows
+    method: str
+    n: int
+    seed: int
+    max_trials: int
+
+
+def _load_fast_kernels() -> None:
+    """Worker setup: compile and load CS-QL's fast kernels before any cell is timed."""
+    make_learner("cs-ql", 2, engine="fast").run(1)  # type: ignore[union-attr]
+
+
+def _run_job(job: CellJob) -> ScalingRow:
+    return run_cell(job.method, job.n, job.seed, job.max_trials)
+
+
+def run_scaling(blocks: Sequence[int], methods: Sequence[str], seed: int = 0, max_trials: int = 20_000,
+                progress: bool = False, backend: Backend | None = None) -> list[ScalingRow]:
+    """Every (n, method) cell in order.
+
+    ``backend`` (default: one cell after another in this process, so that no two cells
+    share the cores while they are timed) may run cells in parallel, on Ray too; trials
+    and steps do not depend on it, wall seconds do.
+    """
+    jobs = [CellJob(m, n, seed, max_trials) for n in blocks for m in methods]
+    setup = _load_fast_kernels if "cs-ql" in methods else None
+    rows = map_tasks(_run_job, jobs, backend or Backend(workers=1), setup=setup, progress=progress,
+                     desc="scaling", unit="cell")
+    for job, row in zip(jobs, rows, strict=True):
+        if isinstance(row, TaskFailure):
+            raise CsqlError(f"the scaling cell {job.method} n={job.n} failed: {row.reason}")
+    return rows  # type: ignore[return-value]
 
 
 def csv_text(rows: Sequence[ScalingRow]) -> str:

@@ -23,6 +23,7 @@ import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from contextlib import contextmanager
+from multiprocessing.context import BaseContext
 
 PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 WATCHDOG_SECONDS = 0.5
@@ -77,14 +78,16 @@ def stop_pool(pool: ProcessPoolExecutor) -> None:
 
 @contextmanager
 def worker_pool(workers: int, initializer: Callable[..., object] | None = None,
-                initargs: tuple = ()) -> Iterator[ProcessPoolExecutor]:
+                initargs: tuple = (), mp_context: BaseContext | None = None) -> Iterator[ProcessPoolExecutor]:
     """A process pool whose workers die with this process and stop at once on an exception.
 
     On normal exit the pool is shut down waiting for its tasks; on any exception, a
     KeyboardInterrupt included, queued tasks are cancelled and the workers terminated.
+    ``mp_context`` chooses how workers start (default: the platform's; the EGL renderer
+    needs ``spawn``).
     """
     pool = ProcessPoolExecutor(max_workers=workers, initializer=_initialize,
-                               initargs=(os.getpid(), initializer, initargs))
+                               initargs=(os.getpid(), initializer, initargs), mp_context=mp_context)
     try:
         yield pool
     except BaseException:

@@ -6,8 +6,12 @@ import argparse
 import os
 import sys
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS
+
+if TYPE_CHECKING:
+    from csql_sim.backends import Backend
 
 
 def int_type(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
@@ -84,3 +88,25 @@ def add_workers(parser: argparse.ArgumentParser, what: str = "processes") -> Non
 def add_seed(parser: argparse.ArgumentParser, what: str) -> None:
     """``--seed S`` (a non-negative integer, default 0)."""
     parser.add_argument("--seed", type=seed_arg, default=0, help=f"{what} (default 0)")
+
+
+def add_backend_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add ``--backend processes|ray`` and ``--address ADDR`` to a subcommand."""
+    parser.add_argument("--backend", choices=("processes", "ray"), default="processes",
+                        help="where tasks run: a local process pool (default) or Ray")
+    parser.add_argument("--address", help="with --backend ray: a running Ray cluster, e.g. 'auto' on one of its "
+                        "nodes (default: start a local Ray instance)")
+
+
+def backend_from_args(args: argparse.Namespace) -> Backend:
+    """The :class:`csql_sim.backends.Backend` of ``--backend``, ``--address`` and ``--workers``."""
+    from csql_sim.backends import Backend
+
+    return Backend(args.backend, getattr(args, "workers", None), args.address)
+
+
+def add_renderer_argument(parser: argparse.ArgumentParser) -> None:
+    """Add ``--renderer tiny|egl|auto`` (the video renderer) to a subcommand."""
+    parser.add_argument("--renderer", choices=("auto", "tiny", "egl"), default="auto",
+                        help="video renderer: pybullet's TinyRenderer, its EGL plugin (OpenGL; a GPU where "
+                        "there is one), or auto (default): EGL when its plugin loads")

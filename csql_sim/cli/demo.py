@@ -9,6 +9,7 @@ import argparse
 
 from csql_sim.cli.args import (
     add_quiet,
+    add_renderer_argument,
     add_workers,
     blocks_arg,
     positive_int,
@@ -26,13 +27,14 @@ def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.policy import QPolicy, check_all_pairs
     from csql_sim.provenance import rules_source
     from csql_sim.rulebase import dumps
-    from csql_sim.sim import check_video_options, render_episode
+    from csql_sim.sim import check_video_options, render_episode, resolve_renderer
     from csql_sim.task import test_task
 
     out = check_output_folder(args.out)
     video = out / "test_task.mp4"
     check_video_options(video, args.width, args.height, args.fps)
     warn_workers(args.workers)
+    resolve_renderer(args.renderer)  # fail before training if --renderer egl cannot load
     task = test_task(args.blocks)
     start, goal = task.start, task.goal
     progress = show_progress(args)
@@ -56,7 +58,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
     result, path = render_episode(start, goal, video, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, progress=progress,
                                   provenance_extra={"rules": rules_source(out / "pruned.yaml"), "trials": args.trials,
-                                                    "threshold": args.threshold})
+                                                    "threshold": args.threshold},
+                                  renderer=args.renderer)
     print_episode(result)
     print(f"video: {path}")
     if result.success:
@@ -81,4 +84,5 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="number of blocks (default 3: the paper's test task CBA -> BAC; see 'experiment')")
     add_workers(p, "rendering processes")
     add_quiet(p)
+    add_renderer_argument(p)
     p.set_defaults(func=cmd_demo)

@@ -7,9 +7,11 @@ import os
 import time
 
 from csql_sim.cli.args import (
+    add_backend_arguments,
     add_json,
     add_quiet,
     add_workers,
+    backend_from_args,
     blocks_arg,
     non_negative_int,
     positive_int,
@@ -48,7 +50,7 @@ def cmd_experiment(args: argparse.Namespace) -> int:
     trials = args.trials if args.trials is not None else default_trials(args.blocks)
     result = run_experiment(
         methods=args.methods, cycles=args.cycles, trials=trials, seed=args.seed,
-        workers=args.workers, n=args.blocks, params=args.params, progress=show_progress(args),
+        n=args.blocks, params=args.params, progress=show_progress(args), backend=backend_from_args(args),
     )
     wall = time.perf_counter() - began
     csv_path, sidecar, png_path = write_figure7(args.out, result)
@@ -65,7 +67,10 @@ def cmd_experiment(args: argparse.Namespace) -> int:
             held = sum(st.holds for st in statements)
             lines.append(f"the paper's statements about Figure 7 ({held} of {len(statements)} hold):")
             lines.extend(f"  {line}" for line in statement_lines(statements))
-        return [*lines, f"wall time {wall:.1f} s with {workers} worker{'s' if workers > 1 else ''}",
+        where = f"with {workers} worker{'s' if workers > 1 else ''}"
+        if args.backend == "ray":
+            where = f"on Ray ({args.address or 'a local instance'})"
+        return [*lines, f"wall time {wall:.1f} s {where}",
                 f"wrote {csv_path}, {sidecar} (provenance) and {png_path}"]
 
     emit(args, doc, text)
@@ -170,7 +175,8 @@ def cmd_scaling(args: argparse.Namespace) -> int:
     from csql_sim.scaling import run_scaling, write_outputs
 
     check_output_folder(args.out)
-    rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args))
+    rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args),
+                       backend=backend_from_args(args))
     csv_path, png_path = write_outputs(args.out, rows, args.max_trials)
     record = provenance(blocks=args.blocks, methods=args.methods, seed=args.seed, max_trials=args.max_trials)
     doc = {"rows": plain(rows), "files": {"csv": str(csv_path), "png": str(png_path)}, "provenance": record}
@@ -219,7 +225,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--trials", type=non_negative_int, default=None,
                    help="trials per cycle (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=0, help="root seed (default 0)")
-    add_workers(p)
+    add_workers(p, "processes, or CPUs of a local Ray instance")
+    add_backend_arguments(p)
     p.add_argument("--blocks", type=blocks_arg, default=3,
                    help="number of blocks (default 3); for n != 3 the test task is a pair of maximal optimal length")
     p.add_argument("--params", help="YAML parameter overrides (flat, or keyed by method)")
@@ -261,6 +268,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--max-trials", type=positive_int, default=20_000, help="cap per (n, method) (default 20000)")
+    p.add_argument("--workers", type=positive_int, default=1,
+                   help="cells at once: processes, or CPUs of a local Ray instance (default 1: one after another, "
+                   "so that no two timed cells share the cores)")
+    add_backend_arguments(p)
     p.add_argument("--out", required=True, help="folder for scaling.csv, scaling.json (provenance) and scaling.png")
     add_json(p)
     add_quiet(p)

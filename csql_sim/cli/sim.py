@@ -8,10 +8,13 @@ import sys
 from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import (
+    add_backend_arguments,
     add_json,
     add_quiet,
+    add_renderer_argument,
     add_seed,
     add_workers,
+    backend_from_args,
     blocks_arg,
     positive_int,
     seed_arg,
@@ -62,7 +65,7 @@ def cmd_render(args: argparse.Namespace) -> int:
                                   height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
                                   perception=args.perception, progress=show_progress(args),
                                   provenance_extra={"rules": rules_source(args.rules)},
-                                  camera_noise=CameraNoise(*args.camera_noise))
+                                  camera_noise=CameraNoise(*args.camera_noise), renderer=args.renderer)
     print_episode(result)
     frames = video_frame_count(result.recording, args.fps) if result.recording else 0
     print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height}; "
@@ -98,8 +101,8 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
         check_output_file(args.plot, "plot")
     warn_workers(args.workers)
     report = evaluate(n=args.blocks, pairs=args.pairs, seeds=args.seeds, perturb=args.perturb,
-                      workers=args.workers, rules=args.rules, perception=args.perception,
-                      progress=show_progress(args), seed=args.seed, camera_noise=args.camera_noise)
+                      rules=args.rules, perception=args.perception, progress=show_progress(args),
+                      seed=args.seed, camera_noise=args.camera_noise, backend=backend_from_args(args))
     status = evaluate_status(report, args.min_success)
     emit(args, {**report.to_dict(), "min_success": args.min_success, "status": status,
                 "provenance": provenance(command="evaluate", **report.config, min_success=args.min_success)},
@@ -144,6 +147,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     _noise_arg(p)
     add_workers(p, "render processes")
     add_quiet(p)
+    add_renderer_argument(p)
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("evaluate", help="run physical episodes over start/goal pairs and report success")
@@ -158,7 +162,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--min-success", type=_rate, metavar="RATE",
                    help="exit 0 when the success rate is at least RATE (default: every episode must succeed)")
     p.add_argument("--plot", metavar="FILE.png", help="draw outcomes, plan lengths and perturbations to a PNG")
-    add_workers(p)
+    add_workers(p, "processes, or CPUs of a local Ray instance")
+    add_backend_arguments(p)
     add_json(p)
     add_quiet(p)
     p.set_defaults(func=cmd_evaluate)

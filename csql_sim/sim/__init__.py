@@ -23,6 +23,7 @@ from csql_sim.sim.executor import EpisodeResult, Perturbation, run_physical_epis
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.recording import Recording
 from csql_sim.sim.render import VideoError, check_video_options, video_frame_count, write_video
+from csql_sim.sim.renderer import RENDERERS, RendererError, resolve_renderer
 from csql_sim.sim.report import episode_lines
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 from csql_sim.world import State
@@ -32,7 +33,8 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
                    seed: int = 0, width: int = 640, height: int = 480, fps: int = 30,
                    workers: int | None = None, perturb: bool = False, perception: str = "pose",
                    progress: bool = True, provenance_extra: dict | None = None,
-                   camera_noise: CameraNoise = NO_NOISE) -> tuple[EpisodeResult, Path]:
+                   camera_noise: CameraNoise = NO_NOISE,
+                   renderer: str = "auto") -> tuple[EpisodeResult, Path]:
     """Run one recorded episode, write its video and the video's provenance sidecar (``<video>.json``).
 
     Args:
@@ -50,11 +52,13 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
         progress: show progress bars on stderr.
         provenance_extra: further parameters to record in the sidecar (e.g. the rule file).
         camera_noise: sensor noise of camera perception.
+        renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
 
     Returns:
         The episode result and the path of the video (written even if the episode failed).
     """
     check_video_options(out, width, height, fps)
+    renderer = resolve_renderer(renderer)  # an unusable --renderer fails before the episode runs
     from tqdm import tqdm
 
     from csql_sim.planner import distance
@@ -65,10 +69,11 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
                                       perception=perception, fps=fps, on_action=lambda _k: bar.update(),
                                       camera_noise=camera_noise)
     assert result.recording is not None
-    path = write_video(result.recording, out, width, height, fps, workers, progress=progress)
+    path = write_video(result.recording, out, width, height, fps, workers, progress=progress, renderer=renderer)
     record = provenance(start=start.notation(), goal=goal.notation(), policy=getattr(policy, "name", "bfs"),
                         seed=seed, width=width, height=height, fps=fps, perturb=perturb, perception=perception,
                         camera_noise=[camera_noise.depth, camera_noise.colour],
+                        renderer=renderer,
                         **(provenance_extra or {}))
     record["video"] = {"file": path.name, "frames": video_frame_count(result.recording, fps),
                        "actions": result.length, "success": result.success, "reason": result.reason}
@@ -88,12 +93,15 @@ __all__ = [
     "Perturbation",
     "PhysicalBlocksEnv",
     "PhysicalWorld",
+    "RENDERERS",
     "Recording",
+    "RendererError",
     "SimError",
     "VideoError",
     "episode_lines",
     "load_policy",
     "render_episode",
+    "resolve_renderer",
     "run_physical_episode",
     "sidecar_path",
     "video_frame_count",

@@ -104,20 +104,39 @@ class PhysicsClient:
         step_wall: wall seconds spent in :meth:`step` (benchmarks only; never used for control).
     """
 
-    def __init__(self, physics: PhysicsConfig) -> None:
+    def __init__(self, physics: PhysicsConfig, renderer_plugin: tuple[str, str] | None = None) -> None:
         self.client = pybullet.connect(pybullet.DIRECT)
         self.steps = 0
         self.step_wall = 0.0
         self._step_hooks: list[Callable[[Any], None]] = []
+        self._plugins: list[int] = []
+        self.opengl = False  # True once an OpenGL renderer plugin (EGL) draws this client's images
+        if renderer_plugin is not None:
+            self._load_renderer_plugin(*renderer_plugin)
         cid = self.client
         pybullet.setAdditionalSearchPath(pybullet_data.getDataPath(), physicsClientId=cid)
         pybullet.setTimeStep(physics.time_step, physicsClientId=cid)
         pybullet.setPhysicsEngineParameter(numSolverIterations=physics.solver_iterations, physicsClientId=cid)
         pybullet.setGravity(0, 0, physics.gravity, physicsClientId=cid)
 
+    def _load_renderer_plugin(self, path: str, name: str) -> None:
+        """Load a renderer plugin (pybullet's eglRenderer) before any body exists.
+
+        The plugin only draws shapes created after it is loaded, and then draws every
+        image of this client (``render`` asks for pybullet's OpenGL renderer); so only
+        replay scenes for video load it, and perception keeps the TinyRenderer.
+        """
+        plugin = pybullet.loadPlugin(path, name, physicsClientId=self.client)
+        if plugin >= 0:
+            self._plugins.append(plugin)
+            self.opengl = True
+
     def close(self) -> None:
-        """Disconnect the client (idempotent)."""
+        """Unload plugins and disconnect the client (idempotent)."""
         if self.client >= 0:
+            for plugin in self._plugins:
+                pybullet.unloadPlugin(plugin, physicsClientId=self.client)
+            self._plugins.clear()
             pybullet.disconnect(physicsClientId=self.client)
             self.client = -1
 
@@ -290,14 +309,15 @@ class PhysicsClient:
 
     def render(self, view: Sequence[float], projection: Sequence[float], width: int, height: int,
                segmentation: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """RGB (h, w, 3 uint8), depth buffer (h, w) and segmentation ids (h, w) from the TinyRenderer.
+        """RGB (h, w, 3 uint8), depth buffer (h, w) and segmentation ids (h, w).
 
-        The segmentation mask is only computed when ``segmentation`` is True.
+        Drawn by the TinyRenderer, or by the OpenGL plugin where one is loaded. The
+        segmentation mask is only computed when ``segmentation`` is True.
         """
         flags = 0 if segmentation else pybullet.ER_NO_SEGMENTATION_MASK
+        renderer = pybullet.ER_BULLET_HARDWARE_OPENGL if self.opengl else pybullet.ER_TINY_RENDERER
         _, _, rgba, depth, seg = pybullet.getCameraImage(
-            width, height, view, projection, renderer=pybullet.ER_TINY_RENDERER, flags=flags,
-            physicsClientId=self.client)
+            width, height, view, projection, renderer=renderer, flags=flags, physicsClientId=self.client)
         rgb = np.asarray(rgba, dtype=np.uint8).reshape(height, width, 4)[:, :, :3]
         return (rgb, np.asarray(depth, dtype=np.float64).reshape(height, width),
                 np.asarray(seg).reshape(height, width))

@@ -9,6 +9,8 @@ whatever perception sees. Illegal actions are masked and leave the scene untouch
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
 from csql_sim.env import BlocksWorldEnv
@@ -24,6 +26,9 @@ PHYSICS_SEED_BOUND = 2**31  # physics seeds are drawn from [0, 2**31)
 class PhysicalBlocksEnv(BlocksWorldEnv):
     """Gymnasium environment of the n-block world executed on the simulated Franka Panda.
 
+    Registered as ``csql_sim/PandaBlocks-v0``: ``gymnasium.make("csql_sim/PandaBlocks-v0",
+    blocks=3, perception="camera", rules=None, render_mode="rgb_array")``.
+
     ## Description
     The symbolic environment's task (reach a goal configuration with pickup, putdown,
     stack and unstack) executed by pick-and-place primitives on a simulated arm with
@@ -31,7 +36,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
 
     ## Action Space
     ``Discrete(len(all_actions(n)))``; action ``i`` has the paper's action code ``i + 1``
-    (12 actions for n = 3). ``info["action_mask"]`` (int8, 1 = legal) marks the actions
+    (18 for n = 3). ``info["action_mask"]`` (int8, 1 = legal) marks the actions
     legal in the perceived state; an illegal action leaves the scene untouched and sets
     ``info["illegal"]``.
 
@@ -79,16 +84,19 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         width: rendered image width.
         height: rendered image height.
         camera_noise: sensor noise of camera perception.
+        rules: a rule file whose precondition rules decide which actions are legal (the
+            action mask); what an action does is up to the physics.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
 
     def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
                  perception: str = "pose", width: int = 640, height: int = 480,
-                 camera_noise: CameraNoise = NO_NOISE) -> None:
+                 camera_noise: CameraNoise = NO_NOISE,
+                 rules: str | os.PathLike | None = None) -> None:
         if render_mode not in (None, "rgb_array"):
             raise CsqlError(f"render_mode must be 'rgb_array' or None, got {render_mode!r}")
-        super().__init__(n, max_steps, None)
+        super().__init__(n, max_steps, None, rules)
         self.render_mode = render_mode
         self.perception = perception
         self.camera_noise = camera_noise
@@ -129,7 +137,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
             raise CsqlError("call reset() before step()")
         if not self.action_space.contains(action):
             raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
-        illegal = self.world.next_state[self.state][int(action)] < 0
+        illegal = self.next_state[self.state][int(action)] < 0
         if not illegal:
             self.physical.execute(self.world.actions[int(action)])
             self._sync()

@@ -2,11 +2,13 @@
 
 Poses are recorded during simulation (see :mod:`csql_sim.sim.recording`); frames are
 rendered afterwards by worker processes, each with its own DIRECT client and a replay
-scene whose bodies are set to the recorded poses. TinyRenderer is used (no EGL needed).
+scene whose bodies are set to the recorded poses, drawn by the TinyRenderer or pybullet's
+EGL plugin (:mod:`csql_sim.sim.renderer`).
 """
 
 from __future__ import annotations
 
+import multiprocessing
 import os
 from collections.abc import Iterator
 from pathlib import Path
@@ -21,6 +23,7 @@ from csql_sim.files import atomic_output, check_output_file
 from csql_sim.sim.camera import RENDER_CAMERA, Camera, capture
 from csql_sim.sim.config import COLOURS, SimConfig
 from csql_sim.sim.recording import Frame, Recording
+from csql_sim.sim.renderer import close_quietly, resolve_renderer
 from csql_sim.sim.replay import apply_snapshot, replay_scene
 from csql_sim.sim.scene import Scene
 from csql_sim.workers import worker_count, worker_pool
@@ -89,16 +92,20 @@ class ReplayRenderer:
     Each rendering worker process owns exactly one, made by the pool's initializer
     (:func:`_init_render_worker`) and held in that process's ``_WORKER_RENDERER``; it
     lives as long as the worker. In-process rendering makes its own and closes it.
+
+    Args:
+        renderer: ``"tiny"`` or ``"egl"`` (resolved: :func:`csql_sim.sim.renderer.resolve_renderer`).
     """
 
-    def __init__(self) -> None:
+    def __init__(self, renderer: str = "tiny") -> None:
+        self.renderer = renderer
         self._scenes: dict[tuple[int, SimConfig], Scene] = {}
 
     def scene(self, n: int, config: SimConfig) -> Scene:
         """The replay scene of ``n`` cubes and ``config`` (built on first use)."""
         key = (n, config)
         if key not in self._scenes:
-            self._scenes[key] = replay_scene(n, config)
+            self._scenes[key] = replay_scene(n, config, self.renderer)
         return self._scenes[key]
 
     def render(self, n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
@@ -119,16 +126,16 @@ class ReplayRenderer:
     def close(self) -> None:
         """Release every replay scene's physics client."""
         for scene in self._scenes.values():
-            scene.close()
+            close_quietly(scene)
         self._scenes.clear()
 
 
 _WORKER_RENDERER: ReplayRenderer | None = None  # the one renderer of a rendering worker process
 
 
-def _init_render_worker() -> None:
+def _init_render_worker(renderer: str) -> None:
     global _WORKER_RENDERER
-    _WORKER_RENDERER = ReplayRenderer()
+    _WORKER_RENDERER = ReplayRenderer(renderer)
 
 
 def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
@@ -151,7 +158,7 @@ def _open_writer(path: Path, fps: int, suffix: str):  # noqa: ANN202 - imageio's
 
 def write_video(recording: Recording, path: str | os.PathLike, width: int = 640, height: int = 480,
                 fps: int | None = None, workers: int | None = None, camera: Camera = RENDER_CAMERA,
-                progress: bool = True) -> Path:
+                progress: bool = True, renderer: str = "auto") -> Path:
     """Render ``recording`` and write it atomically (:func:`csql_sim.files.atomic_output`) as .mp4 or .gif.
 
     Args:
@@ -163,18 +170,20 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         workers: rendering processes (default: every core, at most one per 16 frames).
         camera: the rendering view.
         progress: show a tqdm bar on stderr.
+        renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
 
     Returns:
         The path written.
     """
     fps = fps or recording.fps
     out = check_video_options(path, width, height, fps)
+    renderer = resolve_renderer(renderer)
     if not recording.frames:
         raise VideoError("the recording has no frames")
     cores = workers or os.cpu_count() or 1
     chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
     bar = tqdm(total=len(recording.frames), desc=f"render {out.name}", unit="frame", disable=not progress)
-    rendered = _map_chunks(recording, chunks, width, height, camera, worker_count(workers, len(chunks)))
+    rendered = _map_chunks(recording, chunks, width, height, camera, worker_count(workers, len(chunks)), renderer)
     try:
         with atomic_output(out) as tmp, _open_writer(tmp, fps, out.suffix.lower()) as writer:
             last = None
@@ -195,18 +204,20 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
 
 
 def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, height: int, camera: Camera,
-                workers: int) -> Iterator[list[np.ndarray]]:
+                workers: int, renderer: str) -> Iterator[list[np.ndarray]]:
     """Render chunks in order, in ``workers`` processes (or in-process for one worker)."""
     n, config, total = recording.n, recording.config, recording.actions
     if workers <= 1:
-        renderer = ReplayRenderer()
+        replay = ReplayRenderer(renderer)
         try:
             for c in chunks:
-                yield renderer.render(n, config, c, width, height, camera, total)
+                yield replay.render(n, config, c, width, height, camera, total)
         finally:
-            renderer.close()
+            replay.close()
         return
     k = len(chunks)
-    with worker_pool(workers, _init_render_worker) as pool:
+    # EGL workers are spawned: a process that has started EGL (llvmpipe's threads) cannot fork safely
+    context = multiprocessing.get_context("spawn") if renderer == "egl" else None
+    with worker_pool(workers, _init_render_worker, (renderer,), mp_context=context) as pool:
         yield from pool.map(_render_in_worker, [n] * k, [config] * k, chunks, [width] * k, [height] * k,
                             [camera] * k, [total] * k)

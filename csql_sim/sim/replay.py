@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.renderer import RendererError, egl_scene
 from csql_sim.sim.scene import Pose, Scene
 
 PANDA_JOINTS = range(11)  # seven arm joints, two fixed hand joints, two fingers
@@ -29,9 +30,17 @@ def take_snapshot(scene: Scene) -> Snapshot:
                     joints=tuple(scene.joint_positions(scene.bodies["panda"], PANDA_JOINTS)))
 
 
-def replay_scene(n: int, config: SimConfig = DEFAULT_CONFIG) -> Scene:
-    """A scene for replay only: the bodies are posed from snapshots and never stepped."""
-    return Scene(n, config, physics=False)
+def replay_scene(n: int, config: SimConfig = DEFAULT_CONFIG, renderer: str = "tiny") -> Scene:
+    """A scene for replay only: the bodies are posed from snapshots and never stepped.
+
+    ``renderer`` (``"tiny"`` or ``"egl"``, see :mod:`csql_sim.sim.renderer`) draws its images.
+    """
+    if renderer != "egl":
+        return Scene(n, config, physics=False)
+    scene = egl_scene(n, config)
+    if scene is None:
+        raise RendererError("--renderer egl: pybullet's eglRenderer plugin did not load in a render worker")
+    return scene
 
 
 def apply_snapshot(scene: Scene, poses: tuple[Pose, ...], joints: tuple[float, ...]) -> None:

@@ -32,13 +32,16 @@ class Scene(PhysicsClient):
         n: number of cubes.
         config: geometry, physics and control settings.
         physics: False builds a replay-only scene for rendering (bodies, no stepping).
+        renderer_plugin: (file, entry point) of a renderer plugin loaded before the bodies
+            (:mod:`csql_sim.sim.renderer`); :attr:`opengl` tells whether it loaded.
     """
 
-    def __init__(self, n: int, config: SimConfig = DEFAULT_CONFIG, physics: bool = True) -> None:
+    def __init__(self, n: int, config: SimConfig = DEFAULT_CONFIG, physics: bool = True,
+                 renderer_plugin: tuple[str, str] | None = None) -> None:
         self.n = check_n(n)
         self.config = config
         self.replay_only = not physics  # replay scenes are posed, never stepped
-        super().__init__(config.physics)
+        super().__init__(config.physics, renderer_plugin)
         self.bodies: dict[str, int] = {}
         self._load_table()
         self._load_panda()

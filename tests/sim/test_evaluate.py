@@ -137,3 +137,16 @@ def test_camera_noise_option():
             p.parse_args(["evaluate", "--camera-noise", bad])
     with pytest.raises(CsqlError, match="camera noise depth"):
         evaluate(3, pairs=1, workers=1, progress=False, camera_noise=(-0.001, 0.0))
+
+
+def test_a_task_that_fails_in_its_worker_is_a_failed_episode(monkeypatch):
+    import csql_sim.evaluate as ev
+
+    def broken(spec):
+        raise RuntimeError(f"no physics for {spec.start}")
+
+    monkeypatch.setattr(ev, "_run_in_worker", broken)
+    report = evaluate(3, pairs=2, workers=1, progress=False)
+    assert report.episodes == 2 and report.successes == 0
+    assert [f["reason"] for f in report.failures] == [f"RuntimeError: no physics for {spec.start}"
+                                                     for spec in ev.make_specs(3, 2)]

@@ -1,0 +1,86 @@
+import math
+import os
+
+import pytest
+
+from csql_sim.backends import Backend, TaskFailure, map_tasks
+from csql_sim.errors import CsqlError
+from csql_sim.evaluate import evaluate
+from csql_sim.experiment import csv_text, run_experiment
+
+SQRT_EXPECTED = [2.0, TaskFailure("ValueError: math domain error"), 3.0, 0.0]
+
+
+def test_backend_validation():
+    with pytest.raises(CsqlError, match="backend must be one of"):
+        Backend("dask")
+    with pytest.raises(CsqlError, match="--address needs --backend ray"):
+        Backend("processes", address="auto")
+    with pytest.raises(CsqlError, match="--workers"):
+        Backend("processes", workers=0)
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_processes_keep_order_and_report_a_raising_task_in_its_place(workers):
+    assert map_tasks(math.sqrt, [4, -1, 9, 0], Backend("processes", workers)) == SQRT_EXPECTED
+
+
+def test_processes_report_a_dead_worker_as_failures():
+    out = map_tasks(os._exit, [3, 4], Backend("processes", 2))
+    assert len(out) == 2 and all(isinstance(r, TaskFailure) and "died" in r.reason for r in out)
+
+
+# ------------------------------------------------------------------ Ray (the test extra installs it)
+
+
+@pytest.fixture(scope="module")
+def ray_local():
+    """One local Ray instance for this module's tests (map_tasks uses a session it did not open)."""
+    ray = pytest.importorskip("ray", reason="the ray extra is not installed")
+    ray.init(num_cpus=2, include_dashboard=False, logging_level="ERROR", log_to_driver=False)
+    yield ray
+    ray.shutdown()
+
+
+def test_ray_keeps_order_and_reports_a_raising_task_in_its_place(ray_local):
+    assert map_tasks(math.sqrt, [4, -1, 9, 0], Backend("ray")) == SQRT_EXPECTED
+    assert ray_local.is_initialized(), "a session the caller opened must stay open"
+
+
+def test_ray_says_where_it_runs_in_one_line_with_progress(ray_local, capsys):
+    assert map_tasks(math.sqrt, [1, 4], Backend("ray"), progress=True) == [1.0, 2.0]
+    lines = [line for line in capsys.readouterr().err.replace("\r", "\n").splitlines() if "ray" in line.lower()]
+    assert len(lines) == 1 and lines[0].startswith("ray: existing session, 2 CPUs"), lines
+
+
+def test_ray_reports_a_dead_worker_as_a_failure(ray_local):
+    (out,) = map_tasks(os._exit, [3], Backend("ray"))
+    assert isinstance(out, TaskFailure) and "died" in out.reason
+
+
+def test_experiment_on_ray_writes_the_same_csv_as_processes(ray_local):
+    kwargs = {"methods": ("cs-bb-bz", "lt-ql"), "cycles": 3, "trials": 150, "seed": 4}
+    on_ray = csv_text(run_experiment(**kwargs, backend=Backend("ray")))
+    in_pool = csv_text(run_experiment(**kwargs, workers=2))
+    assert on_ray == in_pool
+    assert len(on_ray.splitlines()) == 1 + 2 * 4  # header, then trials 0, 50, 100, 150 per method
+
+
+def test_evaluate_on_ray_gives_the_same_report_as_processes(ray_local):
+    kwargs = {"pairs": 3, "seeds": 2, "perturb": True, "progress": False}
+    on_ray = evaluate(3, **kwargs, backend=Backend("ray"))
+    in_pool = evaluate(3, **kwargs, workers=2)
+    assert (on_ray.config["backend"], in_pool.config["backend"]) == ("ray", "processes")
+    assert {**on_ray.to_dict(), "config": None} == {**in_pool.to_dict(), "config": None}
+    assert on_ray.episodes == 6 and on_ray.text() == in_pool.text()
+
+
+def test_scaling_on_ray_gives_the_same_trials_and_steps(ray_local):
+    from csql_sim.scaling import run_scaling
+
+    kwargs = {"blocks": [2, 3], "methods": ["lt-ql", "cs-ql"], "seed": 1, "max_trials": 400}
+    on_ray = run_scaling(**kwargs, backend=Backend("ray"))
+    in_process = run_scaling(**kwargs)
+    assert [(r.method, r.blocks, r.trials, r.steps, r.optimal_pairs) for r in on_ray] == [
+        (r.method, r.blocks, r.trials, r.steps, r.optimal_pairs) for r in in_process]
+    assert [r.blocks for r in on_ray] == [2, 2, 3, 3]
