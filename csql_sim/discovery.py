@@ -1,0 +1,299 @@
+"""Rule discovery: the agent plays with the blocks and induces its own R-classifiers.
+
+From the perceived state the agent attempts an action drawn uniformly from *all* action
+messages of the world (not only the legal ones), executes it, perceives again and records
+a :class:`~csql_sim.rule_induction.Transition`. After every transition the rules of the
+attempted action are induced again (:mod:`csql_sim.rule_induction`). Exploration stops
+when the rule set has not changed for ``Exploration.patience`` transitions (1000, or twice
+the number of distinct (state, action) pairs tried so far if that is more: 1000 for n = 3,
+about 8000 for n = 4), or after ``max_transitions``. Actions are chosen by
+:class:`Curiosity` (untried actions first, then towards the least visited states).
+
+The world is anything with the :class:`ExplorableWorld` interface: :class:`SymbolicWorld`
+here (an illegal action fails and changes nothing; ``perturb`` knocks a tower top onto
+the table now and then), or the simulated arm (:mod:`csql_sim.sim.exploration`). State
+messages use goal code 0 throughout (exploration has no goal), so the goal position never
+varies and induces nothing.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import numpy as np
+
+from csql_sim.classifiers import Classifier
+from csql_sim.messages import format_action_message, format_state_message
+from csql_sim.rule_induction import (
+    RELIABILITY,
+    Evidence,
+    InducedRules,
+    Reliability,
+    Transition,
+    induce_action,
+    rule_list,
+)
+from csql_sim.rules import r_classifiers
+from csql_sim.world import TABLE, Action, State, all_actions, all_states, is_legal, successor
+
+EXPLORATION_GOAL = 0  # goal code of every state message during exploration
+
+
+@dataclass(frozen=True)
+class Attempt:
+    """What executing one action did.
+
+    Attributes:
+        ok: the primitive's status.
+        reason: why it failed, else empty.
+        sim_seconds: simulated time it took (0 in the symbolic world).
+        events: perturbations that happened during or after it.
+    """
+
+    ok: bool
+    reason: str = ""
+    sim_seconds: float = 0.0
+    events: tuple[str, ...] = ()
+
+
+class ExplorableWorld(Protocol):
+    """A world the agent can explore: perceive, attempt an action, start over."""
+
+    n: int
+
+    def perceive(self) -> State | None:
+        """The perceived state, or None when perception cannot name one."""
+
+    def attempt(self, action: Action) -> Attempt:
+        """Execute ``action`` (legal or not) and report the primitive's status."""
+
+    def restart(self) -> None:
+        """Begin a new episode from a random state (after perception failed)."""
+
+
+@dataclass
+class SymbolicWorld:
+    """The STRIPS blocks world as an explorable world.
+
+    Args:
+        n: number of blocks.
+        rng: the one generator (start states, perturbations).
+        perturb: knock a tower's top block onto the table with ``knock_probability``
+            after an action (noise the induction must cope with).
+        knock_probability: chance of one knock per transition under ``perturb``.
+    """
+
+    n: int
+    rng: np.random.Generator
+    perturb: bool = False
+    knock_probability: float = 0.05
+    state: State = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.restart()
+
+    def perceive(self) -> State | None:  # noqa: D102
+        return self.state
+
+    def attempt(self, action: Action) -> Attempt:  # noqa: D102
+        ok = is_legal(self.state, action)
+        if ok:
+            self.state = successor(self.state, action)
+        events: tuple[str, ...] = ()
+        if self.perturb and self.rng.random() < self.knock_probability:
+            events = (knock_tower(self, self.rng),)
+        return Attempt(ok, "" if ok else "preconditions do not hold", events=events)
+
+    def restart(self) -> None:  # noqa: D102
+        resting = [s for s in all_states(self.n) if s.held is None]
+        self.state = resting[int(self.rng.integers(len(resting)))]
+
+
+def knock_tower(world: SymbolicWorld, rng: np.random.Generator) -> str:
+    """Move the top block of a random tower of height >= 2 onto the table (a symbolic nudge)."""
+    tops = [i for i in range(world.n) if world.state.is_clear(i) and world.state.support[i] >= 0]
+    if not tops:
+        return "knock skipped: no tower"
+    block = tops[int(rng.integers(len(tops)))]
+    support = list(world.state.support)
+    support[block] = TABLE
+    world.state = State(tuple(support))
+    return f"knocked {'ABCDEF'[block]} onto the table"
+
+
+@dataclass(frozen=True)
+class Exploration:
+    """When exploration stops and what the rules must satisfy."""
+
+    max_transitions: int = 50000  # --transitions K
+    stable_for: int = 1000  # stop once the rule set has not changed for this many transitions,
+    stable_per_pair: float = 2.0  # or for this many per distinct (state, action) pair tried, if more
+
+    def patience(self, pairs_tried: int) -> int:
+        """Transitions without a change after which exploration stops."""
+        return max(self.stable_for, int(self.stable_per_pair * pairs_tried))
+    reliability: Reliability = RELIABILITY
+
+
+@dataclass
+class DiscoveryResult:
+    """The outcome of one discovery run."""
+
+    n: int
+    transitions: int = 0
+    failed: int = 0
+    restarts: int = 0
+    last_change: int = 0  # transitions seen when the rule set last changed
+    stopped: str = ""  # "stable" or "cap"
+    sim_seconds: float = 0.0
+    wall_seconds: float = 0.0
+    rules: list[Classifier] = field(default_factory=list)
+    events: list[str] = field(default_factory=list)
+    log: list[Transition] = field(default_factory=list)
+
+    def comparison(self) -> list[dict]:
+        """Each given R-classifier: the induced one in its place, and whether they are equal."""
+        return compare_rules(self.rules, self.n)
+
+    @property
+    def equal_to_given(self) -> bool:
+        """True when the induced rules are the given ones, string for string."""
+        given = r_classifiers(self.n)
+        return [(c.condition, c.action) for c in self.rules] == [(c.condition, c.action) for c in given]
+
+
+def rule_key(rule: Classifier) -> str:
+    """What identifies a rule's place: its action message, or its add-delete condition."""
+    return rule.action if rule.action.startswith("A") else rule.condition
+
+
+def compare_rules(rules: list[Classifier], n: int) -> list[dict]:
+    """Per given rule (paper asset for n=3, generated otherwise): the induced rule and equality."""
+    induced = {rule_key(r): r for r in rules}
+    rows = []
+    for g in r_classifiers(n):
+        got = induced.get(rule_key(g))
+        kind = "precondition" if g.action.startswith("A") else "add-delete"
+        rows.append({"kind": kind, "given": f"{g.condition} -> {g.action}",
+                     "induced": None if got is None else f"{got.condition} -> {got.action}",
+                     "equal": got is not None and (got.condition, got.action) == (g.condition, g.action)})
+    return rows
+
+
+Progress = Callable[[DiscoveryResult], None]
+
+
+def explore(world: ExplorableWorld, rng: np.random.Generator, settings: Exploration = Exploration(),
+            progress: Progress | None = None, keep_log: bool = True) -> DiscoveryResult:
+    """Explore ``world`` with uniformly random actions and induce its R-classifiers.
+
+    Args:
+        world: the world (symbolic or physical).
+        rng: the generator that draws the actions.
+        settings: stopping rule and reliability thresholds.
+        progress: called after every transition (e.g. a progress line).
+        keep_log: keep every transition in the result (for --log).
+    """
+    n = world.n
+    actions = all_actions(n)
+    messages = [format_action_message(a, n) for a in actions]
+    result = DiscoveryResult(n)
+    evidence = Evidence(n)
+    induced: dict[str, InducedRules] = {}
+    curiosity = Curiosity(len(actions), rng)
+    t0 = time.perf_counter()
+    state = world.perceive()
+    while result.transitions < settings.max_transitions:
+        if state is None:
+            result.restarts += 1
+            world.restart()
+            state = world.perceive()
+            continue
+        before = format_state_message(state, EXPLORATION_GOAL)
+        k = curiosity.choose(before)
+        attempt = world.attempt(actions[k])
+        after = world.perceive()
+        result.sim_seconds += attempt.sim_seconds
+        result.events.extend(attempt.events)
+        if after is None:  # the scene cannot be described: no transition to learn from
+            result.events.append(f"after {actions[k].name()}: nothing perceived, new episode")
+            state = None
+            continue
+        record = Transition(before, messages[k], format_state_message(after, EXPLORATION_GOAL), attempt.ok,
+                            attempt.reason)
+        curiosity.remember(before, k, record.after)
+        evidence.add(record)
+        result.transitions += 1
+        result.failed += not attempt.ok
+        if keep_log:
+            result.log.append(record)
+        new = induce_action(evidence, messages[k], settings.reliability)
+        if messages[k] not in induced or induced[messages[k]].strings() != new.strings():
+            induced[messages[k]] = new
+            result.last_change = result.transitions
+        state = after
+        if progress is not None:
+            progress(result)
+        if induced and result.transitions - result.last_change >= settings.patience(len(evidence.pairs)):
+            result.stopped = "stable"
+            break
+    else:
+        result.stopped = "cap"
+    result.rules = rule_list(induced, n)
+    result.wall_seconds = time.perf_counter() - t0
+    return result
+
+
+class Curiosity:
+    """Count-based, directed exploration from the agent's own memory of transitions.
+
+    In a perceived state, an action not yet tried there is drawn uniformly (every action
+    message is a candidate, legal or not: the agent knows nothing of the preconditions).
+    Once all were tried, it takes the action whose remembered outcome from this state is the
+    least visited state (ties drawn uniformly), so rare configurations such as tall towers
+    are reached and their failures observed.
+
+    Args:
+        count: number of action messages.
+        rng: the generator for the uniform draws.
+    """
+
+    def __init__(self, count: int, rng: np.random.Generator) -> None:
+        self.count = count
+        self.rng = rng
+        self.tried: dict[str, np.ndarray] = {}
+        self.visits: dict[str, int] = {}
+        self.outcome: dict[tuple[str, int], str] = {}
+
+    def choose(self, message: str) -> int:
+        """The index of the action to attempt in the state ``message``."""
+        self.visits[message] = self.visits.get(message, 0) + 1
+        counts = self.tried.setdefault(message, np.zeros(self.count, dtype=np.int64))
+        if counts.min() == 0:
+            options = np.flatnonzero(counts == 0)
+        else:
+            seen = np.array([self.visits.get(self.outcome[(message, k)], 0) for k in range(self.count)])
+            options = np.flatnonzero(seen == seen.min())
+        k = int(options[int(self.rng.integers(len(options)))])
+        counts[k] += 1
+        return k
+
+    def remember(self, message: str, k: int, after: str) -> None:
+        """Note where action ``k`` led from ``message``."""
+        self.outcome[(message, k)] = after
+
+
+def exhaustive_transitions(n: int, repeats: int = 3) -> list[Transition]:
+    """Every (state, action) pair of the symbolic world ``repeats`` times, as transitions."""
+    out = []
+    for _ in range(repeats):
+        for s in all_states(n):
+            before = format_state_message(s, EXPLORATION_GOAL)
+            for a in all_actions(n):
+                legal = is_legal(s, a)
+                after = format_state_message(successor(s, a), EXPLORATION_GOAL) if legal else before
+                out.append(Transition(before, format_action_message(a, n), after, legal))
+    return out

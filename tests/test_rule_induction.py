@@ -1,0 +1,80 @@
+import pytest
+
+from csql_sim.discovery import exhaustive_transitions
+from csql_sim.messages import format_action_message, format_state_message
+from csql_sim.rule_induction import Evidence, Reliability, Transition, induce_action, induce_rules
+from csql_sim.rules import generate_rules, load_paper_rules
+from csql_sim.world import parse_action_name, parse_config
+
+
+def strings(rules):
+    return [(r.condition, r.action) for r in rules]
+
+
+def test_symbolic_transitions_give_figure_5_string_for_string():
+    assert strings(induce_rules(exhaustive_transitions(3), 3)) == strings(load_paper_rules())
+
+
+def test_four_blocks_give_the_64_generated_rules():
+    got = induce_rules(exhaustive_transitions(4, repeats=3), 4)
+    assert len(got) == 64
+    assert strings(got) == strings(generate_rules(4))
+
+
+def test_too_few_successes_make_no_rule():
+    rel = Reliability(min_successes=3)
+    once = exhaustive_transitions(3, repeats=1)  # unstack(A,B) succeeds in only two states
+    rules = induce_rules(once, 3, rel)
+    assert "A10000001000ab00" not in {r.action for r in rules}
+
+
+def _transition(before, action, after, ok):
+    n = 3
+    act = parse_action_name(action, n)
+    return Transition(format_state_message(parse_config(before, n), 0), format_action_message(act, n),
+                      format_state_message(parse_config(after, n), 0), ok)
+
+
+def test_a_knocked_over_tower_creates_no_rule():
+    # stack(C,B) "succeeded" but the tower B-on-A was knocked over: every cube on the table
+    noisy = [_transition("AB+C", "stack(C,B)", "A,B,C", True)]
+    rules = induce_rules(exhaustive_transitions(3) + noisy, 3)
+    assert strings(rules) == strings(load_paper_rules())
+    alone = induce_rules(noisy * 2, 3)
+    assert alone == []  # two odd observations are below the reliability threshold
+
+
+def test_noise_among_many_successes_does_not_change_the_rule():
+    clean = exhaustive_transitions(3, repeats=6)
+    noisy = [_transition("AB,C", "pickup(C)", "A,B+C", True)]  # B knocked off A meanwhile
+    ev = Evidence(3)
+    for t in clean + noisy:
+        ev.add(t)
+    code = format_action_message(parse_action_name("pickup(C)", 3), 3)
+    got = induce_action(ev, code)
+    assert (got.add_delete.condition, got.add_delete.action) == ("S9##############", "S0##0#####0###c#")
+
+
+def test_a_legal_state_with_a_missed_grasp_stays_a_success_state():
+    missed = [_transition("A,B,C", "pickup(A)", "A,B,C", False)]
+    assert strings(induce_rules(exhaustive_transitions(3) + missed, 3)) == strings(load_paper_rules())
+
+
+def test_inconsistent_evidence_makes_no_precondition():
+    # pickup(A) reported failing in every state where it is legal, succeeding nowhere else
+    bad = [t for t in exhaustive_transitions(3) if t.action == "A70000001000at00"]
+    flipped = [Transition(t.before, t.action, t.after, not t.ok) for t in bad]
+    rules = induce_rules(flipped, 3)
+    assert all(r.action != "A70000001000at00" for r in rules)
+
+
+@pytest.mark.parametrize("n", [2])
+def test_two_blocks_give_equivalent_shorter_conditions(n):
+    from csql_sim.classifiers import matches
+    from csql_sim.world import all_actions, all_states, is_legal
+
+    rules = {r.action: r.condition for r in induce_rules(exhaustive_transitions(n), n) if r.action[0] == "A"}
+    for s in all_states(n):
+        msg = format_state_message(s, 0)
+        for a in all_actions(n):
+            assert matches(rules[format_action_message(a, n)], msg) == is_legal(s, a)
