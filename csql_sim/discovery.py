@@ -26,6 +26,7 @@ from typing import Protocol
 import numpy as np
 
 from csql_sim.classifiers import Classifier
+from csql_sim.errors import CsqlError
 from csql_sim.messages import format_action_message, format_state_message
 from csql_sim.rule_induction import (
     RELIABILITY,
@@ -297,3 +298,51 @@ def exhaustive_transitions(n: int, repeats: int = 3) -> list[Transition]:
                 after = format_state_message(successor(s, a), EXPLORATION_GOAL) if legal else before
                 out.append(Transition(before, format_action_message(a, n), after, legal))
     return out
+
+
+WORLDS = ("physical", "symbolic")
+
+
+def discover(n: int, world: str = "physical", seed: int = 0, settings: Exploration = Exploration(),
+             perception: str = "pose", perturb: bool = False, progress: Progress | None = None) -> DiscoveryResult:
+    """One discovery run on the simulated arm (``physical``) or the STRIPS world (``symbolic``).
+
+    Raises:
+        CsqlError: for an unknown world (the arm's own errors for a bad perception mode).
+    """
+    rng = np.random.default_rng(seed)
+    if world == "symbolic":
+        return explore(SymbolicWorld(n, rng, perturb=perturb), rng, settings, progress)
+    if world != "physical":
+        raise CsqlError(f"world must be one of {', '.join(WORLDS)}, got {world!r}")
+    from csql_sim.sim.exploration import ArmWorld  # only the physical world needs pybullet
+
+    with ArmWorld(n, rng, perception=perception, perturb=perturb) as arm:
+        return explore(arm, rng, settings, progress)
+
+
+def report_dict(result: DiscoveryResult, meta: dict) -> dict:
+    """The JSON report of a run (format version 1)."""
+    rows = result.comparison()
+    return {"format": "csql-sim discovery report", "version": 1, **meta, "blocks": result.n,
+            "transitions": result.transitions, "failed_attempts": result.failed,
+            "transitions_to_final_rules": result.last_change, "stopped": result.stopped,
+            "restarts": result.restarts, "sim_seconds": round(result.sim_seconds, 3),
+            "wall_seconds": round(result.wall_seconds, 3), "rules": len(result.rules),
+            "equal_to_given": sum(r["equal"] for r in rows), "given": len(rows),
+            "all_equal": result.equal_to_given, "perturbations": len(result.events), "comparison": rows}
+
+
+def report_lines(result: DiscoveryResult) -> list[str]:
+    """The printed report: the figures, then every given rule with its induced counterpart."""
+    rows = result.comparison()
+    same = sum(r["equal"] for r in rows)
+    lines = [f"{result.transitions} transitions ({result.failed} failed attempts, {result.restarts} restarts), "
+             f"rules final after {result.last_change}; stopped: {result.stopped}",
+             f"{result.sim_seconds:.1f} s simulated, {result.wall_seconds:.1f} s wall, "
+             f"{len(result.events)} perturbations",
+             f"{len(result.rules)} rules induced; {same} of {len(rows)} equal to the given ones"]
+    for r in rows:
+        mark = "=" if r["equal"] else "!"
+        lines.append(f"  {mark} {r['kind']:<12} given {r['given']}   induced {r['induced'] or '-'}")
+    return lines

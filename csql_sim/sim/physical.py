@@ -10,8 +10,9 @@ import numpy as np
 from csql_sim.errors import CsqlError
 from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERAS, Camera
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.guards import Guarded
 from csql_sim.sim.layout import place_towers
-from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, interpret, observe_poses, settled
+from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, Tolerances, interpret, observe_poses, settled
 from csql_sim.sim.primitives import CarryHook, Pick, Status, primitive_for, settle
 from csql_sim.sim.recovery import Drag, recovery_for
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise, observe_rgbd
@@ -103,8 +104,7 @@ class PhysicalWorld:
     def perceive(self) -> Perceived:
         """Settle, observe and interpret the scene."""
         self.settle()
-        tol = CAMERA_TOLERANCES if self.perception == "camera" else TOLERANCES
-        return interpret(self.observe(), tol)
+        return interpret(self.observe(), self.tolerances)
 
     def settle(self) -> int:
         """Step until free cubes are at rest; returns the steps taken."""
@@ -122,9 +122,22 @@ class PhysicalWorld:
         """
         return Task.is_success(perceived.state, goal) and self.is_settled()
 
-    def execute(self, action: Action, carry_hook: CarryHook | None = None, attempt: int = 0) -> Status:
-        """Run the primitive of ``action`` on the current observation (``attempt``: earlier failures)."""
-        return primitive_for(action, attempt=attempt)(self.scene, self.panda, self.observe(), self.rng, carry_hook)
+    def execute(self, action: Action, carry_hook: CarryHook | None = None, attempt: int = 0,
+                guarded: bool = False) -> Status:
+        """Run the primitive of ``action`` on the current observation (``attempt``: earlier failures).
+
+        ``guarded``: refuse without moving when the observation shows the action cannot
+        start (:mod:`csql_sim.sim.guards`); discovery attempts illegal actions this way.
+        """
+        primitive = primitive_for(action, attempt=attempt)
+        if guarded:
+            primitive = Guarded(primitive, action, self.tolerances)
+        return primitive(self.scene, self.panda, self.observe(), self.rng, carry_hook)
+
+    @property
+    def tolerances(self) -> Tolerances:
+        """The perception tolerances of the configured mode."""
+        return CAMERA_TOLERANCES if self.perception == "camera" else TOLERANCES
 
     def recover(self, perceived: Perceived, blocked_pick: int | None = None) -> tuple[str, Status] | None:
         """Run a recovery primitive: (its name, status), or None if none applies.

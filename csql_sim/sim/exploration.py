@@ -1,0 +1,89 @@
+"""The simulated arm as an explorable world for rule discovery (:mod:`csql_sim.discovery`).
+
+Each attempt runs the action's real primitive behind its guard
+(:mod:`csql_sim.sim.guards`): an action whose preconditions do not hold is refused
+before the arm moves, by what the observation shows. ``perturb`` jitters every start scene
+and, after some attempts, nudges a clear cube with an external force (it may push a tower
+top off), the noise the induction must cope with. When perception cannot name a state (a
+cube tilted or fallen off), the episode ends and a new scene is built from a random
+hand-empty state drawn from the run's generator (counted as a restart).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from csql_sim.discovery import Attempt
+from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.executor import PERTURBATION, Perturbation, _nudge
+from csql_sim.sim.physical import PhysicalWorld
+from csql_sim.sim.recording import Recorder
+from csql_sim.world import Action, State, all_states
+
+
+@dataclass
+class ArmWorld:
+    """The Panda and its cubes behind the :class:`~csql_sim.discovery.ExplorableWorld` interface.
+
+    Args:
+        n: number of cubes.
+        rng: the run's one generator (start scenes, perturbations, putdown spots).
+        perception: ``"pose"`` or ``"camera"``.
+        perturb: jitter start scenes and nudge cubes now and then.
+        nudge_probability: chance of a nudge after an attempt under ``perturb``.
+        recorder_fps: when set, record frames (one scene only: no restarts are recorded).
+        config: scene settings.
+        perturbation: force and duration of a nudge.
+    """
+
+    n: int
+    rng: np.random.Generator
+    perception: str = "pose"
+    perturb: bool = False
+    nudge_probability: float = 0.05
+    recorder_fps: int | None = None
+    config: SimConfig = DEFAULT_CONFIG
+    perturbation: Perturbation = PERTURBATION
+    world: PhysicalWorld | None = field(init=False, default=None)
+    recorder: Recorder | None = field(init=False, default=None)
+
+    def __post_init__(self) -> None:
+        self.restart()
+
+    def restart(self) -> None:  # noqa: D102
+        self.close()
+        resting = [s for s in all_states(self.n) if s.held is None]
+        start = resting[int(self.rng.integers(len(resting)))]
+        seed = int(self.rng.integers(2**31))
+        self.world = PhysicalWorld(self.n, seed, self.perception, self.config)
+        self.world.rng = self.rng  # one generator for the whole run
+        self.world.build(start, jitter=self.perturb and self.perturbation.jitter_start)
+        if self.recorder_fps is not None:
+            self.recorder = Recorder(self.world.scene, self.recorder_fps)
+            self.world.add_step_hook(self.recorder)
+
+    def perceive(self) -> State | None:  # noqa: D102
+        return self.world.perceive().state
+
+    def attempt(self, action: Action) -> Attempt:  # noqa: D102
+        scene = self.world.scene
+        start = scene.steps
+        status = self.world.execute(action, guarded=True)
+        events: tuple[str, ...] = ()
+        if self.perturb and self.rng.random() < self.nudge_probability:
+            events = (_nudge(self.world, self.rng, self.perturbation),)
+        return Attempt(status.ok, status.reason, (scene.steps - start) * self.config.physics.time_step, events)
+
+    def close(self) -> None:
+        """Release the physics client."""
+        if self.world is not None:
+            self.world.close()
+            self.world = None
+
+    def __enter__(self) -> ArmWorld:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

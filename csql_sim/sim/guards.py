@@ -1,0 +1,64 @@
+"""Guards: a primitive checks, on the observation, that its action can start at all.
+
+Discovery attempts actions whose preconditions may not hold. Before any motion the
+guarded primitive looks at the observation (cube poses from perception and the finger
+opening) and refuses, with a failure :class:`~csql_sim.sim.primitives.Status` of zero
+steps, when there is nothing to grasp where the action expects the cube, something sits
+on top of the cube to grasp or of the cube to stack onto, or the hand is already full.
+Nothing held to put down is noticed by :class:`~csql_sim.sim.primitives.Place` itself
+(the fingers do not touch the cube). Guards never read the symbolic state.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from csql_sim.sim.perception import Observation, Tolerances, gripper_closed_on_cube, holding, on, on_table
+from csql_sim.sim.primitives import CarryHook, Pick, Place, Status
+from csql_sim.sim.robot import Panda
+from csql_sim.sim.scene import Scene
+from csql_sim.world import BLOCK_NAMES, Action, ActionKind
+
+
+def _on_top_of(obs: Observation, x: int, tol: Tolerances) -> int | None:
+    """A cube resting on cube x, if any."""
+    return next((y for y in range(len(obs.blocks)) if y != x and on(obs, y, x, tol)), None)
+
+
+def refusal(action: Action, obs: Observation, tol: Tolerances) -> str:
+    """Why ``action``'s primitive must not start in ``obs``; empty when it may."""
+    x = action.block
+    name = BLOCK_NAMES[x]
+    if action.is_pick:
+        if gripper_closed_on_cube(obs, tol) or any(holding(obs, i, tol) for i in range(len(obs.blocks))):
+            return "hand already full"
+        if action.kind is ActionKind.PICKUP and not on_table(obs, x, tol):
+            return f"nothing to grasp: {name} is not on the table"
+        if action.kind is ActionKind.UNSTACK and not on(obs, x, action.target, tol):
+            return f"nothing to grasp: {name} is not on {BLOCK_NAMES[action.target]}"
+        top = _on_top_of(obs, x, tol)
+        if top is not None:
+            return f"{BLOCK_NAMES[top]} is on top of {name}"
+    elif action.kind is ActionKind.STACK:
+        top = _on_top_of(obs, action.target, tol)
+        if top is not None:
+            return f"{BLOCK_NAMES[top]} is on top of {BLOCK_NAMES[action.target]}"
+    return ""
+
+
+@dataclass(frozen=True)
+class Guarded:
+    """A primitive behind its guard: refuses before moving when :func:`refusal` says so."""
+
+    primitive: Pick | Place
+    action: Action
+    tol: Tolerances
+
+    def __call__(self, scene: Scene, panda: Panda, obs: Observation, rng: np.random.Generator,
+                 carry_hook: CarryHook | None = None) -> Status:
+        why = refusal(self.action, obs, self.tol)
+        if why:
+            return Status(False, why, 0)
+        return self.primitive(scene, panda, obs, rng, carry_hook)

@@ -1,0 +1,29 @@
+import json
+
+from csql_sim import rulebase, transition_log
+from csql_sim.cli import main
+from csql_sim.rule_induction import induce_rules
+from csql_sim.rules import load_paper_rules
+
+
+def test_discover_symbolic_writes_rules_log_and_report(tmp_path, capsys):
+    out, log, rep = tmp_path / "rules.yaml", tmp_path / "t.jsonl", tmp_path / "r.json"
+    code = main(["discover", "--world", "symbolic", "--seed", "2", "--quiet", "--out", str(out), "--log", str(log),
+                 "--json", str(rep)])
+    assert code == 0
+    rb = rulebase.load(out)
+    want = [(c.condition, c.action) for c in load_paper_rules()]
+    assert [(c.condition, c.action) for c in rb.classifiers] == want
+    assert all(c.kind == "R" for c in rb.classifiers)
+    n, transitions = transition_log.load(log)
+    assert n == 3 and [(c.condition, c.action) for c in induce_rules(transitions, n)] == want
+    report = json.loads(rep.read_text())
+    assert report["rules"] == 36 and report["all_equal"] and report["transitions"] == len(transitions)
+    assert report["failed_attempts"] == sum(not t.ok for t in transitions)
+    assert "36 of 36 equal" in capsys.readouterr().out
+
+
+def test_discover_bad_input_is_one_line_exit_2(tmp_path, capsys):
+    assert main(["discover", "--world", "symbolic", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "cannot write" in err

@@ -1,0 +1,37 @@
+import numpy as np
+import pytest
+
+from csql_sim.discovery import Exploration, SymbolicWorld, discover, explore
+from csql_sim.rules import generate_rules, load_paper_rules
+
+
+def strings(rules):
+    return [(r.condition, r.action) for r in rules]
+
+
+def test_symbolic_exploration_finds_figure_5():
+    result = discover(3, "symbolic", seed=1)
+    assert result.stopped == "stable"
+    assert strings(result.rules) == strings(load_paper_rules())
+    assert 0 < result.failed < result.transitions
+    assert all(row["equal"] for row in result.comparison())
+
+
+def test_knocked_towers_do_not_create_or_corrupt_rules():
+    rng = np.random.default_rng(3)
+    world = SymbolicWorld(3, rng, perturb=True, knock_probability=0.1)
+    result = explore(world, rng)
+    assert result.events  # towers were knocked over
+    assert strings(result.rules) == strings(load_paper_rules())
+
+
+def test_the_transition_cap_stops_exploration_early():
+    result = discover(3, "symbolic", seed=0, settings=Exploration(max_transitions=50))
+    assert result.transitions == 50 and result.stopped == "cap"
+    assert len(result.rules) < 36
+
+
+@pytest.mark.slow
+def test_four_blocks_symbolic_give_the_64_generated_rules():
+    result = discover(4, "symbolic", seed=0)
+    assert strings(result.rules) == strings(generate_rules(4))
