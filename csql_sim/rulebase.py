@@ -314,3 +314,17 @@ def _number(value: object, name: str, where: str) -> float:
     if name in ("age", "error") and value < 0:
         raise RuleBaseError(f"{where}: {name} must be >= 0, got {value!r}")
     return float(value)
+
+
+def load_r_classifiers(path: str | os.PathLike, n: int | None = None) -> RuleBase:
+    """A rule file of R-classifiers only (a domain, e.g. from ``csql-sim discover``).
+
+    Raises:
+        RuleBaseError: if the file holds Q-classifiers, no rule at all, or is for another n.
+    """
+    rb = load(path)
+    if n is not None and rb.blocks != n:
+        raise RuleBaseError(f"{path} is for {rb.blocks} blocks, not {n}")
+    if not rb.classifiers or any(isinstance(c, QClassifier) for c in rb.classifiers):
+        raise RuleBaseError(f"{path} must hold R-classifiers only, and at least one")
+    return rb

@@ -12,11 +12,11 @@ import os
 import sys
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, learn, sim
+from csql_sim.cli import core, demo, discover, learn, pddl_cmd, sim
 from csql_sim.cli.output import check_json_output
 from csql_sim.errors import CsqlError
 
-SUBCOMMAND_MODULES = (core, learn, sim, demo, discover)
+SUBCOMMAND_MODULES = (core, learn, sim, demo, discover, pddl_cmd)
 
 
 class OneLineParser(argparse.ArgumentParser):

@@ -84,9 +84,16 @@ def cmd_train(args: argparse.Namespace) -> int:
     from csql_sim.rulebase import file_bytes
 
     check_output_file(args.out, "rule file")
+    domain = None
+    if args.domain:
+        from csql_sim.rulebase import load_r_classifiers
+
+        domain = load_r_classifiers(args.domain, args.blocks).classifiers
     began = time.perf_counter()
     learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, args.params,
-                                  progress=show_progress(args), engine=args.engine)
+                                  progress=show_progress(args), engine=args.engine, domain=domain)
+    if args.domain:
+        meta["domain"] = str(args.domain)
     trained = time.perf_counter()
     if args.params:
         meta["provenance"]["parameters"]["params_file"] = args.params
@@ -244,6 +251,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--params", help="YAML parameter overrides (on top of the defaults for n)")
     p.add_argument("--engine", choices=("fast", "reference"), default=None,
                    help="CS-QL engine: fast (default for cs-ql up to 5 blocks) or reference; the same rule file")
+    p.add_argument("--domain", help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
     p.add_argument("--out", required=True, help="rule file to write: *.npz (compact) or YAML")
     add_quiet(p)
     p.set_defaults(func=cmd_train)

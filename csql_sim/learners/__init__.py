@@ -88,13 +88,14 @@ def train_learner(
     params: CommonParams | dict | str | os.PathLike | None = None,
     progress: bool = False,
     engine: str | None = None,
+    domain: tuple[RClassifier, ...] | None = None,
 ) -> tuple[Learner | FastCSQL, dict]:
     """Train one agent as :func:`train` does; the learner and the rule file's ``meta``."""
     if trials is None:
         trials = default_trials(n)
     if isinstance(trials, bool) or not isinstance(trials, int) or trials < 0:
         raise ParamsError(f"trials must be a non-negative integer, got {trials!r}")
-    learner = make_learner(method, n, params, seed=seed, engine=engine)
+    learner = make_learner(method, n, params, seed=seed, rules=domain, engine=engine)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -131,6 +132,7 @@ def train(
     params: CommonParams | dict | str | os.PathLike | None = None,
     progress: bool = False,
     engine: str | None = None,
+    domain: tuple[RClassifier, ...] | None = None,
 ) -> RuleBase:
     """Train one agent and return its whole classifier list (R and Q).
 
@@ -149,9 +151,11 @@ def train(
         engine: ``"fast"`` (the array-backed CS-QL engine: same trajectory, same file),
             ``"reference"`` (the classifier list), or None: fast where it applies (CS-QL
             with the built-in rules, n <= 5), the reference otherwise.
+        domain: R-classifiers to use instead of the built-in ones (classifier-system
+            methods, reference engine), e.g. rules from ``csql-sim discover``.
 
     """
-    learner, meta = train_learner(method, trials, seed, n, params, progress, engine)
+    learner, meta = train_learner(method, trials, seed, n, params, progress, engine, domain)
     return learner.rulebase(meta)
 
 

@@ -1,0 +1,49 @@
+"""Subcommand ``pddl``: the world model of a set of R-classifiers as a PDDL domain and problem."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from csql_sim.cli.args import blocks_arg
+from csql_sim.cli.core import read_task
+from csql_sim.errors import CsqlError
+
+
+def cmd_pddl(args: argparse.Namespace) -> int:
+    from csql_sim.files import write_atomic
+    from csql_sim.pddl_export import domain_text, problem_text
+    from csql_sim.rulebase import load_r_classifiers
+    from csql_sim.rules import r_classifiers
+
+    if (args.start is None) != (args.goal is None):
+        raise CsqlError("pddl needs both --start and --goal, or neither")
+    if args.domain:
+        rb = load_r_classifiers(args.domain, args.blocks)
+        n, rules = rb.blocks, rb.classifiers
+    else:
+        n = args.blocks or 3
+        rules = r_classifiers(n)
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise CsqlError(f"--out {out} is a file, not a folder")
+    written = [write_atomic(out / "domain.pddl", domain_text(rules, n))]
+    if args.start is not None:
+        start, goal = read_task(args.start, args.goal, n)
+        written.append(write_atomic(out / "problem.pddl", problem_text(rules, start, goal)))
+    print("wrote " + " and ".join(str(p) for p in written))
+    return 0
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``pddl`` to the subparsers."""
+    p = sub.add_parser("pddl", help="write the R-classifiers' world model as PDDL (domain, and a problem)")
+    p.add_argument("--blocks", type=blocks_arg, default=None, help="number of blocks (default 3, or the domain's)")
+    p.add_argument("--domain", help="R-classifiers from this rule file (default: Figure 5 / generated)")
+    p.add_argument("--start", help="start configuration, e.g. CBA (writes problem.pddl with --goal)")
+    p.add_argument("--goal", help="goal configuration, e.g. BAC")
+    p.add_argument("--out", required=True, help="folder for domain.pddl and problem.pddl")
+    p.set_defaults(func=cmd_pddl)
+
+
+__all__ = ["register"]
