@@ -55,6 +55,8 @@ def cmd_render(args: argparse.Namespace) -> int:
         video_frame_count,
     )
 
+    if args.discovery:
+        return render_discovery(args)
     if not args.start:
         raise CsqlError("render needs --start and --goal")
     check_video_options(args.out, args.width, args.height, args.fps)
@@ -88,6 +90,26 @@ def evaluate_status(report: EvalReport, min_success: float | None) -> int:
     if min_success is None:
         return 0 if report.episodes and report.successes == report.episodes else 1
     return 0 if report.episodes and report.success_rate >= min_success else 1
+
+
+def render_discovery(args: argparse.Namespace) -> int:
+    """``render --discovery``: a short discovery episode, failed attempts captioned as such."""
+    from csql_sim.sim.exploration import record_discovery
+    from csql_sim.sim.render import check_video_options, write_video
+
+    if args.start or args.goal or args.rules:
+        raise CsqlError("render --discovery takes no --start, --goal or --rules")
+    check_video_options(args.out, args.width, args.height, args.fps)
+    result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
+                                         args.perturb)
+    from csql_sim.messages import parse_action_message
+
+    for t in result.log:
+        name = parse_action_message(t.action, args.blocks).name()
+        print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
+    path = write_video(recording, args.out, args.width, args.height, args.fps, args.workers)
+    print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({len(recording.frames)} frames)")
+    return 0
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
@@ -147,7 +169,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     _noise_arg(p)
     add_workers(p, "render processes")
     add_quiet(p)
+<<<<<<< HEAD
     add_renderer_argument(p)
+=======
+    p.add_argument("--discovery", action="store_true",
+                   help="show a discovery episode instead: random attempts, failed ones captioned as such")
+    p.add_argument("--transitions", type=positive_int, default=16, help="attempts in --discovery (default 16)")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks in --discovery (default 3)")
+>>>>>>> 520f79d (render --discovery: a recorded discovery episode, every attempt captioned and failed ones as such; ACS2 peer script)
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("evaluate", help="run physical episodes over start/goal pairs and report success")

@@ -15,12 +15,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.discovery import Attempt
+from csql_sim.discovery import Attempt, DiscoveryResult, Exploration, explore
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.executor import PERTURBATION, Perturbation, _nudge
-from csql_sim.sim.physical import PhysicalWorld
-from csql_sim.sim.recording import Recorder
+from csql_sim.sim.physical import PhysicalWorld, SimError
+from csql_sim.sim.recording import Recorder, Recording
 from csql_sim.world import Action, State, all_states
+
+CAPTION_HOLD = 0.6  # simulated seconds the verdict of an attempt stays on screen in a video
 
 
 @dataclass
@@ -48,11 +50,14 @@ class ArmWorld:
     perturbation: Perturbation = PERTURBATION
     world: PhysicalWorld | None = field(init=False, default=None)
     recorder: Recorder | None = field(init=False, default=None)
+    attempts: int = field(init=False, default=0)
 
     def __post_init__(self) -> None:
         self.restart()
 
     def restart(self) -> None:  # noqa: D102
+        if self.recorder is not None and self.world is not None:
+            raise SimError("perception failed during a recorded discovery episode; try another seed")
         self.close()
         resting = [s for s in all_states(self.n) if s.held is None]
         start = resting[int(self.rng.integers(len(resting)))]
@@ -70,7 +75,14 @@ class ArmWorld:
     def attempt(self, action: Action) -> Attempt:  # noqa: D102
         scene = self.world.scene
         start = scene.steps
+        self.attempts += 1
+        if self.recorder is not None:
+            self.recorder.caption = f"attempt {self.attempts}: {action.name()}"
         status = self.world.execute(action, guarded=True)
+        if self.recorder is not None:
+            verdict = "done" if status.ok else f"FAILED ({status.reason})"
+            self.recorder.caption = f"attempt {self.attempts}: {action.name()} {verdict}"
+            self.recorder.still(round(self.recorder.recording.fps * CAPTION_HOLD))
         events: tuple[str, ...] = ()
         if self.perturb and self.rng.random() < self.nudge_probability:
             events = (_nudge(self.world, self.rng, self.perturbation),)
@@ -87,3 +99,12 @@ class ArmWorld:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def record_discovery(n: int, seed: int, transitions: int, fps: int, perception: str = "pose",
+                     perturb: bool = False) -> tuple[DiscoveryResult, Recording]:
+    """A short discovery episode on the arm, recorded: every attempt captioned, failures as such."""
+    rng = np.random.default_rng(seed)
+    with ArmWorld(n, rng, perception=perception, perturb=perturb, recorder_fps=fps) as arm:
+        result = explore(arm, rng, Exploration(max_transitions=transitions))
+        return result, arm.recorder.finish()

@@ -70,6 +70,11 @@ class Recorder:
         if scene.steps % self.every == 0:
             self._capture()
 
+    def still(self, count: int) -> None:
+        """Append ``count`` frames of the scene as it is (a pause with the current caption)."""
+        for _ in range(count):
+            self._capture()
+
     def finish(self) -> Recording:
         """The recording with a final frame of the end state."""
         self._capture()
