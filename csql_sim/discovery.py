@@ -148,6 +148,7 @@ class DiscoveryResult:
     failed: int = 0
     restarts: int = 0
     last_change: int = 0  # transitions seen when the rule set last changed
+    failed_to_final: int = 0  # failed attempts among those transitions
     stopped: str = ""  # "stable" or "cap"
     sim_seconds: float = 0.0
     wall_seconds: float = 0.0
@@ -235,6 +236,7 @@ def explore(world: ExplorableWorld, rng: np.random.Generator, settings: Explorat
         if messages[k] not in induced or induced[messages[k]].strings() != new.strings():
             induced[messages[k]] = new
             result.last_change = result.transitions
+            result.failed_to_final = result.failed
         state = after
         if progress is not None:
             progress(result)
@@ -326,7 +328,8 @@ def report_dict(result: DiscoveryResult, meta: dict) -> dict:
     rows = result.comparison()
     return {"format": "csql-sim discovery report", "version": 1, **meta, "blocks": result.n,
             "transitions": result.transitions, "failed_attempts": result.failed,
-            "transitions_to_final_rules": result.last_change, "stopped": result.stopped,
+            "transitions_to_final_rules": result.last_change, "failed_to_final_rules": result.failed_to_final,
+            "stopped": result.stopped,
             "restarts": result.restarts, "sim_seconds": round(result.sim_seconds, 3),
             "wall_seconds": round(result.wall_seconds, 3), "rules": len(result.rules),
             "equal_to_given": sum(r["equal"] for r in rows), "given": len(rows),
@@ -338,7 +341,7 @@ def report_lines(result: DiscoveryResult) -> list[str]:
     rows = result.comparison()
     same = sum(r["equal"] for r in rows)
     lines = [f"{result.transitions} transitions ({result.failed} failed attempts, {result.restarts} restarts), "
-             f"rules final after {result.last_change}; stopped: {result.stopped}",
+             f"rules final after {result.last_change} ({result.failed_to_final} failed); stopped: {result.stopped}",
              f"{result.sim_seconds:.1f} s simulated, {result.wall_seconds:.1f} s wall, "
              f"{len(result.events)} perturbations",
              f"{len(result.rules)} rules induced; {same} of {len(rows)} equal to the given ones"]
