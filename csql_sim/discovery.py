@@ -278,7 +278,8 @@ class Curiosity:
         if counts.min() == 0:
             options = np.flatnonzero(counts == 0)
         else:
-            seen = np.array([self.visits.get(self.outcome[(message, k)], 0) for k in range(self.count)])
+            # an attempt after which nothing could be perceived counts as leading back here
+            seen = np.array([self.visits.get(self.outcome.get((message, k), message), 0) for k in range(self.count)])
             options = np.flatnonzero(seen == seen.min())
         k = int(options[int(self.rng.integers(len(options)))])
         counts[k] += 1

@@ -26,9 +26,9 @@ SETTINGS = {
 }
 
 
-def run(setting: str, seeds: int, n: int, cap: int) -> dict:
+def run(setting: str, seeds: range, n: int, cap: int) -> dict:
     rows = []
-    for seed in range(seeds):
+    for seed in seeds:
         began = time.perf_counter()
         r = discover(n, seed=seed, settings=Exploration(max_transitions=cap), **SETTINGS[setting])
         rows.append({"seed": seed, "final_after": r.last_change, "failed_to_final": r.failed_to_final,
@@ -47,12 +47,14 @@ def run(setting: str, seeds: int, n: int, cap: int) -> dict:
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--first-seed", type=int, default=0)
     ap.add_argument("--blocks", type=int, default=3)
     ap.add_argument("--transitions", type=int, default=20000)
     ap.add_argument("--settings", default="symbolic,symbolic-perturb,pose,pose-perturb,camera")
     ap.add_argument("--json")
     args = ap.parse_args()
-    out = [run(s, args.seeds, args.blocks, args.transitions) for s in args.settings.split(",")]
+    seeds = range(args.first_seed, args.first_seed + args.seeds)
+    out = [run(s, seeds, args.blocks, args.transitions) for s in args.settings.split(",")]
     for item in out:
         s = item["summary"]
         print(f"{s['setting']:<17} runs {s['runs']:>2}  all equal {s['all_36_equal']:>2}  "
