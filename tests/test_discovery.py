@@ -35,3 +35,32 @@ def test_the_transition_cap_stops_exploration_early():
 def test_four_blocks_symbolic_give_the_64_generated_rules():
     result = discover(4, "symbolic", seed=0)
     assert strings(result.rules) == strings(generate_rules(4))
+
+
+class BlindAfterPickups(SymbolicWorld):
+    """A symbolic world whose perception fails after every third successful pickup."""
+
+    def __post_init__(self):
+        self.blind = False
+        self.picks = 0
+        super().__post_init__()
+
+    def perceive(self):
+        return None if self.blind else self.state
+
+    def attempt(self, action):
+        out = super().attempt(action)
+        self.picks += out.ok and action.is_pick
+        self.blind = out.ok and action.is_pick and self.picks % 3 == 0
+        return out
+
+    def restart(self):
+        self.blind = False
+        super().restart()
+
+
+def test_exploration_restarts_when_nothing_is_perceived():
+    rng = np.random.default_rng(0)
+    result = explore(BlindAfterPickups(3, rng), rng, Exploration(max_transitions=3000))
+    assert result.restarts > 0
+    assert strings(result.rules) == strings(load_paper_rules())
