@@ -6,11 +6,13 @@ opening) and refuses, with a failure :class:`~csql_sim.sim.primitives.Status` of
 steps, when there is nothing to grasp where the action expects the cube, something sits
 on top of the cube to grasp or of the cube to stack onto, or the hand is already full.
 Nothing held to put down is noticed by :class:`~csql_sim.sim.primitives.Place` itself
-(the fingers do not touch the cube). Guards never read the symbolic state.
+(the fingers do not touch the cube). After a put, the guarded primitive checks that the
+cube came to rest where the action puts it. Guards never read the symbolic state.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -48,17 +50,39 @@ def refusal(action: Action, obs: Observation, tol: Tolerances) -> str:
     return ""
 
 
+def missed_outcome(action: Action, obs: Observation, tol: Tolerances) -> str:
+    """Why a put that reported success did not leave its cube where it should; empty if it did."""
+    x = action.block
+    if action.kind is ActionKind.PUTDOWN and not on_table(obs, x, tol):
+        return f"{BLOCK_NAMES[x]} did not come to rest on the table"
+    if action.kind is ActionKind.STACK and not on(obs, x, action.target, tol):
+        return f"{BLOCK_NAMES[x]} did not come to rest on {BLOCK_NAMES[action.target]}"
+    return ""
+
+
 @dataclass(frozen=True)
 class Guarded:
-    """A primitive behind its guard: refuses before moving when :func:`refusal` says so."""
+    """A primitive behind its guard: refuses before moving when :func:`refusal` says so.
+
+    After a put that reported success it also looks once more (the primitive has let the
+    scene settle) and reports a failure when the cube did not come to rest where the action
+    puts it, e.g. slid off a cube that a nudge had left at an angle. A pick checks its own
+    outcome (the cube must stay in the fingers while lifting).
+    """
 
     primitive: Pick | Place
     action: Action
     tol: Tolerances
+    observe: Callable[[], Observation] | None = None  # for the check after a put
 
     def __call__(self, scene: Scene, panda: Panda, obs: Observation, rng: np.random.Generator,
                  carry_hook: CarryHook | None = None) -> Status:
         why = refusal(self.action, obs, self.tol)
         if why:
             return Status(False, why, 0)
-        return self.primitive(scene, panda, obs, rng, carry_hook)
+        status = self.primitive(scene, panda, obs, rng, carry_hook)
+        if status.ok and self.observe is not None:
+            missed = missed_outcome(self.action, self.observe(), self.tol)
+            if missed:
+                return Status(False, missed, status.steps)
+        return status

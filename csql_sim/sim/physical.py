@@ -131,7 +131,7 @@ class PhysicalWorld:
         """
         primitive = primitive_for(action, attempt=attempt)
         if guarded:
-            primitive = Guarded(primitive, action, self.tolerances)
+            primitive = Guarded(primitive, action, self.tolerances, self.observe)
         return primitive(self.scene, self.panda, self.observe(), self.rng, carry_hook)
 
     @property
