@@ -30,3 +30,20 @@ def test_a_legal_action_passes_its_guard():
         status = world.execute(parse_action_name("unstack(B,A)", 3), guarded=True)
         assert status.ok
         assert world.perceive().state == parse_config("A,C+B")
+
+
+def test_a_put_whose_cube_slid_off_is_a_failure():
+    from csql_sim.sim.guards import missed_outcome
+    from csql_sim.sim.perception import TOLERANCES, BlockObs, Observation
+
+    size = 0.04
+    a = BlockObs((0.5, 0.0, size / 2), 0.0, 0.0)
+    on_a = BlockObs((0.5, 0.0, 1.5 * size), 0.0, 0.0)
+    beside = BlockObs((0.5, 0.1, size / 2), 0.0, 0.0)
+    c = BlockObs((0.5, -0.2, size / 2), 0.0, 0.0)
+    stack_b_a = parse_action_name("stack(B,A)", 3)
+    slid = Observation((a, beside, c), (0.5, 0.0, 0.3), 0.08, size)
+    assert missed_outcome(stack_b_a, slid, TOLERANCES) == "B did not come to rest on A"
+    landed = Observation((a, on_a, c), (0.5, 0.0, 0.3), 0.08, size)
+    assert missed_outcome(stack_b_a, landed, TOLERANCES) == ""
+    assert missed_outcome(parse_action_name("putdown(B)", 3), slid, TOLERANCES) == ""
