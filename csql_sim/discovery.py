@@ -25,9 +25,9 @@ from typing import Protocol
 
 import numpy as np
 
-from csql_sim.classifiers import Classifier
 from csql_sim.errors import CsqlError
-from csql_sim.messages import format_action_message, format_state_message
+from csql_sim.message import format_action_message, format_state_message
+from csql_sim.r_classifier import PreconditionRule, RClassifier, r_classifiers
 from csql_sim.rule_induction import (
     RELIABILITY,
     Evidence,
@@ -37,7 +37,6 @@ from csql_sim.rule_induction import (
     induce_action,
     rule_list,
 )
-from csql_sim.rules import r_classifiers
 from csql_sim.world import TABLE, Action, State, all_actions, all_states, is_legal, successor
 
 EXPLORATION_GOAL = 0  # goal code of every state message during exploration
@@ -152,7 +151,7 @@ class DiscoveryResult:
     stopped: str = ""  # "stable" or "cap"
     sim_seconds: float = 0.0
     wall_seconds: float = 0.0
-    rules: list[Classifier] = field(default_factory=list)
+    rules: list[RClassifier] = field(default_factory=list)
     events: list[str] = field(default_factory=list)
     log: list[Transition] = field(default_factory=list)
 
@@ -167,18 +166,18 @@ class DiscoveryResult:
         return [(c.condition, c.action) for c in self.rules] == [(c.condition, c.action) for c in given]
 
 
-def rule_key(rule: Classifier) -> str:
+def rule_key(rule: RClassifier) -> str:
     """What identifies a rule's place: its action message, or its add-delete condition."""
-    return rule.action if rule.action.startswith("A") else rule.condition
+    return rule.action if isinstance(rule, PreconditionRule) else rule.condition
 
 
-def compare_rules(rules: list[Classifier], n: int) -> list[dict]:
+def compare_rules(rules: list[RClassifier], n: int) -> list[dict]:
     """Per given rule (paper asset for n=3, generated otherwise): the induced rule and equality."""
     induced = {rule_key(r): r for r in rules}
     rows = []
     for g in r_classifiers(n):
         got = induced.get(rule_key(g))
-        kind = "precondition" if g.action.startswith("A") else "add-delete"
+        kind = "precondition" if isinstance(g, PreconditionRule) else "add-delete"
         rows.append({"kind": kind, "given": f"{g.condition} -> {g.action}",
                      "induced": None if got is None else f"{got.condition} -> {got.action}",
                      "equal": got is not None and (got.condition, got.action) == (g.condition, g.action)})

@@ -23,9 +23,9 @@ from pddl.logic import Predicate
 from pddl.logic.base import And, Not
 from pddl.requirements import Requirements
 
-from csql_sim.classifiers import WILDCARD, Classifier
 from csql_sim.errors import CsqlError
-from csql_sim.messages import format_state_message, layout, parse_action_message
+from csql_sim.message import format_state_message, layout, parse_action_message
+from csql_sim.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
 from csql_sim.world import BLOCK_NAMES, State
 
 
@@ -53,11 +53,11 @@ def _facts_of(message: str, n: int) -> list[Predicate]:
     return [_fact(name, message[p]) for p, (name, _) in _fields(n).items()]
 
 
-def _action(pre: Classifier, post: Classifier, n: int) -> PddlAction:
+def _action(pre: PreconditionRule, post: AddDeleteRule, n: int) -> PddlAction:
     fields = _fields(n)
     need = [_fact(*_named(fields, p, ch)) for p, ch in enumerate(pre.condition) if p in fields and ch != WILDCARD]
     effects = []
-    for p, ch in enumerate(post.action):
+    for p, ch in enumerate(post.output):
         if p in fields and ch != WILDCARD:
             name, values = _named(fields, p, ch)[0], fields[p][1]
             effects.append(_fact(name, ch))
@@ -74,11 +74,11 @@ def _named(fields: dict[int, tuple[str, str]], p: int, ch: str) -> tuple[str, st
     return name, ch
 
 
-def build_domain(rules: list[Classifier], n: int) -> Domain:
+def build_domain(rules: list[RClassifier], n: int) -> Domain:
     """The STRIPS domain of ``rules`` (R-classifiers for n blocks)."""
     w = layout(n).action_width
-    pre = {r.action[1 : 1 + w]: r for r in rules if r.action.startswith("A")}
-    post = {r.condition[1 : 1 + w]: r for r in rules if r.action.startswith("S")}
+    pre = {r.action[1 : 1 + w]: r for r in rules if isinstance(r, PreconditionRule)}
+    post = {r.condition[1 : 1 + w]: r for r in rules if isinstance(r, AddDeleteRule)}
     codes = [c for c in pre if c in post]
     if not codes:
         raise PddlError("no action has both a precondition and an add-delete rule")
@@ -97,11 +97,11 @@ def build_problem(domain: Domain, start: State, goal: State) -> Problem:
                    goal=And(*_facts_of(format_state_message(goal, 0), n)))
 
 
-def domain_text(rules: list[Classifier], n: int) -> str:
+def domain_text(rules: list[RClassifier], n: int) -> str:
     """``domain.pddl``'s text."""
     return domain_to_string(build_domain(rules, n)) + "\n"
 
 
-def problem_text(rules: list[Classifier], start: State, goal: State) -> str:
+def problem_text(rules: list[RClassifier], start: State, goal: State) -> str:
     """``problem.pddl``'s text."""
     return problem_to_string(build_problem(build_domain(rules, start.n), start, goal)) + "\n"

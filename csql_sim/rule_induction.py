@@ -48,8 +48,8 @@ import itertools
 from collections import Counter, defaultdict
 from dataclasses import dataclass
 
-from csql_sim.classifiers import WILDCARD, Classifier, R, apply_output
-from csql_sim.messages import layout, parse_action_message
+from csql_sim.message import layout, parse_action_message
+from csql_sim.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
 from csql_sim.world import all_actions
 
 
@@ -88,8 +88,8 @@ class InducedRules:
     """The two R-classifiers of one action (either may be None: not yet reliable)."""
 
     action: str
-    precondition: Classifier | None
-    add_delete: Classifier | None
+    precondition: PreconditionRule | None
+    add_delete: AddDeleteRule | None
 
     def strings(self) -> tuple[tuple[str, str] | None, ...]:
         """The rules as (condition, action) strings, for comparison."""
@@ -154,7 +154,7 @@ def _minimal_cover(candidates: list[int], failures: list[set[int]]) -> tuple[int
 
 
 def induce_precondition(ev: Evidence, action: str, changed: tuple[int, ...] = (),
-                        rel: Reliability = RELIABILITY) -> Classifier | None:
+                        rel: Reliability = RELIABILITY) -> PreconditionRule | None:
     """The precondition rule of ``action``, or None while the evidence is not enough or inconsistent.
 
     Args:
@@ -185,14 +185,14 @@ def induce_precondition(ev: Evidence, action: str, changed: tuple[int, ...] = ()
     pattern = _blank(len(first))
     for p in cover:
         pattern[p] = first[p]
-    return Classifier(R, "".join(pattern), action)
+    return PreconditionRule("".join(pattern), action)
 
 
 def _cut(message: str, field: range) -> str:
     return message[field.start : field.stop]
 
 
-def induce_add_delete(ev: Evidence, action: str, rel: Reliability = RELIABILITY) -> Classifier | None:
+def induce_add_delete(ev: Evidence, action: str, rel: Reliability = RELIABILITY) -> AddDeleteRule | None:
     """The add-delete rule of ``action``, or None while its successes are too few or disagree."""
     pairs = ev.effects.get(action)
     total = sum(pairs.values()) if pairs else 0
@@ -211,12 +211,12 @@ def induce_add_delete(ev: Evidence, action: str, rel: Reliability = RELIABILITY)
         changed = sum(k for (posted, _), k in pairs.items() if _cut(posted, field) != v)
         if same >= rel.min_share * total and changed >= rel.min_share * total:
             output[field.start : field.stop] = list(v)
-    out = "".join(output)
-    right = sum(k for (posted, after), k in pairs.items() if apply_output(out, posted) == after)
+    condition = "S" + action[1 : 1 + w] + WILDCARD * (length - 1 - w)
+    rule = AddDeleteRule(condition, "".join(output))
+    right = sum(k for (posted, after), k in pairs.items() if rule.apply(posted) == after)
     if right < rel.min_share * total:
         return None
-    condition = "S" + action[1 : 1 + w] + WILDCARD * (length - 1 - w)
-    return Classifier(R, condition, out)
+    return rule
 
 
 def induce_action(ev: Evidence, action: str, rel: Reliability = RELIABILITY) -> InducedRules:
@@ -228,12 +228,12 @@ def induce_action(ev: Evidence, action: str, rel: Reliability = RELIABILITY) -> 
 
 def action_messages(n: int) -> tuple[str, ...]:
     """Every action message of the n-block world, in the stable action order."""
-    from csql_sim.messages import format_action_message
+    from csql_sim.message import format_action_message
 
     return tuple(format_action_message(a, n) for a in all_actions(n))
 
 
-def rule_list(induced: dict[str, InducedRules], n: int) -> list[Classifier]:
+def rule_list(induced: dict[str, InducedRules], n: int) -> list[RClassifier]:
     """The induced R-classifiers in the usual order: preconditions, then add-delete rules."""
     order = [m for m in action_messages(n) if m in induced]
     pre = [induced[m].precondition for m in order if induced[m].precondition is not None]
@@ -241,7 +241,7 @@ def rule_list(induced: dict[str, InducedRules], n: int) -> list[Classifier]:
     return pre + post
 
 
-def induce_rules(transitions, n: int, rel: Reliability = RELIABILITY) -> list[Classifier]:
+def induce_rules(transitions, n: int, rel: Reliability = RELIABILITY) -> list[RClassifier]:
     """The R-classifiers induced from an iterable of :class:`Transition` records."""
     ev = Evidence(n)
     for t in transitions:

@@ -22,12 +22,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import random
 import time
 
 from csql_sim import transition_log
-from csql_sim.classifiers import apply_output, matches
 from csql_sim.discovery import discover
-from csql_sim.messages import format_action_message, format_state_message
+from csql_sim.message import format_action_message, format_state_message
+from csql_sim.r_classifier import matches
 from csql_sim.rule_induction import Evidence, induce_action
 from csql_sim.world import all_actions, all_states, is_legal, successor
 
@@ -68,8 +69,7 @@ class Induction:
             if got is None or got.precondition is None or got.add_delete is None:
                 continue
             posted = self.ev.posted(before, messages[k])
-            right += matches(got.precondition.condition, before) and apply_output(got.add_delete.action,
-                                                                                  posted) == after
+            right += matches(got.precondition.condition, before) and got.add_delete.apply(posted) == after
         return right
 
     def count(self):
@@ -168,6 +168,7 @@ def main():
     ap.add_argument("--out", default="docs/discovery_acs2.png")
     ap.add_argument("--json", default="docs/discovery_acs2.json")
     args = ap.parse_args()
+    random.seed(0)  # pyalcs draws from the random module
     streams = {"symbolic": discover(N, "symbolic", seed=0).log}
     if args.arm_log:
         n, arm = transition_log.load(args.arm_log)

@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from csql_sim.discovery import Exploration, SymbolicWorld, discover, explore
-from csql_sim.rules import generate_rules, load_paper_rules
+from csql_sim.r_classifier import generate_rules, load_paper_rules
 
 
 def strings(rules):

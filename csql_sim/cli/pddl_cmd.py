@@ -13,8 +13,8 @@ from csql_sim.errors import CsqlError
 def cmd_pddl(args: argparse.Namespace) -> int:
     from csql_sim.files import write_atomic
     from csql_sim.pddl_export import domain_text, problem_text
+    from csql_sim.r_classifier import r_classifiers
     from csql_sim.rulebase import load_r_classifiers
-    from csql_sim.rules import r_classifiers
 
     if (args.start is None) != (args.goal is None):
         raise CsqlError("pddl needs both --start and --goal, or neither")

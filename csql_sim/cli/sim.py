@@ -102,7 +102,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     check_video_options(args.out, args.width, args.height, args.fps)
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
-    from csql_sim.messages import parse_action_message
+    from csql_sim.message import parse_action_message
 
     for t in result.log:
         name = parse_action_message(t.action, args.blocks).name()

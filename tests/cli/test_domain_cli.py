@@ -2,9 +2,9 @@ import pytest
 from pddl import parse_domain, parse_problem
 
 from csql_sim.cli import main
+from csql_sim.notation import parse_config
 from csql_sim.planner import distance
 from csql_sim.policy import check_all_pairs, load_policy
-from csql_sim.world import parse_config
 
 
 @pytest.fixture(scope="module")
@@ -17,8 +17,7 @@ def discovered(tmp_path_factory):
 def test_train_on_discovered_rules_plans_optimally_for_all_462_pairs(discovered, tmp_path):
     out = tmp_path / "trained.yaml"
     assert main(["train", "--domain", str(discovered), "--out", str(out), "--no-progress"]) == 0
-    policy, n = load_policy(out)
-    results = check_all_pairs(policy, n)
+    results = check_all_pairs(load_policy(out), 3)
     assert len(results) == 462 and all(r.optimal for r in results)
 
 
@@ -38,7 +37,7 @@ def test_pddl_of_discovered_rules_parses_back_and_is_solved_optimally(discovered
 
 
 @pytest.mark.parametrize("argv,needle", [
-    (["train", "--method", "lt-ql", "--domain", "RULES", "--out", "OUT"], "uses no R-classifiers"),
+    (["train", "--method", "lt-ql", "--domain", "RULES", "--out", "OUT"], "has no domain knowledge"),
     (["train", "--blocks", "4", "--domain", "RULES", "--out", "OUT"], "not 4"),
     (["pddl", "--start", "CBA", "--out", "OUT"], "both --start and --goal"),
     (["pddl", "--domain", "nonexistent.yaml", "--out", "OUT"], "nonexistent.yaml"),

@@ -1,10 +1,9 @@
 import pytest
 
-from csql_sim.classifiers import ClassifierList
 from csql_sim.discovery import discover
 from csql_sim.learners import train
 from csql_sim.policy import QPolicy, check_all_pairs
-from csql_sim.rules import load_paper_rules
+from csql_sim.r_classifier import load_paper_rules
 
 
 @pytest.mark.slow
@@ -14,5 +13,5 @@ def test_the_arm_discovers_figure_5_and_cs_ql_plans_optimally_on_it():
     assert [(r.condition, r.action) for r in result.rules] == [(r.condition, r.action) for r in load_paper_rules()]
     assert result.failed > 0 and result.sim_seconds > 0
     trained = train("cs-ql", 2500, 0, 3, domain=result.rules)
-    pairs = check_all_pairs(QPolicy(ClassifierList(trained.classifiers), 3), 3)
+    pairs = check_all_pairs(QPolicy.from_rulebase(trained), 3)
     assert len(pairs) == 462 and all(p.optimal for p in pairs)

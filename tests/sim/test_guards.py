@@ -1,7 +1,7 @@
 import pytest
 
+from csql_sim.notation import parse_action_name, parse_config
 from csql_sim.sim.physical import PhysicalWorld
-from csql_sim.world import parse_action_name, parse_config
 
 
 @pytest.mark.parametrize("start,action,reason", [
