@@ -64,3 +64,15 @@ def test_exploration_restarts_when_nothing_is_perceived():
     result = explore(BlindAfterPickups(3, rng), rng, Exploration(max_transitions=3000))
     assert result.restarts > 0
     assert strings(result.rules) == strings(load_paper_rules())
+
+
+def test_a_world_model_built_from_discovered_rules_is_the_true_world():
+    from csql_sim.world import all_actions, all_states, is_legal, successor
+    from csql_sim.world_model import WorldModel
+
+    model = WorldModel(discover(3, "symbolic", seed=7).rules, 3)
+    for s in all_states(3):
+        for a in all_actions(3):
+            assert model.is_legal(s, a) == is_legal(s, a)
+            if is_legal(s, a):
+                assert model.predict_state(s, a) == successor(s, a)
