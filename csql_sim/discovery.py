@@ -7,7 +7,8 @@ attempted action are induced again (:mod:`csql_sim.rule_induction`). Exploration
 when the rule set has not changed for ``Exploration.patience`` transitions (1000, or twice
 the number of distinct (state, action) pairs tried so far if that is more: 1000 for n = 3,
 about 8000 for n = 4), or after ``max_transitions``. Actions are chosen by
-:class:`Curiosity` (untried actions first, then towards the least visited states).
+:class:`Curiosity` (untried actions first, then half balanced, half towards the least
+visited states).
 
 The world is anything with the :class:`ExplorableWorld` interface: :class:`SymbolicWorld`
 here (an illegal action fails and changes nothing; ``perturb`` knocks a tower top onto
@@ -19,6 +20,7 @@ varies and induces nothing.
 from __future__ import annotations
 
 import time
+from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -254,21 +256,26 @@ class Curiosity:
 
     In a perceived state, an action not yet tried there is drawn uniformly (every action
     message is a candidate, legal or not: the agent knows nothing of the preconditions).
-    Once all were tried, it takes the action whose remembered outcome from this state is the
-    least visited state (ties drawn uniformly), so rare configurations such as tall towers
-    are reached and their failures observed.
+    Once all were tried, half of the choices (``balance``) are drawn uniformly among the
+    actions tried least often in this state, and the other half take the action whose
+    usual outcome from this state (the most frequent one remembered) is the least visited
+    state (ties drawn uniformly). The directed half reaches rare configurations such as
+    tall towers; the balanced half keeps retrying every action, so one noisy outcome (a
+    tower knocked over during a pickup) does not hide where that action normally leads.
 
     Args:
         count: number of action messages.
         rng: the generator for the uniform draws.
+        balance: share of count-based choices once every action was tried in a state.
     """
 
-    def __init__(self, count: int, rng: np.random.Generator) -> None:
+    def __init__(self, count: int, rng: np.random.Generator, balance: float = 0.5) -> None:
         self.count = count
         self.rng = rng
+        self.balance = balance
         self.tried: dict[str, np.ndarray] = {}
         self.visits: dict[str, int] = {}
-        self.outcome: dict[tuple[str, int], str] = {}
+        self.outcomes: dict[tuple[str, int], Counter[str]] = {}
 
     def choose(self, message: str) -> int:
         """The index of the action to attempt in the state ``message``."""
@@ -276,17 +283,23 @@ class Curiosity:
         counts = self.tried.setdefault(message, np.zeros(self.count, dtype=np.int64))
         if counts.min() == 0:
             options = np.flatnonzero(counts == 0)
+        elif self.rng.random() < self.balance:
+            options = np.flatnonzero(counts == counts.min())
         else:
-            # an attempt after which nothing could be perceived counts as leading back here
-            seen = np.array([self.visits.get(self.outcome.get((message, k), message), 0) for k in range(self.count)])
+            seen = np.array([self.visits.get(self.usual_outcome(message, k), 0) for k in range(self.count)])
             options = np.flatnonzero(seen == seen.min())
         k = int(options[int(self.rng.integers(len(options)))])
         counts[k] += 1
         return k
 
+    def usual_outcome(self, message: str, k: int) -> str:
+        """Where action ``k`` most often led from ``message`` (the state itself if never perceived)."""
+        outcomes = self.outcomes.get((message, k))
+        return outcomes.most_common(1)[0][0] if outcomes else message
+
     def remember(self, message: str, k: int, after: str) -> None:
         """Note where action ``k`` led from ``message``."""
-        self.outcome[(message, k)] = after
+        self.outcomes.setdefault((message, k), Counter())[after] += 1
 
 
 def exhaustive_transitions(n: int, repeats: int = 3) -> list[Transition]:
