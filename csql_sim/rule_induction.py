@@ -222,7 +222,9 @@ def induce_add_delete(ev: Evidence, action: str, rel: Reliability = RELIABILITY)
 def induce_action(ev: Evidence, action: str, rel: Reliability = RELIABILITY) -> InducedRules:
     """Both rules of one action: the add-delete rule first, its written positions guide the precondition."""
     post = induce_add_delete(ev, action, rel)
-    changed = tuple(p for p, ch in enumerate(post.action) if p > 0 and ch != WILDCARD) if post else ()
+    if post is None:  # no reliable effect yet: no precondition either (its candidates are unknown)
+        return InducedRules(action, None, None)
+    changed = tuple(p for p, ch in enumerate(post.output) if p > 0 and ch != WILDCARD)
     return InducedRules(action, induce_precondition(ev, action, changed, rel), post)
 
 

@@ -19,7 +19,7 @@ def test_symbolic_exploration_finds_figure_5():
 
 def test_knocked_towers_do_not_create_or_corrupt_rules():
     rng = np.random.default_rng(3)
-    world = SymbolicWorld(3, rng, perturb=True, knock_probability=0.1)
+    world = SymbolicWorld(3, rng, perturb=True, knock_probability=0.05)
     result = explore(world, rng)
     assert result.events  # towers were knocked over
     assert strings(result.rules) == strings(load_paper_rules())
