@@ -20,7 +20,8 @@ success). For every action that has enough successes, :func:`induce_rules` retur
      on(A) = t and the empty hand); only if these cannot exclude every failure are all
      constant positions used. Without this bias a 3-block world admits shorter but
      accidental conditions such as ``on(A) = b, on(C) = t`` for unstack(A,B) (C on the
-     table is implied by A being clear on B only because there are three blocks).
+     table is implied by A being clear on B only because there are three blocks). An
+     action without a reliable add-delete rule gets no precondition rule either.
   2. Among equally small sets the first in the order of descending message position wins
      (the hand field before the on field before the clear field): positions that are
      logically equivalent, such as ``held = a`` and ``on(A) = 0``, cannot be separated by
