@@ -16,9 +16,10 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from csql_sim.errors import CsqlError
-from csql_sim.files import write_atomic
+from csql_sim.files import InputFileError, read_text_file, write_atomic
 from csql_sim.rule_induction import Transition
 
+MAX_FILE_BYTES = 64 * 1024 * 1024  # about 400,000 transitions
 FORMAT = "csql-sim transitions"
 VERSION = 1
 
@@ -48,9 +49,9 @@ def load(path: str | os.PathLike) -> tuple[int, list[Transition]]:
         TransitionLogError: naming the file and what is wrong with it.
     """
     try:
-        text = Path(path).read_text(encoding="utf-8")
-    except OSError as exc:
-        raise TransitionLogError(f"cannot read transition log {path}: {exc.strerror}") from None
+        text = read_text_file(path, MAX_FILE_BYTES, "transition log")
+    except InputFileError as exc:
+        raise TransitionLogError(str(exc)) from None
     rows = text.splitlines()
     try:
         head = json.loads(rows[0]) if rows else {}

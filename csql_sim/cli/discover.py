@@ -4,32 +4,21 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
-from pathlib import Path
 
-from csql_sim.cli.args import blocks_arg, positive_int
-from csql_sim.errors import CsqlError
-
-
-def check_writable(path: str | None) -> None:
-    """Fail now, not after a long run, if ``path`` cannot be written."""
-    if path is None:
-        return
-    folder = Path(path).resolve().parent
-    while not folder.exists():
-        folder = folder.parent
-    if Path(path).is_dir() or not os.access(folder, os.W_OK):
-        raise CsqlError(f"cannot write {path}")
+from csql_sim.cli.args import add_quiet, blocks_arg, positive_int, seed_arg, show_progress
 
 
 def cmd_discover(args: argparse.Namespace) -> int:
     from csql_sim import rulebase, transition_log
     from csql_sim.discovery import Exploration, discover, report_dict, report_lines
-    from csql_sim.files import write_atomic
+    from csql_sim.files import check_output_file, write_or_keep
 
-    for path in (args.out, args.log, args.json):
-        check_writable(path)
+    check_output_file(args.out, "rule file")
+    if args.log:
+        check_output_file(args.log, "transition log")
+    if args.json:
+        check_output_file(args.json, "JSON report")
     meta = {"source": "csql-sim discover", "world": args.world, "seed": args.seed, "perturb": args.perturb,
             "perception": args.perception if args.world == "physical" else None}
 
@@ -37,19 +26,21 @@ def cmd_discover(args: argparse.Namespace) -> int:
         if result.transitions % 100 == 0:
             print(f"\r{result.transitions} transitions, {result.failed} failed", end="", file=sys.stderr)
 
+    shown = show_progress(args)
     result = discover(args.blocks, args.world, args.seed, Exploration(max_transitions=args.transitions),
-                      args.perception, args.perturb, None if args.quiet else progress)
-    if not args.quiet:
+                      args.perception, args.perturb, progress if shown else None)
+    if shown:
         print(file=sys.stderr)
     for line in report_lines(result):
         print(line)
     meta = {**meta, "transitions": result.transitions, "failed_attempts": result.failed}
-    path = rulebase.save(args.out, rulebase.RuleBase(args.blocks, result.rules, meta))
-    print(f"wrote {len(result.rules)} R-classifiers to {path}")
+    outputs = [(args.out, rulebase.dumps(rulebase.RuleBase(args.blocks, result.rules, meta)))]
     if args.log:
-        print(f"wrote {transition_log.save(args.log, result.log, args.blocks)}")
+        outputs.append((args.log, transition_log.dumps(result.log, args.blocks)))
     if args.json:
-        print(f"wrote {write_atomic(args.json, json.dumps(report_dict(result, meta), indent=1) + chr(10))}")
+        outputs.append((args.json, json.dumps(report_dict(result, meta), indent=1) + "\n"))
+    written = write_or_keep(outputs)
+    print(f"wrote {len(result.rules)} R-classifiers to {written[0]}" + "".join(f", {p}" for p in written[1:]))
     return 0 if result.rules else 1
 
 
@@ -64,11 +55,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (physical)")
     p.add_argument("--perturb", action="store_true",
                    help="noise: jittered scenes and nudged cubes (physical), knocked towers (symbolic)")
-    p.add_argument("--seed", type=int, default=0, help="seed of the run's one generator (default 0)")
+    p.add_argument("--seed", type=seed_arg, default=0, help="seed of the run's one generator (default 0)")
     p.add_argument("--out", default="rules.yaml", help="rule file to write (default rules.yaml)")
     p.add_argument("--log", help="also write every transition as JSON lines")
     p.add_argument("--json", help="also write the report as JSON")
-    p.add_argument("--quiet", action="store_true", help="no progress line")
+    add_quiet(p)
     p.set_defaults(func=cmd_discover)
 
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from csql_sim.cli.args import blocks_arg
 from csql_sim.cli.core import read_task
@@ -11,7 +10,7 @@ from csql_sim.errors import CsqlError
 
 
 def cmd_pddl(args: argparse.Namespace) -> int:
-    from csql_sim.files import write_atomic
+    from csql_sim.files import check_output_folder, write_or_keep
     from csql_sim.pddl_export import domain_text, problem_text
     from csql_sim.r_classifier import r_classifiers
     from csql_sim.rulebase import load_r_classifiers
@@ -24,13 +23,12 @@ def cmd_pddl(args: argparse.Namespace) -> int:
     else:
         n = args.blocks or 3
         rules = r_classifiers(n)
-    out = Path(args.out)
-    if out.exists() and not out.is_dir():
-        raise CsqlError(f"--out {out} is a file, not a folder")
-    written = [write_atomic(out / "domain.pddl", domain_text(rules, n))]
+    out = check_output_folder(args.out, "PDDL folder")
+    outputs = [(out / "domain.pddl", domain_text(rules, n))]
     if args.start is not None:
         start, goal = read_task(args.start, args.goal, n)
-        written.append(write_atomic(out / "problem.pddl", problem_text(rules, start, goal)))
+        outputs.append((out / "problem.pddl", problem_text(rules, start, goal)))
+    written = write_or_keep(outputs)
     print("wrote " + " and ".join(str(p) for p in written))
     return 0
 

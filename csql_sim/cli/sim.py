@@ -94,20 +94,22 @@ def evaluate_status(report: EvalReport, min_success: float | None) -> int:
 
 def render_discovery(args: argparse.Namespace) -> int:
     """``render --discovery``: a short discovery episode, failed attempts captioned as such."""
+    from csql_sim.message import parse_action_message
     from csql_sim.sim.exploration import record_discovery
     from csql_sim.sim.render import check_video_options, write_video
 
     if args.start or args.goal or args.rules:
         raise CsqlError("render --discovery takes no --start, --goal or --rules")
     check_video_options(args.out, args.width, args.height, args.fps)
+    warn_workers(args.workers)
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
-    from csql_sim.message import parse_action_message
 
     for t in result.log:
         name = parse_action_message(t.action, args.blocks).name()
         print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
-    path = write_video(recording, args.out, args.width, args.height, args.fps, args.workers)
+    path = write_video(recording, args.out, args.width, args.height, args.fps, args.workers,
+                       progress=show_progress(args))
     print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({len(recording.frames)} frames)")
     return 0
 
