@@ -53,12 +53,14 @@ class Attempt:
         reason: why it failed, else empty.
         sim_seconds: simulated time it took (0 in the symbolic world).
         events: perturbations that happened during or after it.
+        refused: a failure before any motion (the guard saw the action cannot start).
     """
 
     ok: bool
     reason: str = ""
     sim_seconds: float = 0.0
     events: tuple[str, ...] = ()
+    refused: bool = False
 
 
 class ExplorableWorld(Protocol):
@@ -107,7 +109,7 @@ class SymbolicWorld:
         events: tuple[str, ...] = ()
         if self.perturb and self.rng.random() < self.knock_probability:
             events = (knock_tower(self, self.rng),)
-        return Attempt(ok, "" if ok else "preconditions do not hold", events=events)
+        return Attempt(ok, "" if ok else "preconditions do not hold", events=events, refused=not ok)
 
     def restart(self) -> None:  # noqa: D102
         resting = [s for s in all_states(self.n) if s.held is None]
@@ -226,7 +228,7 @@ def explore(world: ExplorableWorld, rng: np.random.Generator, settings: Explorat
             state = None
             continue
         record = Transition(before, messages[k], format_state_message(after, EXPLORATION_GOAL), attempt.ok,
-                            attempt.reason)
+                            attempt.reason, attempt.refused)
         curiosity.remember(before, k, record.after)
         evidence.add(record)
         result.transitions += 1

@@ -37,10 +37,12 @@ exploration) are ``#`` by construction: they cannot exclude a failure or change.
 Reliability (:class:`Reliability`): a rule needs at least ``min_successes`` successful
 observations of its action, and must explain at least ``min_share`` of its observations;
 a position enters an add-delete output only when at least ``min_share`` of the successes
-agree. A state counts as a failure state only when at least ``min_share`` of the attempts
-in it failed: the guarded primitives refuse an illegal action before moving, so a false
-success does not happen, while a legal attempt can fail physically (a missed grasp).
-A knocked-over tower thus stays a minority that creates no rule and corrupts none.
+agree. Only *refusals* are negative evidence: the guarded primitives refuse an action
+whose preconditions they do not see before the arm moves, while a failure after the arm
+moved (a missed grasp, a cube that slid off) says the action could start and is counted
+for neither side (:attr:`Evidence.motion_failures`). A state counts as a failure state
+when at least ``min_share`` of the successes and refusals in it were refusals. A
+knocked-over tower thus stays a minority that creates no rule and corrupts none.
 """
 
 from __future__ import annotations
@@ -64,6 +66,8 @@ class Transition:
         after: the state message perceived afterwards (action slot ``0``).
         ok: the primitive's status: True when it reported success.
         reason: the primitive's reason for a failure, else empty.
+        refused: for a failure, whether the primitive refused before moving (its guard saw
+            that the action cannot start); None means "every failure is a refusal".
     """
 
     before: str
@@ -71,6 +75,12 @@ class Transition:
     after: str
     ok: bool
     reason: str = ""
+    refused: bool | None = None
+
+    @property
+    def is_refusal(self) -> bool:
+        """A failure that says the preconditions do not hold (not a failed motion)."""
+        return not self.ok and self.refused is not False
 
 
 @dataclass(frozen=True)
@@ -113,13 +123,16 @@ class Evidence:
         self.pairs: set[tuple[str, str]] = set()
         self._reference: str | None = None
         self.count = 0
+        self.motion_failures = 0
 
     def add(self, t: Transition) -> None:
         """Record one transition."""
         self.count += 1
         self.pairs.add((t.before, t.action))
-        counts = self.outcomes[t.action][t.before]
-        counts[0 if t.ok else 1] += 1
+        if t.ok or t.is_refusal:
+            self.outcomes[t.action][t.before][0 if t.ok else 1] += 1
+        else:
+            self.motion_failures += 1  # the action could start; it says nothing about preconditions
         posted = self.posted(t.before, t.action)
         for message in (t.before, t.after, posted):
             self._note_variation(message)

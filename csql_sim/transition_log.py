@@ -33,7 +33,7 @@ def dumps(transitions: Iterable[Transition], n: int) -> str:
     lines = [json.dumps({"format": FORMAT, "version": VERSION, "blocks": n})]
     for t in transitions:
         lines.append(json.dumps({"before": t.before, "action": t.action, "after": t.after, "ok": t.ok,
-                                 "reason": t.reason}))
+                                 "reason": t.reason, "refused": t.is_refusal}))
     return "\n".join(lines) + "\n"
 
 
@@ -57,7 +57,7 @@ def load(path: str | os.PathLike) -> tuple[int, list[Transition]]:
         head = json.loads(rows[0]) if rows else {}
         if head.get("format") != FORMAT or head.get("version") != VERSION:
             raise TransitionLogError(f"{path} is not a version-{VERSION} {FORMAT!r} file")
-        out = [Transition(r["before"], r["action"], r["after"], bool(r["ok"]), r.get("reason", ""))
+        out = [Transition(r["before"], r["action"], r["after"], bool(r["ok"]), r.get("reason", ""), r.get("refused"))
                for r in map(json.loads, rows[1:])]
     except (json.JSONDecodeError, KeyError, TypeError, AttributeError) as exc:
         raise TransitionLogError(f"{path}: corrupt transition log ({exc})") from None

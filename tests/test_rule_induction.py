@@ -78,3 +78,15 @@ def test_two_blocks_give_equivalent_shorter_conditions(n):
         msg = format_state_message(s, 0)
         for a in all_actions(n):
             assert matches(rules[format_action_message(a, n)], msg) == is_legal(s, a)
+
+
+def test_failures_after_moving_are_not_negative_evidence():
+    # pickup(A) legal in "A,B,C" but the grasp missed there again and again (a cube askew)
+    missed = [Transition(t.before, t.action, t.after, False, "grasp of A missed", refused=False)
+              for t in exhaustive_transitions(3, repeats=1)
+              if t.ok and t.action == "A70000001000at00" and t.before == "S0111000ttt00000"] * 20
+    assert missed
+    assert strings(induce_rules(exhaustive_transitions(3) + missed, 3)) == strings(load_paper_rules())
+    as_refusals = [Transition(t.before, t.action, t.after, False, t.reason) for t in missed]
+    rules = induce_rules(exhaustive_transitions(3) + as_refusals, 3)
+    assert "A70000001000at00" not in {r.action for r in rules if r.action.startswith("A")}
