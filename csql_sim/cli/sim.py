@@ -171,14 +171,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     _noise_arg(p)
     add_workers(p, "render processes")
     add_quiet(p)
-<<<<<<< HEAD
     add_renderer_argument(p)
-=======
     p.add_argument("--discovery", action="store_true",
                    help="show a discovery episode instead: random attempts, failed ones captioned as such")
     p.add_argument("--transitions", type=positive_int, default=16, help="attempts in --discovery (default 16)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks in --discovery (default 3)")
->>>>>>> 520f79d (render --discovery: a recorded discovery episode, every attempt captioned and failed ones as such; ACS2 peer script)
     p.set_defaults(func=cmd_render)
 
     p = sub.add_parser("evaluate", help="run physical episodes over start/goal pairs and report success")
