@@ -19,7 +19,7 @@ from csql_sim.discovery import Attempt, DiscoveryResult, Exploration, explore
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.executor import PERTURBATION, Perturbation, _nudge
 from csql_sim.sim.physical import PhysicalWorld, SimError
-from csql_sim.sim.recording import Recorder, Recording
+from csql_sim.sim.recording import Caption, Recorder, Recording
 from csql_sim.world import Action, State, all_states
 
 CAPTION_HOLD = 0.6  # simulated seconds the verdict of an attempt stays on screen in a video
@@ -77,11 +77,11 @@ class ArmWorld:
         start = scene.steps
         self.attempts += 1
         if self.recorder is not None:
-            self.recorder.caption = f"attempt {self.attempts}: {action.name()}"
+            self.recorder.caption = Caption(step=self.attempts, what=action.name())
         status = self.world.execute(action, guarded=True)
         if self.recorder is not None:
             verdict = "done" if status.ok else f"FAILED ({status.reason})"
-            self.recorder.caption = f"attempt {self.attempts}: {action.name()} {verdict}"
+            self.recorder.caption = Caption(step=self.attempts, what=f"{action.name()} {verdict}")
             self.recorder.still(round(self.recorder.recording.fps * CAPTION_HOLD))
         events: tuple[str, ...] = ()
         if self.perturb and self.rng.random() < self.nudge_probability:

@@ -19,8 +19,8 @@ def test_arm_exploration_records_refused_attempts_without_motion():
 def test_a_recorded_discovery_episode_captions_failures():
     result, recording = record_discovery(3, seed=0, transitions=3, fps=10)
     failed = [t for t in result.log if not t.ok]
-    captions = {f.caption for f in recording.frames}
-    assert failed and sum("FAILED (" in c for c in captions) == len(failed)
+    captions = {(f.caption.step, f.caption.what) for f in recording.frames}
+    assert failed and sum("FAILED (" in what for _, what in captions) == len(failed)
 
 
 def test_render_discovery_writes_a_video(tmp_path, capsys):
