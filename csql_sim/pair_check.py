@@ -9,12 +9,11 @@ time and memory stays bounded for any n.
 
 from __future__ import annotations
 
-import functools
-from collections import deque
 from collections.abc import Iterator
 from dataclasses import dataclass
 
 from csql_sim.pairs import sample_ranks, unrank
+from csql_sim.planner import reverse_bfs, world_predecessors
 from csql_sim.rule_table import GreedyTable
 from csql_sim.world import BlocksWorld
 
@@ -45,30 +44,9 @@ class PairPlan:
         return self.reached and len(self.actions) == self.optimal_length
 
 
-@functools.cache
-def _reverse_graph(n: int) -> tuple[tuple[int, ...], ...]:
-    world = BlocksWorld.of(n)
-    preds: list[list[int]] = [[] for _ in world.states]
-    for s, row in enumerate(world.next_state):
-        for nxt in row:
-            if nxt >= 0:
-                preds[nxt].append(s)
-    return tuple(tuple(p) for p in preds)
-
-
 def distances_to(n: int, goal: int) -> list[int]:
-    """Optimal plan length from every state to ``goal`` (BFS on the reversed graph)."""
-    preds = _reverse_graph(n)
-    dist = [-1] * len(preds)
-    dist[goal] = 0
-    queue = deque([goal])
-    while queue:
-        s = queue.popleft()
-        for p in preds[s]:
-            if dist[p] < 0:
-                dist[p] = dist[s] + 1
-                queue.append(p)
-    return dist
+    """Optimal plan length from every state to ``goal`` in the true world (see the planner)."""
+    return reverse_bfs(world_predecessors(n), goal)
 
 
 def _plan(world: BlocksWorld, table: GreedyTable | None, dist: list[int], start: int, goal: int) -> PairPlan:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 from collections import deque
+from collections.abc import Iterable
 
 from csql_sim.message import decode_code, format_state_message, layout, parse_state_message
 from csql_sim.world import Action, BlocksWorld, State, WorldError
@@ -21,16 +22,25 @@ class NoPlanError(WorldError):
     """No plan exists (cannot happen in the blocks world, but named for callers)."""
 
 
-@functools.cache
-def _distances_to(n: int, goal: int) -> tuple[int, ...]:
-    """Optimal plan length from every state to ``goal`` (BFS on the reversed graph)."""
-    world = BlocksWorld.of(n)
-    preds: list[list[int]] = [[] for _ in world.states]
-    for s, row in enumerate(world.next_state):
+def predecessors(successors: Iterable[Iterable[int]]) -> tuple[tuple[int, ...], ...]:
+    """The reversed graph: for each state, the states with an action leading to it.
+
+    Args:
+        successors: per state index, its successor state indices (negative ones are ignored).
+
+    """
+    rows = [list(r) for r in successors]
+    preds: list[list[int]] = [[] for _ in rows]
+    for s, row in enumerate(rows):
         for nxt in row:
             if nxt >= 0:
                 preds[nxt].append(s)
-    dist = [-1] * len(world.states)
+    return tuple(tuple(p) for p in preds)
+
+
+def reverse_bfs(preds: tuple[tuple[int, ...], ...], goal: int) -> list[int]:
+    """Optimal plan length from every state to ``goal`` (-1: unreachable), by BFS on ``preds``."""
+    dist = [-1] * len(preds)
     dist[goal] = 0
     queue = deque([goal])
     while queue:
@@ -39,7 +49,19 @@ def _distances_to(n: int, goal: int) -> tuple[int, ...]:
             if dist[p] < 0:
                 dist[p] = dist[s] + 1
                 queue.append(p)
-    return tuple(dist)
+    return dist
+
+
+@functools.cache
+def world_predecessors(n: int) -> tuple[tuple[int, ...], ...]:
+    """The true n-block world's reversed graph (shared: the world never changes)."""
+    return predecessors(BlocksWorld.of(n).next_state)
+
+
+@functools.cache
+def _distances_to(n: int, goal: int) -> tuple[int, ...]:
+    """Optimal plan length from every state to ``goal`` in the true world."""
+    return tuple(reverse_bfs(world_predecessors(n), goal))
 
 
 def distance(start: State, goal: State) -> int:
@@ -110,6 +132,7 @@ class BfsPolicy:
         self.world_model = world_model
         self.blocks: int | None = None if world_model is None else world_model.n
         self._graph: tuple[tuple[tuple[int, int], ...], ...] | None = None
+        self._preds: tuple[tuple[int, ...], ...] = ()
         self._distances: dict[int, list[int]] = {}
 
     def act(self, state: State, goal: State) -> Action | None:
@@ -138,18 +161,6 @@ class BfsPolicy:
             if self._graph is None:
                 assert self.world_model is not None
                 self._graph = _model_graph(self.world_model)
-            preds: list[list[int]] = [[] for _ in self._graph]
-            for s, pairs in enumerate(self._graph):
-                for _, nxt in pairs:
-                    preds[nxt].append(s)
-            dist = [-1] * len(self._graph)
-            dist[goal] = 0
-            queue = deque([goal])
-            while queue:
-                s = queue.popleft()
-                for p in preds[s]:
-                    if dist[p] < 0:
-                        dist[p] = dist[s] + 1
-                        queue.append(p)
-            self._distances[goal] = dist
+                self._preds = predecessors([nxt for _, nxt in pairs] for pairs in self._graph)
+            self._distances[goal] = reverse_bfs(self._preds, goal)
         return self._distances[goal]

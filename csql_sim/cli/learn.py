@@ -222,12 +222,9 @@ def _block_list(text: str) -> list[int]:
     return list(dict.fromkeys(out))
 
 
-def register(sub: argparse._SubParsersAction) -> None:
-    """Add ``experiment``, ``train``, ``show``, ``prune``, ``scaling`` and ``bench`` to the subparsers."""
-    from csql_sim.learners import METHODS
-
+def _register_experiment(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("experiment", help="Figure 7: test-task curves of the learners over cycles")
-    p.add_argument("--methods", type=_methods, default=list(METHODS), help=f"comma list (default {','.join(METHODS)})")
+    p.add_argument("--methods", type=_methods, default=list(methods), help=f"comma list (default {','.join(methods)})")
     p.add_argument("--cycles", type=positive_int, default=50, help="cycles per method (default 50)")
     p.add_argument("--trials", type=non_negative_int, default=None,
                    help="trials per cycle (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
@@ -242,8 +239,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_quiet(p)
     p.set_defaults(func=cmd_experiment)
 
+def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("train", help="train one agent and save its classifier list")
-    p.add_argument("--method", choices=METHODS, default="cs-ql", help="learner (default cs-ql)")
+    p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--trials", type=non_negative_int, default=None,
                    help="training trials (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
@@ -256,6 +254,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_quiet(p)
     p.set_defaults(func=cmd_train)
 
+def _register_show(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("show", help="print Q-classifiers in Figure 6's table form")
     p.add_argument("rules", help="a rule file from 'csql-sim train'")
     p.add_argument("--start", help="with --goal: show just the greedy path's classifiers")
@@ -264,6 +263,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_quiet(p)
     p.set_defaults(func=cmd_show)
 
+def _register_prune(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("prune", help="remove Q-classifiers below a strength threshold")
     p.add_argument("rules", help="a rule file from 'csql-sim train'")
     p.add_argument("--threshold", type=threshold_arg, default=0.1, help="strength threshold in [0, 1] (default 0.1)")
@@ -271,6 +271,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_quiet(p)
     p.set_defaults(func=cmd_prune)
 
+def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("scaling", help="trials until every pair is planned optimally, per n and method")
     p.add_argument("--blocks", type=_block_list, default=[3, 4, 5], help="comma list of n, 2..5 (default 3,4,5)")
     p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
@@ -285,6 +286,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_quiet(p)
     p.set_defaults(func=cmd_scaling)
 
+def _register_bench(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("bench", help="time both CS-QL engines and a plain dict-based Q-learner on the same trials")
     p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
@@ -293,10 +295,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_quiet(p)
     p.set_defaults(func=cmd_bench)
 
+def _register_params(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("params", help="print a learner's default parameters as YAML that --params accepts")
-    p.add_argument("--method", choices=METHODS, default="cs-ql", help="learner (default cs-ql)")
+    p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
     p.set_defaults(func=cmd_params)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add ``experiment``, ``train``, ``show``, ``prune``, ``scaling``, ``bench`` and ``params`` to the subparsers."""
+    from csql_sim.learners import METHODS
+
+    for add in (_register_experiment, _register_train, _register_show, _register_prune, _register_scaling,
+                _register_bench, _register_params):
+        add(sub, METHODS)
 
 
 __all__ = ["register"]

@@ -148,19 +148,7 @@ class CSQL(ClassifierSystemLearner):
         The growth of |epsilon| by ``error_increment`` per step is applied lazily from
         ``last_active`` (see :meth:`error`), so an update touches one classifier only.
         """
-        c = match_set.candidates[i]
-        if nxt is None:
-            target = self._payoff
-        else:
-            best = -INF
-            for d in nxt.candidates:
-                if d.q > best:
-                    best = d.q
-            target = self._gamma * best
-        eps = target - c.q
-        c.q += self._eta * eps
-        c.error = eps if eps >= 0.0 else -eps
-        c.last_active = t
+        self.backup(match_set.candidates[i], nxt, t, self._eta)
 
     def error(self, c: QClassifier) -> float:
         """|epsilon| now: the last prediction error plus the growth since (section 4)."""
