@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
-from csql_sim.cli.args import add_quiet, blocks_arg, positive_int, seed_arg, show_progress
+from csql_sim.cli.args import add_json, add_quiet, blocks_arg, positive_int, seed_arg, show_progress
+from csql_sim.cli.output import check_json_output, emit
 
 
 def cmd_discover(args: argparse.Namespace) -> int:
@@ -17,8 +17,7 @@ def cmd_discover(args: argparse.Namespace) -> int:
     check_output_file(args.out, "rule file")
     if args.log:
         check_output_file(args.log, "transition log")
-    if args.json:
-        check_output_file(args.json, "JSON report")
+    check_json_output(args)
     meta = {"source": "csql-sim discover", "world": args.world, "seed": args.seed, "perturb": args.perturb,
             "perception": args.perception if args.world == "physical" else None}
 
@@ -31,16 +30,13 @@ def cmd_discover(args: argparse.Namespace) -> int:
                       args.perception, args.perturb, progress if shown else None)
     if shown:
         print(file=sys.stderr)
-    for line in report_lines(result):
-        print(line)
     meta = {**meta, "transitions": result.transitions, "failed_attempts": result.failed}
     outputs = [(args.out, rulebase.dumps(rulebase.RuleBase(args.blocks, result.rules, meta)))]
     if args.log:
         outputs.append((args.log, transition_log.dumps(result.log, args.blocks)))
-    if args.json:
-        outputs.append((args.json, json.dumps(report_dict(result, meta), indent=1) + "\n"))
-    written = write_or_keep(outputs)
-    print(f"wrote {len(result.rules)} R-classifiers to {written[0]}" + "".join(f", {p}" for p in written[1:]))
+    written = [str(p) for p in write_or_keep(outputs)]
+    wrote = f"wrote {len(result.rules)} R-classifiers to {written[0]}" + "".join(f", {p}" for p in written[1:])
+    emit(args, {**report_dict(result, meta), "written": written}, lambda: [*report_lines(result), wrote])
     return 0 if result.rules else 1
 
 
@@ -58,7 +54,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the run's one generator (default 0)")
     p.add_argument("--out", default="rules.yaml", help="rule file to write (default rules.yaml)")
     p.add_argument("--log", help="also write every transition as JSON lines")
-    p.add_argument("--json", help="also write the report as JSON")
+    add_json(p)
     add_quiet(p)
     p.set_defaults(func=cmd_discover)
 

@@ -20,7 +20,16 @@ def test_discover_symbolic_writes_rules_log_and_report(tmp_path, capsys):
     report = json.loads(rep.read_text())
     assert report["rules"] == 36 and report["all_equal"] and report["transitions"] == len(transitions)
     assert report["failed_attempts"] == sum(not t.ok for t in transitions)
+    assert report["written"] == [str(out), str(log)] and "provenance" in report
+    assert capsys.readouterr().out == ""  # --json FILE: JSON instead of the text report
+
+
+def test_discover_prints_text_or_json_to_stdout(tmp_path, capsys):
+    args = ["discover", "--world", "symbolic", "--seed", "2", "--quiet", "--out", str(tmp_path / "r.yaml")]
+    assert main(args) == 0
     assert "36 of 36 equal" in capsys.readouterr().out
+    assert main([*args, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["rules"] == 36
 
 
 def test_discover_bad_input_is_one_line_exit_2(tmp_path, capsys):
