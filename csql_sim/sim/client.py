@@ -15,7 +15,8 @@ import importlib
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from types import ModuleType
 from typing import Any
@@ -26,27 +27,30 @@ import pybullet_data
 from csql_sim.sim.config import PhysicsConfig
 
 
-def _import_quietly(name: str) -> ModuleType:
-    """Import the module ``name`` with the C-level stdout and stderr sent to the null device.
+@contextmanager
+def quiet_output() -> Iterator[None]:
+    """Send the C-level stdout and stderr (fds 1 and 2) to /dev/null for the block.
 
-    pybullet's extension prints a "pybullet build time: ..." banner from C when it is
-    imported (on stderr in current wheels, on stdout in older ones), which would pollute
-    the CLI's output or make a one-line error two lines. The banner is flushed out of C's
-    stdio buffers while fds 1 and 2 still point at the null device, then both are
-    restored. Where file descriptors cannot be duplicated, the module is imported plainly.
+    pybullet prints a "pybullet build time: ..." banner from C when it is imported (on
+    stderr in current wheels, on stdout in older ones), and the EGL plugin prints its device
+    and driver details with C ``printf``; either would pollute the CLI's output or make a
+    one-line error two lines. C's stdio buffers are flushed while fds 1 and 2 still point at
+    the null device, then both are restored. Where file descriptors cannot be duplicated,
+    the block runs with the streams as they are.
     """
     for stream in (sys.stdout, sys.stderr):
         if stream is not None:
             stream.flush()
     try:
-        saved = [os.dup(1), os.dup(2)]
+        saved = (os.dup(1), os.dup(2))
     except (OSError, ValueError):
-        return importlib.import_module(name)
-    null = os.open(os.devnull, os.O_WRONLY)
+        yield
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
     try:
-        os.dup2(null, 1)
-        os.dup2(null, 2)
-        return importlib.import_module(name)
+        os.dup2(devnull, 1)
+        os.dup2(devnull, 2)
+        yield
     finally:
         try:
             ctypes.CDLL(None).fflush(None)
@@ -54,8 +58,14 @@ def _import_quietly(name: str) -> ModuleType:
             pass
         os.dup2(saved[0], 1)
         os.dup2(saved[1], 2)
-        for fd in (*saved, null):
+        for fd in (*saved, devnull):
             os.close(fd)
+
+
+def _import_quietly(name: str) -> ModuleType:
+    """Import the module ``name`` under :func:`quiet_output`."""
+    with quiet_output():
+        return importlib.import_module(name)
 
 
 pybullet = _import_quietly("pybullet")

@@ -16,16 +16,13 @@ client it is loaded into, so it goes only into replay scenes.
 from __future__ import annotations
 
 import atexit
-import ctypes
 import importlib.util
-import os
 import subprocess
 import sys
-from collections.abc import Iterator
-from contextlib import contextmanager
 from functools import cache
 
 from csql_sim.errors import CsqlError
+from csql_sim.sim.client import quiet_output
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.scene import Scene, projection_matrix, view_matrix
 
@@ -38,36 +35,6 @@ PROBE_TIMEOUT_S = 60
 
 class RendererError(CsqlError):
     """A renderer that cannot be used here."""
-
-
-@contextmanager
-def quiet_output() -> Iterator[None]:
-    """Send the C-level stdout and stderr (fds 1 and 2) to /dev/null for the block.
-
-    The EGL plugin prints its device and driver details with C ``printf``.
-    """
-    for stream in (sys.stdout, sys.stderr):
-        if stream is not None:
-            stream.flush()
-    try:
-        saved = (os.dup(1), os.dup(2))
-    except OSError:
-        yield
-        return
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
-        os.dup2(devnull, 2)
-        yield
-    finally:
-        try:
-            ctypes.CDLL(None).fflush(None)
-        except (OSError, AttributeError, TypeError):
-            pass
-        os.dup2(saved[0], 1)
-        os.dup2(saved[1], 2)
-        for fd in (*saved, devnull):
-            os.close(fd)
 
 
 def egl_plugin_path() -> str | None:
