@@ -1,4 +1,4 @@
-"""Rule induction (csql_sim.rule_induction) and ACS2 (pyalcs) side by side on one transition stream.
+"""Rule induction (csql_sim.discovery.induction) and ACS2 (pyalcs) side by side on one transition stream.
 
 Both learners get the same stream of (state message, action, next state message) records,
 symbolic and recorded from the arm, in order. Every --every transitions the script counts,
@@ -25,12 +25,12 @@ import json
 import random
 import time
 
-from csql_sim import transition_log
-from csql_sim.discovery import discover
-from csql_sim.message import format_action_message, format_state_message
-from csql_sim.r_classifier import matches
-from csql_sim.rule_induction import Evidence, induce_action
-from csql_sim.world import all_actions, all_states, is_legal, successor
+from csql_sim.core.message import format_action_message, format_state_message
+from csql_sim.core.r_classifier import matches
+from csql_sim.core.world import all_actions, all_states, is_legal, successor
+from csql_sim.discovery import transition_log
+from csql_sim.discovery.induction import Evidence, induce_action
+from csql_sim.jobs.discover import discover
 
 N = 3
 

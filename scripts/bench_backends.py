@@ -13,9 +13,9 @@ import argparse
 import os
 import time
 
-from csql_sim.backends import Backend, ray_session
-from csql_sim.evaluate import evaluate
-from csql_sim.experiment import csv_text, run_experiment
+from csql_sim.infra.backends import Backend, ray_session
+from csql_sim.jobs.evaluate import evaluate
+from csql_sim.jobs.experiment import csv_text, run_experiment
 
 
 def timed(fn, *args, **kwargs):  # noqa: ANN001, ANN201

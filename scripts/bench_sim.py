@@ -16,7 +16,8 @@ import time
 
 import numpy as np
 
-from csql_sim.notation import parse_config
+from csql_sim.core.notation import parse_config
+from csql_sim.core.world import all_states
 from csql_sim.sim.camera import RENDER_CAMERA, capture
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld
@@ -24,7 +25,6 @@ from csql_sim.sim.recording import Recording
 from csql_sim.sim.render import write_video
 from csql_sim.sim.renderer import close_quietly, egl_available
 from csql_sim.sim.replay import apply_snapshot, replay_scene
-from csql_sim.world import all_states
 
 
 def raw_steps_per_second(steps: int, config: str) -> float:

@@ -15,7 +15,8 @@ import statistics
 import sys
 import time
 
-from csql_sim.discovery import Exploration, discover
+from csql_sim.discovery.explore import Exploration
+from csql_sim.jobs.discover import discover
 
 SETTINGS = {
     "symbolic": dict(world="symbolic", perception="pose", perturb=False),

@@ -2,7 +2,7 @@
 
 For every combination of ``--bid``, ``--tax``, ``--s0`` and ``--payoff`` this runs
 CS-BB-BZ and CS-BB-RW for ``--cycles`` x ``--trials`` (LT-QL and CS-QL once, as they do
-not depend on these constants), checks :func:`csql_sim.figure7_statements.evaluate`, and
+not depend on these constants), checks :func:`csql_sim.jobs.figure7_statements.evaluate`, and
 writes one CSV row per combination plus a plot of the levers against the statements.
 
     python scripts/sweep_bucket_brigade.py --cycles 20 --out docs/sweep_bucket_brigade
@@ -17,8 +17,8 @@ import os
 import time
 from pathlib import Path
 
-from csql_sim.experiment import ExperimentResult, run_experiment
-from csql_sim.figure7_statements import early_value, end_steps, end_value, evaluate, first_reach
+from csql_sim.jobs.experiment import ExperimentResult, run_experiment
+from csql_sim.jobs.figure7_statements import early_value, end_steps, end_value, evaluate, first_reach
 from csql_sim.learners.params import BucketBrigadeParams
 
 

@@ -3,10 +3,10 @@ import os
 
 import pytest
 
-from csql_sim.backends import Backend, TaskFailure, map_tasks
-from csql_sim.errors import CsqlError
-from csql_sim.evaluate import evaluate
-from csql_sim.experiment import csv_text, run_experiment
+from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
+from csql_sim.infra.errors import CsqlError
+from csql_sim.jobs.evaluate import evaluate
+from csql_sim.jobs.experiment import csv_text, run_experiment
 
 SQRT_EXPECTED = [2.0, TaskFailure("ValueError: math domain error"), 3.0, 0.0]
 
@@ -76,7 +76,7 @@ def test_evaluate_on_ray_gives_the_same_report_as_processes(ray_local):
 
 
 def test_scaling_on_ray_gives_the_same_trials_and_steps(ray_local):
-    from csql_sim.scaling import run_scaling
+    from csql_sim.jobs.scaling import run_scaling
 
     kwargs = {"blocks": [2, 3], "methods": ["lt-ql", "cs-ql"], "seed": 1, "max_trials": 400}
     on_ray = run_scaling(**kwargs, backend=Backend("ray"))

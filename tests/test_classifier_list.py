@@ -1,10 +1,10 @@
 import pytest
 
-from csql_sim.classifier_list import ClassifierList, PatternIndex
-from csql_sim.message import format_state_message
-from csql_sim.q_classifier import QClassifier
-from csql_sim.r_classifier import AddDeleteRule, PreconditionRule, generate_rules, matches
-from csql_sim.world import BlocksWorld
+from csql_sim.core.classifier_list import ClassifierList, PatternIndex
+from csql_sim.core.message import format_state_message
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule, generate_rules, matches
+from csql_sim.core.world import BlocksWorld
 
 
 def test_matching_and_output():

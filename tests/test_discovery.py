@@ -1,8 +1,10 @@
 import numpy as np
 import pytest
 
-from csql_sim.discovery import Exploration, SymbolicWorld, discover, explore
-from csql_sim.r_classifier import generate_rules, load_paper_rules
+from csql_sim.core.r_classifier import generate_rules, load_paper_rules
+from csql_sim.discovery.explore import Exploration, explore
+from csql_sim.discovery.world import SymbolicWorld
+from csql_sim.jobs.discover import discover
 
 
 def strings(rules):
@@ -67,8 +69,8 @@ def test_exploration_restarts_when_nothing_is_perceived():
 
 
 def test_a_world_model_built_from_discovered_rules_is_the_true_world():
-    from csql_sim.world import all_actions, all_states, is_legal, successor
-    from csql_sim.world_model import WorldModel
+    from csql_sim.core.world import all_actions, all_states, is_legal, successor
+    from csql_sim.core.world_model import WorldModel
 
     model = WorldModel(discover(3, "symbolic", seed=7).rules, 3)
     for s in all_states(3):

@@ -1,11 +1,12 @@
 import numpy as np
 import pytest
 
-from csql_sim.env import BlocksWorldEnv, run_env_episode
-from csql_sim.errors import CsqlError
-from csql_sim.learners import make_learner, run_trial
-from csql_sim.message import format_state_message
-from csql_sim.world import BlocksWorld
+from csql_sim.core.message import format_state_message
+from csql_sim.core.world import BlocksWorld
+from csql_sim.envs.symbolic import BlocksWorldEnv, run_env_episode
+from csql_sim.infra.errors import CsqlError
+from csql_sim.learners.training import make_learner
+from csql_sim.learners.trial import run_trial
 
 
 @pytest.mark.parametrize("n", [2, 3])

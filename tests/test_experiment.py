@@ -3,7 +3,7 @@ import io
 
 import numpy as np
 
-from csql_sim.experiment import CSV_COLUMNS, csv_text, run_experiment, summary_lines, write_csv
+from csql_sim.jobs.experiment import CSV_COLUMNS, csv_text, run_experiment, summary_lines, write_csv
 
 
 def test_results_do_not_depend_on_worker_count():
@@ -41,7 +41,7 @@ def test_cs_ql_learns_the_test_task_and_summary_names_it():
 
 
 def test_figure7_png_has_std_bands_and_a_labelled_optimum(tmp_path):
-    from csql_sim.experiment import figure7, write_png
+    from csql_sim.jobs.experiment import figure7, write_png
 
     result = run_experiment(["cs-ql", "lt-ql"], cycles=3, trials=100, seed=0, workers=1)
     assert write_png(tmp_path / "f.png", result).read_bytes()[:4] == b"\x89PNG"

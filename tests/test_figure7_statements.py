@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from csql_sim.experiment import ExperimentResult, MethodResult, run_experiment
-from csql_sim.figure7_statements import (
+from csql_sim.jobs.experiment import ExperimentResult, MethodResult, run_experiment
+from csql_sim.jobs.figure7_statements import (
     ABOUT_TRIALS,
     END_POINTS,
     Statement,

@@ -1,7 +1,7 @@
 import os
 import stat
 
-from csql_sim.files import write_atomic
+from csql_sim.infra.files import write_atomic
 
 
 def test_write_atomic_replaces_and_leaves_no_temporary(tmp_path):
@@ -22,7 +22,7 @@ def test_write_atomic_uses_ordinary_permissions(tmp_path):
 
 
 def test_atomic_output_keeps_the_old_file_when_the_writer_fails(tmp_path):
-    from csql_sim.files import atomic_output
+    from csql_sim.infra.files import atomic_output
 
     target = tmp_path / "fig.png"
     target.write_text("old")
@@ -40,7 +40,7 @@ def test_atomic_output_keeps_the_old_file_when_the_writer_fails(tmp_path):
 def test_write_atomic_refuses_a_device_node():
     import pytest
 
-    from csql_sim.files import OutputError
+    from csql_sim.infra.files import OutputError
 
     with pytest.raises(OutputError, match="is a device, pipe or socket"):
         write_atomic("/dev/null", "x")
@@ -50,7 +50,7 @@ def test_write_atomic_refuses_a_device_node():
 def test_preflight_checks_create_nothing(tmp_path):
     import pytest
 
-    from csql_sim.files import OutputError, check_output_file, check_output_folder
+    from csql_sim.infra.files import OutputError, check_output_file, check_output_folder
 
     assert check_output_file(tmp_path / "new" / "deeper" / "r.yaml") == tmp_path / "new" / "deeper" / "r.yaml"
     assert check_output_folder(tmp_path / "fig") == tmp_path / "fig"
@@ -67,7 +67,7 @@ def test_preflight_checks_create_nothing(tmp_path):
 def test_write_or_keep_keeps_every_unwritten_output(tmp_path):
     import pytest
 
-    from csql_sim.files import OutputError, write_or_keep
+    from csql_sim.infra.files import OutputError, write_or_keep
 
     (tmp_path / "afile").write_text("")
     with pytest.raises(OutputError) as info:  # a file where the folder should be: both writes fail
@@ -82,7 +82,7 @@ def test_write_or_keep_keeps_every_unwritten_output(tmp_path):
 def test_read_text_file_refuses_fifos_without_blocking(tmp_path):
     import pytest
 
-    from csql_sim.files import InputFileError, read_text_file
+    from csql_sim.infra.files import InputFileError, read_text_file
 
     fifo = tmp_path / "fifo"
     os.mkfifo(fifo)

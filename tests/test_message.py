@@ -1,6 +1,6 @@
 import pytest
 
-from csql_sim.message import (
+from csql_sim.core.message import (
     MessageError,
     format_action_message,
     format_state_message,
@@ -8,8 +8,8 @@ from csql_sim.message import (
     parse_action_message,
     parse_state_message,
 )
-from csql_sim.notation import parse_config, parse_state_arg
-from csql_sim.world import all_actions, all_states
+from csql_sim.core.notation import parse_config, parse_state_arg
+from csql_sim.core.world import all_actions, all_states
 
 
 def test_paper_worked_examples_to_the_letter():

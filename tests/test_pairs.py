@@ -3,17 +3,17 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from csql_sim.classifier_list import ClassifierList
-from csql_sim.errors import CsqlError
-from csql_sim.evaluate import make_specs
-from csql_sim.learners import train
-from csql_sim.notation import parse_config
-from csql_sim.pair_check import distances_to, plan_pairs
-from csql_sim.pairs import pair_count, rank, sample_ranks, unrank
-from csql_sim.planner import distance
-from csql_sim.policy import QPolicy
-from csql_sim.rule_table import GreedyTable
-from csql_sim.world import BlocksWorld
+from csql_sim.core.classifier_list import ClassifierList
+from csql_sim.core.greedy_table import GreedyTable
+from csql_sim.core.notation import parse_config
+from csql_sim.core.pair_check import distances_to, plan_pairs
+from csql_sim.core.pairs import pair_count, rank, sample_ranks, unrank
+from csql_sim.core.planner import distance
+from csql_sim.core.policy import QPolicy
+from csql_sim.core.world import BlocksWorld
+from csql_sim.infra.errors import CsqlError
+from csql_sim.jobs.evaluate import make_specs
+from csql_sim.learners.training import train
 
 N6_STATES = 7057
 
@@ -86,7 +86,7 @@ def test_all_pairs_against_bfs_n3():
 
 
 def test_test_tasks_are_maximal_pairs():
-    from csql_sim import task as task_module
+    from csql_sim.core import task as task_module
 
     for n in (2, 4):
         world = BlocksWorld.of(n)

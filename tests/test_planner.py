@@ -2,9 +2,9 @@ from collections import deque
 
 import pytest
 
-from csql_sim.notation import parse_config
-from csql_sim.planner import BfsPolicy, bfs_plan, distance
-from csql_sim.world import BlocksWorld, legal_actions, successor
+from csql_sim.core.notation import parse_config
+from csql_sim.core.planner import BfsPolicy, bfs_plan, distance
+from csql_sim.core.world import BlocksWorld, legal_actions, successor
 
 
 def _forward_bfs(start, goal):
@@ -60,17 +60,17 @@ def test_bfs_policy():
 
 
 def test_bfs_on_the_world_model_equals_bfs_on_the_world():
-    from csql_sim.policy import check_all_pairs
-    from csql_sim.world_model import WorldModel
+    from csql_sim.core.policy import check_all_pairs
+    from csql_sim.core.world_model import WorldModel
 
     results = check_all_pairs(BfsPolicy(WorldModel.for_blocks(3)), 3)
     assert len(results) == 462 and all(r.optimal for r in results)
 
 
 def test_bfs_on_a_world_model_that_forbids_pickups_finds_no_plan():
-    from csql_sim.planner import NoPlanError
-    from csql_sim.r_classifier import PreconditionRule, generate_rules
-    from csql_sim.world_model import WorldModel
+    from csql_sim.core.planner import NoPlanError
+    from csql_sim.core.r_classifier import PreconditionRule, generate_rules
+    from csql_sim.core.world_model import WorldModel
 
     rules = [r for r in generate_rules(3) if not (isinstance(r, PreconditionRule) and r.action[8:12] == "1000"
                                                   and r.action[13] == "t")]

@@ -1,12 +1,12 @@
 import pytest
 
-from csql_sim.classifier_list import ClassifierList
-from csql_sim.message import format_action_message, format_state_message
-from csql_sim.notation import parse_config
-from csql_sim.planner import BfsPolicy, optimal_actions
-from csql_sim.policy import NoRuleError, QPolicy, check_all_pairs, rollout
-from csql_sim.q_classifier import QClassifier
-from csql_sim.world import BlocksWorld, all_actions
+from csql_sim.core.classifier_list import ClassifierList
+from csql_sim.core.message import format_action_message, format_state_message
+from csql_sim.core.notation import parse_config
+from csql_sim.core.planner import BfsPolicy, optimal_actions
+from csql_sim.core.policy import NoRuleError, QPolicy, check_all_pairs, rollout
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.world import BlocksWorld, all_actions
 
 
 def _optimal_q_classifiers(n: int) -> ClassifierList:

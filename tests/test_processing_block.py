@@ -1,7 +1,7 @@
-from csql_sim.classifier_list import ClassifierList
-from csql_sim.processing_block import ProcessingBlock
-from csql_sim.r_classifier import r_classifiers
-from csql_sim.world_model import WorldModel
+from csql_sim.core.classifier_list import ClassifierList
+from csql_sim.core.processing_block import ProcessingBlock
+from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.world_model import WorldModel
 
 
 def _block(clock):

@@ -3,8 +3,8 @@ from pathlib import Path
 
 import pytest
 
-from csql_sim.message import action_code, format_action_message, format_state_message, layout
-from csql_sim.r_classifier import (
+from csql_sim.core.message import action_code, format_action_message, format_state_message, layout
+from csql_sim.core.r_classifier import (
     AddDeleteRule,
     PreconditionRule,
     generate_rules,
@@ -12,7 +12,7 @@ from csql_sim.r_classifier import (
     matches,
     parse_r_classifier,
 )
-from csql_sim.world import BlocksWorld, all_actions
+from csql_sim.core.world import BlocksWorld, all_actions
 
 FIGURE5_TABLE = Path(__file__).parent / "data" / "figure5.md"
 """encoding.md's table of Figure 5, copied verbatim into the tests so that a fresh clone checks it."""

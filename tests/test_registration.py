@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 
 import csql_sim  # noqa: F401 - registers the environments
-from csql_sim.errors import CsqlError
-from csql_sim.message import format_state_message
-from csql_sim.notation import parse_config
-from csql_sim.planner import bfs_plan
-from csql_sim.r_classifier import PreconditionRule, r_classifiers
-from csql_sim.registration import BLOCKS_WORLD_ID, PANDA_BLOCKS_ID
-from csql_sim.rulebase import RuleBase, save
-from csql_sim.world import BlocksWorld, successor
+from csql_sim.core.message import format_state_message
+from csql_sim.core.notation import parse_config
+from csql_sim.core.planner import bfs_plan
+from csql_sim.core.r_classifier import PreconditionRule, r_classifiers
+from csql_sim.core.rulebase import RuleBase, save
+from csql_sim.core.world import BlocksWorld, successor
+from csql_sim.envs.registration import BLOCKS_WORLD_ID, PANDA_BLOCKS_ID
+from csql_sim.infra.errors import CsqlError
 
 
 def test_import_registers_both_ids_without_pybullet():

@@ -1,8 +1,8 @@
 import pytest
 
-from csql_sim.q_classifier import QClassifier
-from csql_sim.r_classifier import r_classifiers
-from csql_sim.rulebase import RuleBase, RuleBaseError, load, loads, save
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.rulebase import RuleBase, RuleBaseError, load, loads, save
 
 
 def _sample() -> RuleBase:
@@ -160,7 +160,7 @@ def test_wrong_block_count_refused_from_the_header(tmp_path):
 def test_chunked_parse_equals_one_parse(tmp_path, monkeypatch):
     import yaml
 
-    import csql_sim.rulebase as rulebase
+    import csql_sim.core.rulebase as rulebase
 
     monkeypatch.setattr(rulebase, "CHUNK_ROWS", 7)
     path = save(tmp_path / "rules.yaml", _sample())

@@ -1,10 +1,10 @@
 import numpy as np
 import pytest
 
-from csql_sim.learners import train
-from csql_sim.q_classifier import QClassifier
-from csql_sim.r_classifier import r_classifiers
-from csql_sim.rulebase import RuleBase, RuleBaseError, dumps, load, loads, save
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.rulebase import RuleBase, RuleBaseError, dumps, load, loads, save
+from csql_sim.learners.training import train
 
 
 def _fields(rb: RuleBase) -> list[tuple]:

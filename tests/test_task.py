@@ -1,9 +1,9 @@
 import pytest
 
-from csql_sim.notation import parse_config
-from csql_sim.planner import distance
-from csql_sim.task import Task, test_task
-from csql_sim.world import WorldError
+from csql_sim.core.notation import parse_config
+from csql_sim.core.planner import distance
+from csql_sim.core.task import Task, test_task
+from csql_sim.core.world import WorldError
 
 
 def test_success_is_the_perceived_state_equal_to_the_goal():

@@ -1,7 +1,7 @@
 import pytest
 
-from csql_sim.notation import parse_action_name, parse_config
-from csql_sim.world import (
+from csql_sim.core.notation import parse_action_name, parse_config
+from csql_sim.core.world import (
     HAND,
     TABLE,
     ActionKind,

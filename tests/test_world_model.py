@@ -1,9 +1,9 @@
 import pytest
 
-from csql_sim.message import format_action_message, format_state_message
-from csql_sim.r_classifier import AddDeleteRule, generate_rules, load_paper_rules
-from csql_sim.world import BlocksWorld, legal_actions, successor
-from csql_sim.world_model import WorldModel, WorldModelError
+from csql_sim.core.message import format_action_message, format_state_message
+from csql_sim.core.r_classifier import AddDeleteRule, generate_rules, load_paper_rules
+from csql_sim.core.world import BlocksWorld, legal_actions, successor
+from csql_sim.core.world_model import WorldModel, WorldModelError
 
 
 def test_the_papers_worked_example():

@@ -1,7 +1,7 @@
 """The ``csql-sim`` command line: a thin layer over the library.
 
 Each subcommand lives in a small module with a ``register(subparsers)`` function; the
-handlers call library functions and raise :class:`csql_sim.errors.CsqlError` for bad
+handlers call library functions and raise :class:`csql_sim.infra.errors.CsqlError` for bad
 input, which :func:`main` prints as one line before exiting with status 2.
 """
 
@@ -14,7 +14,7 @@ import sys
 from csql_sim import __version__
 from csql_sim.cli import core, demo, discover, learn, pddl_cmd, sim
 from csql_sim.cli.output import check_json_output
-from csql_sim.errors import CsqlError
+from csql_sim.infra.errors import CsqlError
 
 SUBCOMMAND_MODULES = (core, learn, sim, demo, discover, pddl_cmd)
 

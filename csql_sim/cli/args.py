@@ -8,10 +8,10 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from csql_sim.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
 
 if TYPE_CHECKING:
-    from csql_sim.backends import Backend
+    from csql_sim.infra.backends import Backend
 
 
 def int_type(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
@@ -99,8 +99,8 @@ def add_backend_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def backend_from_args(args: argparse.Namespace) -> Backend:
-    """The :class:`csql_sim.backends.Backend` of ``--backend``, ``--address`` and ``--workers``."""
-    from csql_sim.backends import Backend
+    """The :class:`csql_sim.infra.backends.Backend` of ``--backend``, ``--address`` and ``--workers``."""
+    from csql_sim.infra.backends import Backend
 
     return Backend(args.backend, getattr(args, "workers", None), args.address)
 

@@ -9,20 +9,20 @@ from collections.abc import Sequence
 
 from csql_sim.cli.args import add_json, add_quiet, blocks_arg, seed_arg, show_progress
 from csql_sim.cli.output import command_parameters, emit, json_stream
-from csql_sim.errors import CsqlError
-from csql_sim.message import (
+from csql_sim.core.message import (
     action_code,
     format_action_message,
     format_state_message,
     is_state_message,
     parse_state_message,
 )
-from csql_sim.notation import parse_state_arg
-from csql_sim.planner import distance
-from csql_sim.policy import Policy, load_policy, rollout
-from csql_sim.provenance import provenance
-from csql_sim.r_classifier import r_classifiers
-from csql_sim.world import Action, BlocksWorld, State, WorldError
+from csql_sim.core.notation import parse_state_arg
+from csql_sim.core.planner import distance
+from csql_sim.core.policy import Policy, load_policy, rollout
+from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.world import Action, BlocksWorld, State, WorldError
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.provenance import provenance
 
 
 def read_task(start: str, goal: str | None, n: int | None) -> tuple[State, State]:
@@ -139,9 +139,9 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
     """
     from tqdm import tqdm
 
-    from csql_sim.pair_check import plan_pairs
-    from csql_sim.pairs import check_sample_size, pair_count
-    from csql_sim.rule_table import GreedyTable
+    from csql_sim.core.greedy_table import GreedyTable
+    from csql_sim.core.pair_check import plan_pairs
+    from csql_sim.core.pairs import check_sample_size, pair_count
 
     table = policy if isinstance(policy, GreedyTable) else None
     world = BlocksWorld.of(n)
@@ -183,7 +183,7 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
 
 
 def _pairs_arg(text: str) -> str | int:
-    from csql_sim.pairs import parse_pairs
+    from csql_sim.core.pairs import parse_pairs
 
     try:
         return parse_pairs(text)

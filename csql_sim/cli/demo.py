@@ -22,13 +22,16 @@ from csql_sim.cli.args import (
 
 def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.cli.sim import print_episode
-    from csql_sim.files import check_output_folder, write_or_keep
-    from csql_sim.learners import count_q, figure6_table, prune, train
-    from csql_sim.policy import QPolicy, check_all_pairs
-    from csql_sim.provenance import rules_source
-    from csql_sim.rulebase import dumps
-    from csql_sim.sim import check_video_options, render_episode, resolve_renderer
-    from csql_sim.task import test_task
+    from csql_sim.core.policy import QPolicy, check_all_pairs
+    from csql_sim.core.rulebase import dumps
+    from csql_sim.core.task import test_task
+    from csql_sim.infra.files import check_output_folder, write_or_keep
+    from csql_sim.infra.provenance import rules_source
+    from csql_sim.jobs.render import render_episode
+    from csql_sim.learners.pruning import count_q, figure6_table, prune
+    from csql_sim.learners.training import train
+    from csql_sim.sim.render import check_video_options
+    from csql_sim.sim.renderer import resolve_renderer
 
     out = check_output_folder(args.out)
     video = out / "test_task.mp4"

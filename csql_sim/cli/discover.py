@@ -10,9 +10,11 @@ from csql_sim.cli.output import check_json_output, emit
 
 
 def cmd_discover(args: argparse.Namespace) -> int:
-    from csql_sim import rulebase, transition_log
-    from csql_sim.discovery import Exploration, discover, report_dict, report_lines
-    from csql_sim.files import check_output_file, write_or_keep
+    from csql_sim.core import rulebase
+    from csql_sim.discovery import transition_log
+    from csql_sim.discovery.explore import Exploration, report_dict, report_lines
+    from csql_sim.infra.files import check_output_file, write_or_keep
+    from csql_sim.jobs.discover import discover
 
     check_output_file(args.out, "rule file")
     if args.log:

@@ -22,11 +22,11 @@ from csql_sim.cli.args import (
 )
 from csql_sim.cli.core import read_task_for_rules
 from csql_sim.cli.output import emit, json_text
-from csql_sim.errors import CsqlError
+from csql_sim.infra.errors import CsqlError
 
 
 def _methods(text: str) -> list[str]:
-    from csql_sim.learners import METHODS
+    from csql_sim.learners.training import METHODS
 
     names = list(dict.fromkeys(m.strip().lower() for m in text.split(",") if m.strip()))  # once each, in order
     for m in names:
@@ -39,10 +39,10 @@ def _methods(text: str) -> list[str]:
 
 # ------------------------------------------------------------------ experiment
 def cmd_experiment(args: argparse.Namespace) -> int:
-    from csql_sim.experiment import run_experiment, summary_lines, write_figure7
-    from csql_sim.figure7_statements import evaluate, statement_lines
-    from csql_sim.files import check_output_folder
-    from csql_sim.learners import default_trials
+    from csql_sim.infra.files import check_output_folder
+    from csql_sim.jobs.experiment import run_experiment, summary_lines, write_figure7
+    from csql_sim.jobs.figure7_statements import evaluate, statement_lines
+    from csql_sim.learners.params import default_trials
 
     check_output_folder(args.out)
     warn_workers(args.workers)
@@ -79,14 +79,15 @@ def cmd_experiment(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ train
 def cmd_train(args: argparse.Namespace) -> int:
-    from csql_sim.files import check_output_file, write_or_keep
-    from csql_sim.learners import FastCSQL, train_learner
-    from csql_sim.rulebase import file_bytes
+    from csql_sim.core.rulebase import file_bytes
+    from csql_sim.infra.files import check_output_file, write_or_keep
+    from csql_sim.learners.fast_engine import FastCSQL
+    from csql_sim.learners.training import train_learner
 
     check_output_file(args.out, "rule file")
     domain = None
     if args.domain:
-        from csql_sim.rulebase import load_r_classifiers
+        from csql_sim.core.rulebase import load_r_classifiers
 
         domain = load_r_classifiers(args.domain, args.blocks).classifiers
     began = time.perf_counter()
@@ -117,9 +118,8 @@ def cmd_train(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ show
 def cmd_show(args: argparse.Namespace) -> int:
-    from csql_sim.learners import figure6_table
-    from csql_sim.learners.report import figure6_rows
-    from csql_sim.rulebase import load
+    from csql_sim.core.rulebase import load
+    from csql_sim.learners.pruning import figure6_rows, figure6_table
 
     rb = load(args.rules, progress=show_progress(args))
     if (args.start is None) != (args.goal is None):
@@ -136,9 +136,9 @@ def cmd_show(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ prune
 def cmd_prune(args: argparse.Namespace) -> int:
-    from csql_sim.files import check_output_file, write_or_keep
-    from csql_sim.learners import count_q, prune
-    from csql_sim.rulebase import file_bytes, load
+    from csql_sim.core.rulebase import file_bytes, load
+    from csql_sim.infra.files import check_output_file, write_or_keep
+    from csql_sim.learners.pruning import count_q, prune
 
     check_output_file(args.out, "rule file")
     rb = load(args.rules, progress=show_progress(args))
@@ -150,8 +150,8 @@ def cmd_prune(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ bench
 def cmd_bench(args: argparse.Namespace) -> int:
-    from csql_sim.learners.bench import bench
-    from csql_sim.provenance import provenance
+    from csql_sim.infra.provenance import provenance
+    from csql_sim.jobs.bench import bench
 
     r = bench(args.trials, args.seed, args.repeats)
     engines = {"reference": r.reference, "fast": r.fast, "plain": r.plain}
@@ -177,9 +177,9 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ scaling
 def cmd_scaling(args: argparse.Namespace) -> int:
-    from csql_sim.files import check_output_folder, write_or_keep
-    from csql_sim.provenance import plain, provenance
-    from csql_sim.scaling import run_scaling, write_outputs
+    from csql_sim.infra.files import check_output_folder, write_or_keep
+    from csql_sim.infra.provenance import plain, provenance
+    from csql_sim.jobs.scaling import run_scaling, write_outputs
 
     check_output_folder(args.out)
     rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args),
@@ -304,7 +304,7 @@ def _register_params(sub: argparse._SubParsersAction, methods: tuple[str, ...]) 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``experiment``, ``train``, ``show``, ``prune``, ``scaling``, ``bench`` and ``params`` to the subparsers."""
-    from csql_sim.learners import METHODS
+    from csql_sim.learners.training import METHODS
 
     for add in (_register_experiment, _register_train, _register_show, _register_prune, _register_scaling,
                 _register_bench, _register_params):

@@ -10,8 +10,8 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any
 
-from csql_sim.files import atomic_output, check_output_file, write_or_keep
-from csql_sim.provenance import provenance
+from csql_sim.infra.files import atomic_output, check_output_file, write_or_keep
+from csql_sim.infra.provenance import provenance
 
 NOT_PARAMETERS = ("func", "json", "quiet")  # how a command reports, not what it computes
 

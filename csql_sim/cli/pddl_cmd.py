@@ -6,14 +6,14 @@ import argparse
 
 from csql_sim.cli.args import blocks_arg
 from csql_sim.cli.core import read_task
-from csql_sim.errors import CsqlError
+from csql_sim.infra.errors import CsqlError
 
 
 def cmd_pddl(args: argparse.Namespace) -> int:
-    from csql_sim.files import check_output_folder, write_or_keep
-    from csql_sim.pddl_export import domain_text, problem_text
-    from csql_sim.r_classifier import r_classifiers
-    from csql_sim.rulebase import load_r_classifiers
+    from csql_sim.core.pddl_export import domain_text, problem_text
+    from csql_sim.core.r_classifier import r_classifiers
+    from csql_sim.core.rulebase import load_r_classifiers
+    from csql_sim.infra.files import check_output_folder, write_or_keep
 
     if (args.start is None) != (args.goal is None):
         raise CsqlError("pddl needs both --start and --goal, or neither")

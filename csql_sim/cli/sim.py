@@ -23,10 +23,10 @@ from csql_sim.cli.args import (
 )
 from csql_sim.cli.core import read_task_for_rules
 from csql_sim.cli.output import emit
-from csql_sim.errors import CsqlError
+from csql_sim.infra.errors import CsqlError
 
 if TYPE_CHECKING:
-    from csql_sim.evaluate import EvalReport
+    from csql_sim.jobs.evaluate import EvalReport
     from csql_sim.sim.executor import EpisodeResult
 
 
@@ -45,15 +45,11 @@ def print_episode(result: EpisodeResult) -> None:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from csql_sim.provenance import rules_source
-    from csql_sim.sim import (
-        CameraNoise,
-        check_video_options,
-        load_policy,
-        render_episode,
-        sidecar_path,
-        video_frame_count,
-    )
+    from csql_sim.core.policy import load_policy
+    from csql_sim.infra.provenance import rules_source
+    from csql_sim.jobs.render import render_episode, sidecar_path
+    from csql_sim.sim.render import check_video_options, video_frame_count
+    from csql_sim.sim.rgbd import CameraNoise
 
     if args.discovery:
         return render_discovery(args)
@@ -94,8 +90,8 @@ def evaluate_status(report: EvalReport, min_success: float | None) -> int:
 
 def render_discovery(args: argparse.Namespace) -> int:
     """``render --discovery``: a short discovery episode, failed attempts captioned as such."""
-    from csql_sim.message import parse_action_message
-    from csql_sim.sim.exploration import record_discovery
+    from csql_sim.core.message import parse_action_message
+    from csql_sim.jobs.discover import record_discovery
     from csql_sim.sim.render import check_video_options, write_video
 
     if args.start or args.goal or args.rules:
@@ -115,9 +111,9 @@ def render_discovery(args: argparse.Namespace) -> int:
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from csql_sim.evaluate import evaluate
-    from csql_sim.files import check_output_file
-    from csql_sim.provenance import provenance
+    from csql_sim.infra.files import check_output_file
+    from csql_sim.infra.provenance import provenance
+    from csql_sim.jobs.evaluate import evaluate
 
     if args.plot:
         if not args.plot.lower().endswith(".png"):
@@ -132,7 +128,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
                 "provenance": provenance(command="evaluate", **report.config, min_success=args.min_success)},
          report.text)
     if args.plot:
-        from csql_sim.plots import write_evaluation_png
+        from csql_sim.jobs.plots import write_evaluation_png
 
         print(f"wrote {write_evaluation_png(report, args.plot)}", file=sys.stderr)
     return status

@@ -14,13 +14,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from csql_sim.core.processing_block import MatchSet
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.r_classifier import RClassifier
+from csql_sim.core.rulebase import RuleBase
 from csql_sim.learners.cs_ql import ClassifierSystemLearner
 from csql_sim.learners.params import BucketBrigadeParams
 from csql_sim.learners.selection import boltzmann, roulette
-from csql_sim.processing_block import MatchSet
-from csql_sim.q_classifier import QClassifier
-from csql_sim.r_classifier import RClassifier
-from csql_sim.rulebase import RuleBase
 
 
 class BucketBrigade(ClassifierSystemLearner):

@@ -10,7 +10,7 @@ cycle:
 5. *predict* the next state message with the world model (the add-delete R-classifiers);
 6. *update* the classifier that proposed the action with eq. 1, 2 and 4 (step 6, :meth:`learn`).
 
-Steps 1-3 live in :mod:`csql_sim.processing_block`, step 5 in :mod:`csql_sim.world_model`.
+Steps 1-3 live in :mod:`csql_sim.core.processing_block`, step 5 in :mod:`csql_sim.core.world_model`.
 """
 
 from __future__ import annotations
@@ -19,17 +19,17 @@ from collections.abc import Callable
 
 import numpy as np
 
-from csql_sim.classifier_list import ClassifierList
+from csql_sim.core.classifier_list import ClassifierList
+from csql_sim.core.message import decode_code, layout
+from csql_sim.core.processing_block import MatchSet, ProcessingBlock
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.r_classifier import RClassifier, r_classifiers
+from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.world_model import WorldModel
 from csql_sim.learners.learner import Learner, Transition
 from csql_sim.learners.params import CommonParams, CSQLParams
 from csql_sim.learners.selection import boltzmann
 from csql_sim.learners.trial import run_trial
-from csql_sim.message import decode_code, layout
-from csql_sim.processing_block import MatchSet, ProcessingBlock
-from csql_sim.q_classifier import QClassifier
-from csql_sim.r_classifier import RClassifier, r_classifiers
-from csql_sim.rulebase import RuleBase
-from csql_sim.world_model import WorldModel
 
 INF = float("inf")
 

@@ -8,7 +8,7 @@ instead of classifier objects, and its loops are compiled with numba.
 
 The domain knowledge is the same: the candidates of a state and their predicted
 successors are read off the R-classifiers (the precondition rules matched and the
-add-delete rule applied by :class:`~csql_sim.world_model.WorldModel`), once per
+add-delete rule applied by :class:`~csql_sim.core.world_model.WorldModel`), once per
 state, when the engine is built. Nothing comes from the world's own transition table.
 """
 
@@ -22,19 +22,19 @@ from pathlib import Path
 
 import numpy as np
 
-from csql_sim.errors import CsqlError
-from csql_sim.files import write_atomic
+from csql_sim.core.message import decode_code, format_action_message, format_state_message, goal_code, layout
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.rulebase import RuleBase, dumps, is_npz
+from csql_sim.core.rulebase_npz import arrays_to_bytes
+from csql_sim.core.task import test_task
+from csql_sim.core.world import BlocksWorld
+from csql_sim.core.world_model import WorldModel
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import write_atomic
 from csql_sim.learners.learner import BATCH
 from csql_sim.learners.params import CSQLParams
 from csql_sim.learners.trial import TEST_EVERY, Curve
-from csql_sim.message import decode_code, format_action_message, format_state_message, goal_code, layout
-from csql_sim.q_classifier import QClassifier
-from csql_sim.r_classifier import r_classifiers
-from csql_sim.rulebase import RuleBase, dumps, is_npz
-from csql_sim.rulebase_npz import arrays_to_bytes
-from csql_sim.task import test_task
-from csql_sim.world import BlocksWorld
-from csql_sim.world_model import WorldModel
 
 
 class _Kernels:
@@ -151,7 +151,7 @@ class FastCSQL:
         )
 
     def test_task(self) -> tuple[int, int]:
-        """The test task's (start, goal) state indices (:func:`csql_sim.task.test_task`)."""
+        """The test task's (start, goal) state indices (:func:`csql_sim.core.task.test_task`)."""
         task = test_task(self.n)
         return self.world.state_index(task.start), self.world.state_index(task.goal)
 

@@ -24,10 +24,10 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
+from csql_sim.core.message import format_state_message
+from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.world import BlocksWorld
 from csql_sim.learners.params import CommonParams
-from csql_sim.message import format_state_message
-from csql_sim.rulebase import RuleBase
-from csql_sim.world import BlocksWorld
 
 BATCH = 4096
 

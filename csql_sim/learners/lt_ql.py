@@ -9,13 +9,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from csql_sim.core.message import format_action_message, format_state_message, parse_state_message
+from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.world import BlocksWorld
 from csql_sim.learners.learner import Learner, Transition
 from csql_sim.learners.params import TabularParams
 from csql_sim.learners.selection import boltzmann
-from csql_sim.message import format_action_message, format_state_message, parse_state_message
-from csql_sim.q_classifier import QClassifier
-from csql_sim.rulebase import RuleBase
-from csql_sim.world import BlocksWorld
 
 
 class Row:

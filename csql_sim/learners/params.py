@@ -16,8 +16,8 @@ import os
 from dataclasses import dataclass, fields
 from typing import ClassVar
 
-from csql_sim.errors import CsqlError
-from csql_sim.files import InputFileError, load_yaml, read_text_file
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import InputFileError, load_yaml, read_text_file
 
 MAX_FILE_BYTES = 1024 * 1024
 """Largest parameter file read."""
@@ -204,7 +204,7 @@ class BucketBrigadeParams(CommonParams):
     reaches the goal). Matched candidates that were not selected pay a tax ``tax * S``.
 
     The constants were chosen with ``scripts/sweep_bucket_brigade.py`` against the paper's
-    statements about Figure 7 (:mod:`csql_sim.figure7_statements`; docs/learning.md has
+    statements about Figure 7 (:mod:`csql_sim.jobs.figure7_statements`; docs/learning.md has
     the sweep). ``bid`` is the speed at which strength flows back along a chain: Figure
     7(b)'s "the bucket-brigade curves rise faster than CS-QL's" needs bid 0.8 (at 0.5 they
     tie with CS-QL, whose eta is 0.5 but whose targets are discounted). ``s0`` sets when
@@ -297,7 +297,7 @@ def defaults_for_blocks(method: str, n: int) -> CommonParams:
     base = default_params(method)
     if n <= 3:
         return base
-    from csql_sim.world import all_states
+    from csql_sim.core.world import all_states
 
     overrides: dict = {
         "t_decay": (base.t_min / base.t0) ** (1.0 / (0.6 * default_trials(n))),

@@ -11,8 +11,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
+from csql_sim.core.task import test_task
 from csql_sim.learners.learner import Learner, Transition
-from csql_sim.task import test_task
 
 TEST_EVERY = 50
 

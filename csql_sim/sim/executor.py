@@ -4,10 +4,10 @@
 steps are: draw the :class:`PerturbationPlan`, then repeat :meth:`Episode.step` (choose
 an action, predict, execute, perceive), then :meth:`Episode.finish`. After every
 primitive the perceived state is compared with the prediction of the
-:class:`~csql_sim.world_model.WorldModel` passed in (the add-delete R-classifiers by
+:class:`~csql_sim.core.world_model.WorldModel` passed in (the add-delete R-classifiers by
 default). A mismatch is logged and the loop continues from the perceived state, up to a
 cap on actions. Success is :meth:`PhysicalWorld.reached`: the task's
-:meth:`~csql_sim.task.Task.is_success` on the perceived state, with the scene settled;
+:meth:`~csql_sim.core.task.Task.is_success` on the perceived state, with the scene settled;
 it is never inferred from the plan.
 """
 
@@ -20,10 +20,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.errors import CsqlError
-from csql_sim.message import action_code, format_state_message
-from csql_sim.planner import BfsPolicy, distance
-from csql_sim.policy import Policy
+from csql_sim.core.message import action_code, format_state_message
+from csql_sim.core.planner import BfsPolicy, distance
+from csql_sim.core.policy import Policy
+from csql_sim.core.task import Task
+from csql_sim.core.world import Action, BlocksWorld, State
+from csql_sim.core.world_model import WorldModel
+from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.perception import Perceived
 from csql_sim.sim.physical import PhysicalWorld, SimError
@@ -31,9 +34,6 @@ from csql_sim.sim.primitives import CarryHook, Status
 from csql_sim.sim.recording import Caption, Recorder, Recording
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 from csql_sim.sim.scene import Pose
-from csql_sim.task import Task
-from csql_sim.world import Action, BlocksWorld, State
-from csql_sim.world_model import WorldModel
 
 
 @dataclass(frozen=True)

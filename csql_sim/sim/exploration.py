@@ -1,4 +1,4 @@
-"""The simulated arm as an explorable world for rule discovery (:mod:`csql_sim.discovery`).
+"""The simulated arm as an explorable world for rule discovery (:mod:`csql_sim.discovery.world`'s protocol).
 
 Each attempt runs the action's real primitive behind its guard
 (:mod:`csql_sim.sim.guards`): an action whose preconditions do not hold is refused
@@ -15,19 +15,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.discovery import Attempt, DiscoveryResult, Exploration, explore
+from csql_sim.core.world import Action, State, all_states
+from csql_sim.discovery.world import Attempt
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.executor import PERTURBATION, Perturbation, _nudge
 from csql_sim.sim.physical import PhysicalWorld, SimError
-from csql_sim.sim.recording import Caption, Recorder, Recording
-from csql_sim.world import Action, State, all_states
+from csql_sim.sim.recording import Caption, Recorder
 
 CAPTION_HOLD = 0.6  # simulated seconds the verdict of an attempt stays on screen in a video
 
 
 @dataclass
 class ArmWorld:
-    """The Panda and its cubes behind the :class:`~csql_sim.discovery.ExplorableWorld` interface.
+    """The Panda and its cubes behind the :class:`~csql_sim.discovery.world.ExplorableWorld` protocol.
 
     Args:
         n: number of cubes.
@@ -101,12 +101,3 @@ class ArmWorld:
 
     def __exit__(self, *exc: object) -> None:
         self.close()
-
-
-def record_discovery(n: int, seed: int, transitions: int, fps: int, perception: str = "pose",
-                     perturb: bool = False) -> tuple[DiscoveryResult, Recording]:
-    """A short discovery episode on the arm, recorded: every attempt captioned, failures as such."""
-    rng = np.random.default_rng(seed)
-    with ArmWorld(n, rng, perception=perception, perturb=perturb, recorder_fps=fps) as arm:
-        result = explore(arm, rng, Exploration(max_transitions=transitions))
-        return result, arm.recorder.finish()

@@ -17,11 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csql_sim.core.world import BLOCK_NAMES, Action, ActionKind
 from csql_sim.sim.perception import Observation, Tolerances, gripper_closed_on_cube, holding, on, on_table
 from csql_sim.sim.primitives import CarryHook, Pick, Place, Status
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Scene
-from csql_sim.world import BLOCK_NAMES, Action, ActionKind
 
 
 def _on_top_of(obs: Observation, x: int, tol: Tolerances) -> int | None:

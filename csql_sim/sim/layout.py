@@ -12,9 +12,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csql_sim.core.world import State
 from csql_sim.sim.config import SimConfig
 from csql_sim.sim.scene import Scene, quaternion_from_euler
-from csql_sim.world import State
 
 LIFT = 1e-4  # m: cubes are placed this far above their support and settle onto it
 

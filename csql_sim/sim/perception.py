@@ -2,7 +2,7 @@
 
 One small predicate per relation, each with named tolerances in :class:`Tolerances`.
 Both perception modes produce an :class:`Observation` (estimated cube centres and the
-gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.world.State`.
+gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.core.world.State`.
 """
 
 from __future__ import annotations
@@ -12,10 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.message import format_state_message
+from csql_sim.core.message import format_state_message
+from csql_sim.core.world import BLOCK_NAMES, HAND, TABLE, BlocksWorld, State, WorldError
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Scene, rotation_matrix
-from csql_sim.world import BLOCK_NAMES, HAND, TABLE, BlocksWorld, State, WorldError
 
 
 @dataclass(frozen=True)

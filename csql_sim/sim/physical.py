@@ -7,7 +7,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.errors import CsqlError
+from csql_sim.core.task import Task
+from csql_sim.core.world import BLOCK_NAMES, Action, State
+from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERAS, Camera
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.guards import Guarded
@@ -18,8 +20,6 @@ from csql_sim.sim.recovery import Drag, recovery_for
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise, observe_rgbd
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Pose, Scene
-from csql_sim.task import Task
-from csql_sim.world import BLOCK_NAMES, Action, State
 
 PERCEPTION_MODES = ("pose", "camera")
 
@@ -117,7 +117,7 @@ class PhysicalWorld:
     def reached(self, perceived: Perceived, goal: State) -> bool:
         """The success predicate of every physical episode: the task's, on what was perceived, once settled.
 
-        :meth:`csql_sim.task.Task.is_success` decides from the perceived state (never the
+        :meth:`csql_sim.core.task.Task.is_success` decides from the perceived state (never the
         plan), and every free cube must be at rest.
         """
         return Task.is_success(perceived.state, goal) and self.is_settled()

@@ -14,10 +14,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csql_sim.core.world import BLOCK_NAMES, Action, ActionKind
 from csql_sim.sim.perception import Observation, settled, wrap_quarter
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Scene
-from csql_sim.world import BLOCK_NAMES, Action, ActionKind
 
 
 @dataclass(frozen=True)

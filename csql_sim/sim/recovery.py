@@ -19,11 +19,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from csql_sim.core.world import BLOCK_NAMES
 from csql_sim.sim.perception import Observation, Perceived
 from csql_sim.sim.primitives import CarryHook, Status, carry_height, free_spot, settle
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Scene
-from csql_sim.world import BLOCK_NAMES
 
 
 @dataclass(frozen=True)

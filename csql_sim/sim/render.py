@@ -18,16 +18,16 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
-from csql_sim.errors import CsqlError
-from csql_sim.files import atomic_output, check_output_file
+from csql_sim.core.world import BLOCK_NAMES
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import atomic_output, check_output_file
+from csql_sim.infra.workers import worker_count, worker_pool
 from csql_sim.sim.camera import RENDER_CAMERA, Camera, capture
 from csql_sim.sim.config import COLOURS, SimConfig
 from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.renderer import close_quietly, resolve_renderer
 from csql_sim.sim.replay import apply_snapshot, replay_scene
 from csql_sim.sim.scene import Scene
-from csql_sim.workers import worker_count, worker_pool
-from csql_sim.world import BLOCK_NAMES
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
@@ -159,7 +159,7 @@ def _open_writer(path: Path, fps: int, suffix: str):  # noqa: ANN202 - imageio's
 def write_video(recording: Recording, path: str | os.PathLike, width: int = 640, height: int = 480,
                 fps: int | None = None, workers: int | None = None, camera: Camera = RENDER_CAMERA,
                 progress: bool = True, renderer: str = "auto") -> Path:
-    """Render ``recording`` and write it atomically (:func:`csql_sim.files.atomic_output`) as .mp4 or .gif.
+    """Render ``recording`` and write it atomically (:func:`csql_sim.infra.files.atomic_output`) as .mp4 or .gif.
 
     Args:
         recording: poses recorded during an episode.

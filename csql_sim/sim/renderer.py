@@ -21,7 +21,7 @@ import subprocess
 import sys
 from functools import cache
 
-from csql_sim.errors import CsqlError
+from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.client import quiet_output
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.scene import Scene, projection_matrix, view_matrix

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.errors import CsqlError
+from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.camera import PERCEPTION_CAMERAS, Camera, capture, unproject
 from csql_sim.sim.config import COLOURS
 from csql_sim.sim.perception import BlockObs, Observation, wrap_quarter

@@ -8,6 +8,7 @@ rendering is :mod:`csql_sim.sim.replay`'s. This module does not import pybullet.
 
 from __future__ import annotations
 
+from csql_sim.core.world import BLOCK_NAMES, check_n
 from csql_sim.sim.client import (
     PhysicsClient,
     Pose,
@@ -19,7 +20,6 @@ from csql_sim.sim.client import (
     view_matrix,
 )
 from csql_sim.sim.config import COLOURS, DEFAULT_CONFIG, SimConfig
-from csql_sim.world import BLOCK_NAMES, check_n
 
 TABLE_RGBA = (0.72, 0.6, 0.45, 1.0)
 FINGER_LINKS = (9, 10)

@@ -3,7 +3,7 @@ import sys
 
 from csql_sim.cli import build_parser
 from csql_sim.cli.args import show_progress
-from csql_sim.workers import worker_count
+from csql_sim.infra.workers import worker_count
 
 COMMANDS_WITH_PROGRESS = ("plan", "train", "show", "prune", "experiment", "bench", "render", "evaluate", "demo")
 COMMANDS_WITH_JSON = ("states", "rules", "plan", "show", "bench", "experiment", "evaluate")

@@ -1,9 +1,10 @@
 import json
 
-from csql_sim import rulebase, transition_log
 from csql_sim.cli import main
-from csql_sim.r_classifier import load_paper_rules
-from csql_sim.rule_induction import induce_rules
+from csql_sim.core import rulebase
+from csql_sim.core.r_classifier import load_paper_rules
+from csql_sim.discovery import transition_log
+from csql_sim.discovery.induction import induce_rules
 
 
 def test_discover_symbolic_writes_rules_log_and_report(tmp_path, capsys):

@@ -7,8 +7,8 @@ import time
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.r_classifier import r_classifiers
-from csql_sim.rulebase import RuleBase, load, save
+from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.rulebase import RuleBase, load, save
 
 
 def run(capsys, *argv):
@@ -96,10 +96,10 @@ def test_read_only_folder_readers_still_work(capsys, read_only_dir, rules3, monk
 
 
 def test_a_failed_final_write_keeps_the_results(capsys, read_only_dir, monkeypatch):
-    import csql_sim.files
+    import csql_sim.infra.files
 
     # the preflight passes (as if the folder became read-only during training) ...
-    monkeypatch.setattr(csql_sim.files, "check_output_file", lambda path, what="": path)
+    monkeypatch.setattr(csql_sim.infra.files, "check_output_file", lambda path, what="": path)
     err, _ = refused(capsys, "train", "--out", read_only_dir / "r.yaml", "--trials", "20", "--quiet",
                      fragment="the results are kept in ")
     # ... and the trained rule base is where the message says, complete
@@ -234,7 +234,7 @@ def test_quiet_everywhere_with_no_progress_as_alias(command):
 
 
 def test_workers_above_the_cores_warn_and_are_capped(capsys, tmp_path):
-    from csql_sim.workers import worker_count
+    from csql_sim.infra.workers import worker_count
 
     assert worker_count(1000, 3) == 3 and worker_count(None, 1) == 1 and worker_count(2, 0) == 1
     code, _, err = run(capsys, "evaluate", "--pairs", "1", "--workers", "1000", "--quiet")

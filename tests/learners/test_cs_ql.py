@@ -1,23 +1,16 @@
 import numpy as np
 import pytest
 
-from csql_sim.learners import (
-    CSQL,
-    Transition,
-    count_q,
-    figure6_table,
-    greedy_path,
-    make_learner,
-    prune,
-    run_training,
-    run_trial,
-    train,
-)
-from csql_sim.message import format_state_message, parse_state_message
-from csql_sim.notation import parse_config
-from csql_sim.policy import QPolicy, check_all_pairs
-from csql_sim.rulebase import dumps
-from csql_sim.world import BlocksWorld
+from csql_sim.core.message import format_state_message, parse_state_message
+from csql_sim.core.notation import parse_config
+from csql_sim.core.policy import QPolicy, check_all_pairs
+from csql_sim.core.rulebase import dumps
+from csql_sim.core.world import BlocksWorld
+from csql_sim.learners.cs_ql import CSQL
+from csql_sim.learners.learner import Transition
+from csql_sim.learners.pruning import count_q, figure6_table, greedy_path, prune
+from csql_sim.learners.training import make_learner, train
+from csql_sim.learners.trial import run_training, run_trial
 
 
 def all_optimal(rb) -> int:
@@ -139,7 +132,7 @@ def test_generator_is_the_only_randomness():
 
 
 def test_cs_ql_takes_the_same_steps_as_the_plain_tabular_learner():
-    from csql_sim.learners.bench import plain_q_learning
+    from csql_sim.jobs.bench import plain_q_learning
 
     learner = make_learner("cs-ql", seed=4)
     run_training(learner, 600)

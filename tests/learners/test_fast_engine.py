@@ -4,11 +4,13 @@ import sys
 import numpy as np
 import pytest
 
-from csql_sim.learners import FastCSQL, make_learner, prune, run_training, train
-from csql_sim.learners.fast_engine import world_model
+from csql_sim.core.rulebase import dumps
+from csql_sim.core.world import BlocksWorld
+from csql_sim.learners.fast_engine import FastCSQL, world_model
 from csql_sim.learners.params import ParamsError
-from csql_sim.rulebase import dumps
-from csql_sim.world import BlocksWorld
+from csql_sim.learners.pruning import prune
+from csql_sim.learners.training import make_learner, train
+from csql_sim.learners.trial import run_training
 
 
 @pytest.mark.parametrize("seed", [0, 1, 7])
@@ -61,8 +63,8 @@ def test_n4_defaults_prune_to_one_optimal_classifier_per_pair():
     pruned = prune(rb, 0.1)
     q = [c for c in pruned.classifiers if c.kind == "Q"]
     assert len(q) == 15_500 == len({c.condition for c in q})
-    from csql_sim.pair_check import plan_pairs
-    from csql_sim.rule_table import GreedyTable
+    from csql_sim.core.greedy_table import GreedyTable
+    from csql_sim.core.pair_check import plan_pairs
 
     results = list(plan_pairs(4, GreedyTable.from_rulebase(pruned), "all"))
     assert len(results) == 15_500 and all(r.optimal for r in results)

@@ -1,9 +1,12 @@
 import pytest
 
-from csql_sim.learners import Transition, count_q, make_learner, run_training, run_trial, train
-from csql_sim.message import format_state_message
-from csql_sim.task import test_task
-from csql_sim.world import BlocksWorld
+from csql_sim.core.message import format_state_message
+from csql_sim.core.task import test_task
+from csql_sim.core.world import BlocksWorld
+from csql_sim.learners.learner import Transition
+from csql_sim.learners.pruning import count_q
+from csql_sim.learners.training import make_learner, train
+from csql_sim.learners.trial import run_training, run_trial
 
 
 def test_lt_ql_model_covers_all_18_actions_and_illegal_keeps_state():

@@ -2,7 +2,8 @@ import dataclasses
 
 import pytest
 
-from csql_sim.learners import CSQLParams, ParamsError, load_params, make_learner, resolve_params
+from csql_sim.learners.params import CSQLParams, ParamsError, load_params, resolve_params
+from csql_sim.learners.training import make_learner
 
 
 def test_defaults_are_frozen_and_paper_values():

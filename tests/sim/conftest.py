@@ -1,6 +1,6 @@
 import pytest
 
-from csql_sim.notation import parse_config
+from csql_sim.core.notation import parse_config
 
 
 @pytest.fixture

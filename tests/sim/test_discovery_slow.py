@@ -1,9 +1,9 @@
 import pytest
 
-from csql_sim.discovery import discover
-from csql_sim.learners import train
-from csql_sim.policy import QPolicy, check_all_pairs
-from csql_sim.r_classifier import load_paper_rules
+from csql_sim.core.policy import QPolicy, check_all_pairs
+from csql_sim.core.r_classifier import load_paper_rules
+from csql_sim.jobs.discover import discover
+from csql_sim.learners.training import train
 
 
 @pytest.mark.slow

@@ -4,8 +4,8 @@ import sys
 
 import numpy as np
 
-from csql_sim.planner import BfsPolicy
-from csql_sim.sim.env import PhysicalBlocksEnv
+from csql_sim.core.planner import BfsPolicy
+from csql_sim.envs.physical import PhysicalBlocksEnv
 
 
 def test_same_interface_as_symbolic_env_and_reaches_goal():
@@ -28,8 +28,9 @@ def test_same_interface_as_symbolic_env_and_reaches_goal():
 
 
 def test_same_learning_agent_runs_in_symbolic_and_physical_env():
-    from csql_sim.env import BlocksWorldEnv, run_env_episode
-    from csql_sim.learners import make_learner, run_trial
+    from csql_sim.envs.symbolic import BlocksWorldEnv, run_env_episode
+    from csql_sim.learners.training import make_learner
+    from csql_sim.learners.trial import run_trial
 
     agent = make_learner("cs-ql", seed=0)
     rng = np.random.default_rng(0)
@@ -49,8 +50,8 @@ def test_same_learning_agent_runs_in_symbolic_and_physical_env():
 # observation and the final cube poses as JSON (floats written exactly by repr).
 _EPISODE = """
 import json, sys
-from csql_sim.planner import BfsPolicy
-from csql_sim.sim.env import PhysicalBlocksEnv
+from csql_sim.core.planner import BfsPolicy
+from csql_sim.envs.physical import PhysicalBlocksEnv
 env = PhysicalBlocksEnv(3)
 obs, info = env.reset(seed=int(sys.argv[1]))
 seen, policy, done = [obs], BfsPolicy(), False

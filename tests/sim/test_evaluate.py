@@ -5,9 +5,17 @@ import pytest
 
 from csql_sim.cli import OneLineParser
 from csql_sim.cli import sim as sim_cli
-from csql_sim.errors import CsqlError
-from csql_sim.evaluate import EpisodeRunner, EpisodeSpec, EpisodeSummary, evaluate, make_specs, summarise, write_json
-from csql_sim.world import all_states
+from csql_sim.core.world import all_states
+from csql_sim.infra.errors import CsqlError
+from csql_sim.jobs.evaluate import (
+    EpisodeRunner,
+    EpisodeSpec,
+    EpisodeSummary,
+    evaluate,
+    make_specs,
+    summarise,
+    write_json,
+)
 
 
 def test_specs():
@@ -28,7 +36,7 @@ def test_specs():
 
 
 def test_runner_turns_an_error_into_a_failed_summary():
-    from csql_sim.planner import BfsPolicy
+    from csql_sim.core.planner import BfsPolicy
 
     runner = EpisodeRunner(BfsPolicy(), 3, perturb=False, perception="pose")
     bad = runner.run(EpisodeSpec(start="A,B,C", goal="AB", seed=4))  # goal of another world
@@ -63,7 +71,7 @@ def test_evaluate_json(tmp_path):
 
 
 def test_perturbed_runs_record_events_and_plot(tmp_path):
-    from csql_sim.plots import outcome_matrix, write_evaluation_png
+    from csql_sim.jobs.plots import outcome_matrix, write_evaluation_png
 
     report = evaluate(3, pairs=6, perturb=True, workers=2, progress=False, seed=3)
     events = [e for r in report.runs for e in r.events]
@@ -108,8 +116,8 @@ def test_cli_bad_input_is_csql_error(tmp_path):
 
 
 def test_evaluate_exit_status(tmp_path, capsys):
-    from csql_sim.r_classifier import r_classifiers
-    from csql_sim.rulebase import RuleBase, save
+    from csql_sim.core.r_classifier import r_classifiers
+    from csql_sim.core.rulebase import RuleBase, save
 
     empty = save(tmp_path / "empty.yaml", RuleBase(3, list(r_classifiers(3))))
     p = _parser()
@@ -140,7 +148,7 @@ def test_camera_noise_option():
 
 
 def test_a_task_that_fails_in_its_worker_is_a_failed_episode(monkeypatch):
-    import csql_sim.evaluate as ev
+    import csql_sim.jobs.evaluate as ev
 
     def broken(spec):
         raise RuntimeError(f"no physics for {spec.start}")

@@ -1,8 +1,9 @@
 import numpy as np
 
 from csql_sim.cli import main
-from csql_sim.discovery import Exploration, explore
-from csql_sim.sim.exploration import ArmWorld, record_discovery
+from csql_sim.discovery.explore import Exploration, explore
+from csql_sim.jobs.discover import record_discovery
+from csql_sim.sim.exploration import ArmWorld
 
 
 def test_arm_exploration_records_refused_attempts_without_motion():

@@ -3,13 +3,13 @@ import math
 import numpy as np
 import pytest
 
-from csql_sim.message import format_state_message
-from csql_sim.notation import parse_config
+from csql_sim.core.message import format_state_message
+from csql_sim.core.notation import parse_config
+from csql_sim.core.world import HAND, BlocksWorld, all_states
 from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERA, capture
 from csql_sim.sim.perception import interpret, observe_poses, state_message
 from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise, observe_rgbd, paint_hues, segment
-from csql_sim.world import HAND, BlocksWorld, all_states
 
 
 def _agree(state, noise=NO_NOISE):

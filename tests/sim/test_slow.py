@@ -2,8 +2,8 @@ import os
 
 import pytest
 
-from csql_sim.evaluate import evaluate
-from csql_sim.notation import parse_config
+from csql_sim.core.notation import parse_config
+from csql_sim.jobs.evaluate import evaluate
 from csql_sim.sim.executor import run_physical_episode
 
 

@@ -1,0 +1,64 @@
+"""The transition log of a discovery run: JSON lines, a header line with the format version.
+
+::
+
+    {"format": "csql-sim transitions", "version": 1, "blocks": 3}
+    {"before": "S0111000ttt0000C", "action": "A70000001000at00", "after": "...", "ok": true, "reason": ""}
+
+Written atomically; read back for induction or for a peer learner (scripts/acs2_peer.py).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Iterable
+from pathlib import Path
+
+from csql_sim.discovery.induction import Transition
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import InputFileError, read_text_file, write_atomic
+
+MAX_FILE_BYTES = 64 * 1024 * 1024  # about 400,000 transitions
+FORMAT = "csql-sim transitions"
+VERSION = 1
+
+
+class TransitionLogError(CsqlError):
+    """A missing, truncated or foreign transition log."""
+
+
+def dumps(transitions: Iterable[Transition], n: int) -> str:
+    """The log's text."""
+    lines = [json.dumps({"format": FORMAT, "version": VERSION, "blocks": n})]
+    for t in transitions:
+        lines.append(json.dumps({"before": t.before, "action": t.action, "after": t.after, "ok": t.ok,
+                                 "reason": t.reason, "refused": t.is_refusal}))
+    return "\n".join(lines) + "\n"
+
+
+def save(path: str | os.PathLike, transitions: Iterable[Transition], n: int) -> Path:
+    """Write the log atomically."""
+    return write_atomic(path, dumps(transitions, n))
+
+
+def load(path: str | os.PathLike) -> tuple[int, list[Transition]]:
+    """Read a log: (number of blocks, transitions).
+
+    Raises:
+        TransitionLogError: naming the file and what is wrong with it.
+    """
+    try:
+        text = read_text_file(path, MAX_FILE_BYTES, "transition log")
+    except InputFileError as exc:
+        raise TransitionLogError(str(exc)) from None
+    rows = text.splitlines()
+    try:
+        head = json.loads(rows[0]) if rows else {}
+        if head.get("format") != FORMAT or head.get("version") != VERSION:
+            raise TransitionLogError(f"{path} is not a version-{VERSION} {FORMAT!r} file")
+        out = [Transition(r["before"], r["action"], r["after"], bool(r["ok"]), r.get("reason", ""), r.get("refused"))
+               for r in map(json.loads, rows[1:])]
+    except (json.JSONDecodeError, KeyError, TypeError, AttributeError) as exc:
+        raise TransitionLogError(f"{path}: corrupt transition log ({exc})") from None
+    return int(head["blocks"]), out

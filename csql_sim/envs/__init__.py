@@ -1,0 +1,1 @@
+"""Gymnasium environments: the symbolic blocks world and the simulated arm, and their ids."""

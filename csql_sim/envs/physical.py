@@ -1,0 +1,161 @@
+"""The physical blocks world behind the symbolic environment's Gymnasium interface.
+
+Same observation (the perceived state's message), action space, ``action_mask``,
+reward and termination as :class:`csql_sim.envs.symbolic.BlocksWorldEnv`, so one agent runs in
+both. A legal action runs its primitive on the simulated Panda; the next observation is
+whatever perception sees. Illegal actions are masked and leave the scene untouched.
+``render_mode="rgb_array"`` returns a TinyRenderer image.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from csql_sim.envs.symbolic import BlocksWorldEnv
+from csql_sim.infra.errors import CsqlError
+from csql_sim.sim.camera import RENDER_CAMERA, capture
+from csql_sim.sim.perception import Perceived
+from csql_sim.sim.physical import PhysicalWorld
+from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
+
+PHYSICS_SEED_BOUND = 2**31  # physics seeds are drawn from [0, 2**31)
+
+
+class PhysicalBlocksEnv(BlocksWorldEnv):
+    """Gymnasium environment of the n-block world executed on the simulated Franka Panda.
+
+    Registered as ``csql_sim/PandaBlocks-v0``: ``gymnasium.make("csql_sim/PandaBlocks-v0",
+    blocks=3, perception="camera", rules=None, render_mode="rgb_array")``.
+
+    ## Description
+    The symbolic environment's task (reach a goal configuration with pickup, putdown,
+    stack and unstack) executed by pick-and-place primitives on a simulated arm with
+    real contact grasping. The state is whatever perception sees after every primitive.
+
+    ## Action Space
+    ``Discrete(len(all_actions(n)))``; action ``i`` has the paper's action code ``i + 1``
+    (18 for n = 3). ``info["action_mask"]`` (int8, 1 = legal) marks the actions
+    legal in the perceived state; an illegal action leaves the scene untouched and sets
+    ``info["illegal"]``.
+
+    ## Observation Space
+    ``Text``: the perceived state's message, goal code in the last field
+    (``S0111000ttt0000C``), as in :class:`csql_sim.envs.symbolic.BlocksWorldEnv`.
+
+    ## Starting State
+    ``reset(options={"start": ..., "goal": ...})`` takes a :class:`~csql_sim.core.world.State`,
+    a configuration (``"CBA"``) or a state index; either missing is drawn from
+    ``np_random``. The start scene is then built: towers placed at rest, a held block
+    reached by a real grasp.
+
+    ## Rewards
+    1 on the step that reaches the goal, 0 otherwise.
+
+    ## Episode End
+    The episode ends if:
+
+    - Termination: the perceived state is the goal and every free cube is at rest
+      (:meth:`PhysicalWorld.reached`, the same predicate the executor uses; success is
+      never taken from the plan).
+    - Truncation: perception fails (a cube off the table or tilted; ``info["failure"]``
+      says why), or ``max_steps`` steps have been taken.
+
+    ## Information
+    ``step`` and ``reset`` return ``action_mask``, ``state``, ``goal``, ``illegal`` and
+    ``failure`` (empty unless perception failed).
+
+    ## Seeding
+    ``reset(seed=s)`` seeds ``np_random`` (Gymnasium's contract); from it are drawn, in
+    this order, a missing goal, a missing start and then the physics seed (one integer
+    in ``[0, 2**31)``) of the episode's :class:`PhysicalWorld`, whose one generator makes
+    every random choice of the primitives (putdown spots). So ``reset(seed=s)`` with the
+    same options fully determines the episode: the same actions give the same
+    observations and the same final poses, in any process. A later ``reset()`` without
+    a seed continues ``np_random``'s stream, so a seeded sequence of episodes is
+    reproducible too; the first ``reset()`` of an env never seeded draws fresh entropy.
+
+    Args:
+        n: number of blocks.
+        max_steps: steps before ``truncated`` (None: never).
+        render_mode: ``"rgb_array"`` or None.
+        perception: ``"pose"`` or ``"camera"``.
+        width: rendered image width.
+        height: rendered image height.
+        camera_noise: sensor noise of camera perception.
+        rules: a rule file whose precondition rules decide which actions are legal (the
+            action mask); what an action does is up to the physics.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
+
+    def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
+                 perception: str = "pose", width: int = 640, height: int = 480,
+                 camera_noise: CameraNoise = NO_NOISE,
+                 rules: str | os.PathLike | None = None) -> None:
+        if render_mode not in (None, "rgb_array"):
+            raise CsqlError(f"render_mode must be 'rgb_array' or None, got {render_mode!r}")
+        super().__init__(n, max_steps, None, rules)
+        self.render_mode = render_mode
+        self.perception = perception
+        self.camera_noise = camera_noise
+        self.width, self.height = width, height
+        self.physical: PhysicalWorld | None = None
+        self.physics_seed: int | None = None
+        self.perceived = Perceived(None, "not reset")  # the last perception (an illegal action keeps it)
+        self.failure = ""
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
+        """Choose start and goal as the symbolic env does, then build the start scene (see Seeding)."""
+        super().reset(seed=seed, options=options)
+        self.close()
+        self.physics_seed = int(self.np_random.integers(PHYSICS_SEED_BOUND))
+        self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception, camera_noise=self.camera_noise)
+        self.physical.build(self.world.states[self.state])
+        self.failure = ""
+        self._sync()
+        return self._obs(), self._info()
+
+    def _sync(self) -> None:
+        """Perceive; set the symbolic state to what perception sees (keep the old one on failure)."""
+        assert self.physical is not None
+        self.perceived = perceived = self.physical.perceive()
+        if perceived.state is None:
+            self.failure = perceived.reason
+        else:
+            self.state = self.world.state_index(perceived.state)
+
+    def _info(self, illegal: bool = False) -> dict:
+        info = super()._info(illegal)
+        info["failure"] = self.failure
+        return info
+
+    def step(self, action: int) -> tuple[str, float, bool, bool, dict]:
+        """Run the primitive of a legal ``action``; the observation is the perceived state."""
+        if self.physical is None:
+            raise CsqlError("call reset() before step()")
+        if not self.action_space.contains(action):
+            raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
+        illegal = self.next_state[self.state][int(action)] < 0
+        if not illegal:
+            self.physical.execute(self.world.actions[int(action)])
+            self._sync()
+        self.steps += 1
+        terminated = self.physical.reached(self.perceived, self.world.states[self.goal])
+        truncated = not terminated and (bool(self.failure) or (self.max_steps is not None
+                                                                and self.steps >= self.max_steps))
+        return self._obs(), 1.0 if terminated else 0.0, terminated, truncated, self._info(illegal)
+
+    def render(self) -> np.ndarray | None:  # type: ignore[override]
+        """``rgb_array``: the scene from the rendering camera, (height, width, 3) uint8."""
+        if self.render_mode != "rgb_array" or self.physical is None:
+            return None
+        rgb, _, _ = capture(self.physical.scene, RENDER_CAMERA, self.width, self.height)
+        return rgb
+
+    def close(self) -> None:
+        """Release the physics client."""
+        if self.physical is not None:
+            self.physical.close()
+            self.physical = None

@@ -1,0 +1,57 @@
+"""Gymnasium ids of the package's two environments, registered without import side effects.
+
+``import csql_sim`` registers nothing. The ids are registered by :func:`register_envs`,
+which Gymnasium's plugin entry point (group ``gymnasium.envs`` in ``pyproject.toml``)
+calls where Gymnasium still loads plugins (0.26-0.29); Gymnasium 1.0 dropped plugin
+loading, so there call it once yourself::
+
+    import gymnasium
+    from csql_sim.envs.registration import register_envs
+
+    register_envs()  # idempotent; entry points are strings: nothing heavy is imported
+    env = gymnasium.make("csql_sim/BlocksWorld-v0", blocks=4, render_mode="ansi")
+
+Keyword arguments: ``blocks`` (2..6), ``rules`` (a rule file for the dynamics or, on the
+arm, the action mask), ``render_mode``, ``max_steps``; on the arm also ``perception``
+(``"pose"`` or ``"camera"``), ``width`` and ``height``.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from csql_sim.envs.physical import PhysicalBlocksEnv
+    from csql_sim.envs.symbolic import BlocksWorldEnv
+
+BLOCKS_WORLD_ID = "csql_sim/BlocksWorld-v0"
+PANDA_BLOCKS_ID = "csql_sim/PandaBlocks-v0"
+
+
+def make_blocks_world(blocks: int = 3, rules: str | os.PathLike | None = None, render_mode: str | None = None,
+                      max_steps: int | None = None) -> BlocksWorldEnv:
+    """The entry point of ``csql_sim/BlocksWorld-v0`` (see :class:`csql_sim.envs.symbolic.BlocksWorldEnv`)."""
+    from csql_sim.envs.symbolic import BlocksWorldEnv
+
+    return BlocksWorldEnv(blocks, max_steps=max_steps, render_mode=render_mode, rules=rules)
+
+
+def make_panda_blocks(blocks: int = 3, perception: str = "pose", rules: str | os.PathLike | None = None,
+                      render_mode: str | None = None, max_steps: int | None = None, width: int = 640,
+                      height: int = 480) -> PhysicalBlocksEnv:
+    """The entry point of ``csql_sim/PandaBlocks-v0`` (see :class:`csql_sim.envs.physical.PhysicalBlocksEnv`)."""
+    from csql_sim.envs.physical import PhysicalBlocksEnv
+
+    return PhysicalBlocksEnv(blocks, max_steps=max_steps, render_mode=render_mode, perception=perception,
+                             width=width, height=height, rules=rules)
+
+
+def register_envs() -> None:
+    """Register both ids with Gymnasium (idempotent)."""
+    from gymnasium.envs.registration import register, registry
+
+    for env_id, entry_point in ((BLOCKS_WORLD_ID, "csql_sim.envs.registration:make_blocks_world"),
+                                (PANDA_BLOCKS_ID, "csql_sim.envs.registration:make_panda_blocks")):
+        if env_id not in registry:
+            register(id=env_id, entry_point=entry_point)

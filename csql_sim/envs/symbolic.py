@@ -1,0 +1,238 @@
+"""The symbolic blocks world as a Gymnasium environment.
+
+* Observation: the state message (``S0111000ttt0000C``; the goal code is its last field).
+* Actions: ``Discrete(len(all_actions(n)))``; action ``i`` has the paper's code ``i + 1``.
+  ``info["action_mask"]`` (int8, 1 = legal) lists the legal ones. An illegal action
+  leaves the state unchanged (as LT-QL assumes) and sets ``info["illegal"]``.
+* Reward: 1 on reaching the goal (``terminated``), 0 otherwise; ``truncated`` after
+  ``max_steps``.
+* ``reset(seed=..., options={"start": ..., "goal": ...})``: start and goal as a
+  :class:`State`, a configuration (``"CBA"``), or a state index; either missing is drawn
+  from the environment's generator (distinct from the other).
+
+:func:`run_env_episode` lets any learner act on such an environment (the physical world
+offers the same interface) through the learner's act/learn interface, learning from the
+*observed* next state.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any, NamedTuple
+
+import gymnasium as gym
+import numpy as np
+
+from csql_sim.core.message import DIGITS, format_action_message, format_state_message, layout, parse_state_message
+from csql_sim.core.notation import parse_config
+from csql_sim.core.world import BlocksWorld, State
+from csql_sim.infra.errors import CsqlError
+from csql_sim.learners.learner import Learner, Transition
+
+
+def rule_transitions(world: BlocksWorld, rules: str | os.PathLike) -> list[list[int]]:
+    """``[state][action]`` -> next state index (-1: illegal) as a rule file's R-classifiers say."""
+    from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule
+    from csql_sim.core.rulebase import load
+    from csql_sim.core.world_model import WorldModel
+
+    base = load(rules)
+    if base.blocks != world.n:
+        raise CsqlError(f"{rules}: rules for {base.blocks} blocks, the environment has {world.n}")
+    model = WorldModel([c for c in base.classifiers if isinstance(c, (PreconditionRule, AddDeleteRule))], world.n)
+    messages = [format_action_message(a, world.n) for a in world.actions]
+    table = []
+    for state in world.states:
+        message = format_state_message(state, 0)
+        legal = set(model.legal_actions(message))
+        row = []
+        for action in messages:
+            if action not in legal:
+                row.append(-1)
+                continue
+            try:
+                row.append(world.state_index(parse_state_message(model.predict(message, action), world.n).state))
+            except CsqlError as exc:
+                raise CsqlError(f"{rules}: {action} in {message}: {exc}") from None
+        table.append(row)
+    return table
+
+
+class EnvEpisode(NamedTuple):
+    """One episode on an environment: steps taken and whether the goal was reached."""
+
+    steps: int
+    reached: bool
+
+
+class BlocksWorldEnv(gym.Env):
+    """Gymnasium environment of the symbolic n-block world with the paper's messages.
+
+    Registered as ``csql_sim/BlocksWorld-v0``:
+    ``gymnasium.make("csql_sim/BlocksWorld-v0", blocks=4, rules=None, render_mode="ansi")``.
+
+    ## Description
+    n labelled blocks on a table and a one-block gripper. A task is a start and a goal
+    configuration; the agent moves blocks with the four STRIPS operators until the
+    configuration is the goal. The dynamics are those of the R-classifiers (the paper's
+    Figure 5 for n = 3, generated from the operators otherwise, or read from ``rules``):
+    the precondition rules say which actions are legal, the add-delete rules what
+    follows.
+
+    ## Action Space
+    ``Discrete(len(all_actions(n)))`` (18 for n = 3, 50 for n = 5); action ``i`` has the
+    paper's action code ``i + 1``, in the order unstack(X,Y), pickup(X), putdown(X),
+    stack(X,Y). ``info["action_mask"]`` (int8, 1 = legal) marks the legal ones; an
+    illegal action leaves the state unchanged (as LT-QL assumes) and sets
+    ``info["illegal"]``.
+
+    ## Observation Space
+    ``Text`` of fixed length (16 characters for n = 2, 3; 17 for n = 4; 18 for n = 5; 19
+    for n = 6): the state message, e.g. ``S0111000ttt0000C``: tag, action slot, clear
+    flags, what each block stands on, the held block, and the goal state's code.
+
+    ## Starting State
+    ``reset(options={"start": ..., "goal": ...})`` takes each as a
+    :class:`~csql_sim.core.world.State`, a configuration (``"CBA"``: A on B on C) or a state
+    index; either missing is drawn uniformly from ``np_random``, distinct from the other.
+
+    ## Rewards
+    1 on the step that reaches the goal, 0 otherwise.
+
+    ## Episode End
+    - Termination: the state is the goal.
+    - Truncation: ``max_steps`` steps have been taken (never when ``max_steps`` is None).
+
+    ## Information
+    ``reset`` and ``step`` return ``action_mask``, ``state`` and ``goal`` (as
+    :class:`~csql_sim.core.world.State`) and ``illegal``.
+
+    ## Seeding
+    ``reset(seed=s)`` seeds ``np_random`` (Gymnasium's contract); from it a missing goal
+    and then a missing start are drawn, nothing else: the dynamics are deterministic. So
+    the same seed and options give the same task, and the same actions the same
+    observations, in any process. A later ``reset()`` without a seed continues the
+    stream; the first ``reset()`` of an env never seeded draws fresh entropy.
+
+    Args:
+        n: number of blocks, 2..6 (``blocks`` in ``gymnasium.make``).
+        max_steps: steps before ``truncated`` (None: never).
+        render_mode: ``"ansi"`` (the state's notation and message) or None.
+        rules: a rule file whose R-classifiers define the dynamics (default: the
+            built-in ones, identical to the blocks world); Q-classifiers in it are ignored.
+
+    """
+
+    metadata = {"render_modes": ["ansi"], "render_fps": 4}
+
+    def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
+                 rules: str | os.PathLike | None = None) -> None:
+        self.world = BlocksWorld.of(n)
+        self.n = n
+        self.max_steps = max_steps
+        if render_mode not in (None, "ansi"):
+            raise CsqlError(f"render_mode must be 'ansi' or None, got {render_mode!r}")
+        self.render_mode = render_mode
+        length = layout(n).length
+        charset = frozenset(DIGITS + DIGITS.lower() + "S#")
+        self.observation_space = gym.spaces.Text(min_length=length, max_length=length, charset=charset)
+        self.action_space = gym.spaces.Discrete(len(self.world.actions))
+        self.rules = rules
+        self.next_state = self.world.next_state if rules is None else rule_transitions(self.world, rules)
+        self._masks = [np.zeros(len(self.world.actions), dtype=np.int8) for _ in self.world.states]
+        for s, row in enumerate(self.next_state):
+            self._masks[s][[a for a, t in enumerate(row) if t >= 0]] = 1
+        self.state = 0
+        self.goal = 1
+        self.steps = 0
+
+    def _index(self, value: Any, name: str) -> int:
+        if isinstance(value, State):
+            return self.world.state_index(value)
+        if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+            if not 0 <= int(value) < len(self.world.states):
+                raise CsqlError(f"{name} index {value} out of range 0..{len(self.world.states) - 1}")
+            return int(value)
+        if isinstance(value, str):
+            return self.world.state_index(parse_config(value, self.n))
+        raise CsqlError(f"{name} must be a State, a configuration or an index, got {value!r}")
+
+    def _obs(self) -> str:
+        return format_state_message(self.world.states[self.state], self.goal)
+
+    def _info(self, illegal: bool = False) -> dict:
+        return {
+            "action_mask": self._masks[self.state].copy(),
+            "state": self.world.states[self.state],
+            "goal": self.world.states[self.goal],
+            "illegal": illegal,
+        }
+
+    def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
+        """Start a task; ``options`` may give ``start`` and ``goal``."""
+        super().reset(seed=seed)
+        options = options or {}
+        count = len(self.world.states)
+        start = self._index(options["start"], "start") if options.get("start") is not None else None
+        goal = self._index(options["goal"], "goal") if options.get("goal") is not None else None
+        if goal is None:
+            goal = int(self.np_random.integers(count))
+            if start is not None and goal == start:
+                goal = (goal + 1 + int(self.np_random.integers(count - 1))) % count
+        if start is None:
+            start = int(self.np_random.integers(count - 1))
+            start += start >= goal
+        if start == goal:
+            raise CsqlError(f"start and goal are the same state {self.world.states[start].notation()}")
+        self.state, self.goal, self.steps = start, goal, 0
+        return self._obs(), self._info()
+
+    def step(self, action: int) -> tuple[str, float, bool, bool, dict]:
+        """Apply ``action`` (an index); an illegal one leaves the state unchanged."""
+        if not self.action_space.contains(action):
+            raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
+        nxt = self.next_state[self.state][int(action)]
+        illegal = nxt < 0
+        if not illegal:
+            self.state = nxt
+        self.steps += 1
+        terminated = self.state == self.goal
+        truncated = not terminated and self.max_steps is not None and self.steps >= self.max_steps
+        return self._obs(), 1.0 if terminated else 0.0, terminated, truncated, self._info(illegal)
+
+    def render(self) -> str | None:
+        """``ansi``: the state's notation and its message."""
+        if self.render_mode == "ansi":
+            return f"{self.world.states[self.state].notation()}  {self._obs()}"
+        return None
+
+
+def run_env_episode(env: gym.Env, learner: Learner, temperature: float, options: dict | None = None,
+                    cap: int | None = None, seed: int | None = None) -> EnvEpisode:
+    """Let ``learner`` act on ``env`` for one episode, learning from the observed transitions.
+
+    Each step: the learner acts on the observation (one uniform from its stream, as in
+    training), the environment steps, and the learner learns from what was observed.
+    Works with any learner and any environment with this interface, symbolic or physical.
+
+    Args:
+        env: a blocks-world environment (observations are state messages).
+        learner: any :class:`~csql_sim.learners.learner.Learner`.
+        temperature: T of eq. 3 (0 = greedy).
+        options: passed to ``env.reset`` (``start``, ``goal``).
+        cap: the most steps (default ``learner.params.step_cap``).
+        seed: passed to ``env.reset``; with it the episode is fully determined (see the
+            environment's seeding contract).
+
+    """
+    observation, _info = env.reset(seed=seed, options=options)
+    cap = learner.params.step_cap if cap is None else cap
+    learner.begin_episode()
+    for steps in range(1, cap + 1):
+        action = learner.act(observation, temperature)
+        nxt, _reward, terminated, truncated, _info = env.step(action)
+        learner.learn(Transition(observation, action, nxt, terminated))
+        if terminated or truncated:
+            return EnvEpisode(steps, terminated)
+        observation = nxt
+    return EnvEpisode(cap, False)

@@ -1,0 +1,238 @@
+"""Where independent tasks run: a local process pool (the default) or Ray.
+
+:func:`map_tasks` calls ``fn(item)`` for every item and returns the results in item
+order, whichever backend runs them, so a seeded run gives the same results on both.
+Items are sent in chunks; a progress bar counts finished items. A task that raises, or
+whose worker dies, yields a :class:`TaskFailure` in its place instead of stopping the
+run. Ctrl-C cancels what is still running and re-raises :class:`KeyboardInterrupt`.
+
+With Ray (the optional extra ``pip install "csql-sim[ray]"``), the chunks are Ray tasks:
+on a local instance started for the call (``address=None``, ``workers`` CPUs) or on an
+existing cluster (``address="auto"`` on a cluster node, or ``"ray://head:10001"``).
+Every node needs the same csql-sim and Python versions. A Ray session that this module
+started is shut down before :func:`map_tasks` returns; one the caller started with
+``ray.init`` is used and left running.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import sys
+import time
+from collections.abc import Callable, Hashable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, wait
+from concurrent.futures.process import BrokenProcessPool
+from contextlib import contextmanager
+from dataclasses import dataclass
+from functools import cache
+from typing import Any, TypeVar
+
+from tqdm import tqdm
+
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.workers import worker_count, worker_pool
+
+BACKENDS = ("processes", "ray")
+T = TypeVar("T")
+R = TypeVar("R")
+
+
+@dataclass(frozen=True)
+class Backend:
+    """Where tasks run.
+
+    Attributes:
+        kind: ``"processes"`` (a local process pool) or ``"ray"``.
+        workers: processes of the pool, or CPUs of a local Ray instance (default: every
+            core; 1 runs the pool's tasks in this process). Ignored on a Ray cluster.
+        address: a running Ray cluster (``"auto"``, ``"ray://host:10001"``); None starts a
+            local instance. Only for ``kind="ray"``.
+    """
+
+    kind: str = "processes"
+    workers: int | None = None
+    address: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in BACKENDS:
+            raise CsqlError(f"backend must be one of {', '.join(BACKENDS)}, got {self.kind!r}")
+        if self.workers is not None and self.workers < 1:
+            raise CsqlError(f"--workers must be a positive integer, got {self.workers}")
+        if self.address is not None and self.kind != "ray":
+            raise CsqlError("--address needs --backend ray")
+
+
+@dataclass(frozen=True)
+class TaskFailure:
+    """Stands in for the result of a task that raised or whose worker died."""
+
+    reason: str
+
+
+Setup = Callable[..., None]
+_SETUP_DONE: set[Hashable] = set()  # owned by _run_chunk: the setups already run in this process
+
+
+def _run_chunk(fn: Callable[[T], R], chunk: Sequence[T], setup: Setup | None,
+               setup_args: tuple) -> list[R | TaskFailure]:
+    """Run ``fn`` on each item of ``chunk`` in a worker; an exception becomes a TaskFailure.
+
+    ``setup(*setup_args)`` runs once per worker process and setup (Ray reuses workers
+    across calls, so the key includes the arguments).
+    """
+    if setup is not None:
+        key = (setup.__module__, setup.__qualname__, setup_args)
+        if key not in _SETUP_DONE:
+            try:
+                setup(*setup_args)
+            except Exception as exc:  # noqa: BLE001 - every task of the chunk fails with the setup's reason
+                return [TaskFailure(f"worker setup failed: {_describe(exc)}")] * len(chunk)
+            _SETUP_DONE.add(key)
+    out: list[R | TaskFailure] = []
+    for item in chunk:
+        try:
+            out.append(fn(item))
+        except Exception as exc:  # noqa: BLE001 - reported in the task's place, like a failed episode
+            out.append(TaskFailure(_describe(exc)))
+    return out
+
+
+def _describe(exc: BaseException) -> str:
+    """``Type: message`` on one line."""
+    return f"{type(exc).__name__}: {' '.join(str(exc).split())}"
+
+
+def map_tasks(fn: Callable[[T], R], items: Sequence[T], backend: Backend = Backend(), *,
+              setup: Setup | None = None, setup_args: tuple = (), progress: bool = False,
+              desc: str = "tasks", unit: str = "task") -> list[R | TaskFailure]:
+    """``[fn(item) for item in items]`` on ``backend``, in item order.
+
+    Args:
+        fn: a module-level function (it is pickled by reference).
+        items: the tasks' arguments (picklable).
+        backend: where to run them.
+        setup: a module-level function run once in each worker before its first task
+            (e.g. loading a rule file); ``setup_args`` must be hashable.
+        setup_args: the arguments of ``setup``.
+        progress: show a tqdm bar on stderr (and, for Ray, one line on where it runs).
+        desc: the bar's label.
+        unit: the bar's unit.
+
+    Returns:
+        One result, or a :class:`TaskFailure`, per item.
+    """
+    items = list(items)
+    if not items:
+        return []
+    if backend.kind == "ray":
+        with ray_session(backend, announce=progress) as cpus, \
+                tqdm(total=len(items), desc=desc, unit=unit, disable=not progress) as bar:
+            return _map_ray(fn, items, cpus, setup, setup_args, bar)
+    with tqdm(total=len(items), desc=desc, unit=unit, disable=not progress) as bar:
+        return _map_processes(fn, items, backend.workers, setup, setup_args, bar)
+
+
+def _chunks(items: list[T], slots: int) -> list[list[T]]:
+    """About 16 chunks per slot (as ProcessPoolExecutor.map's usual chunksize advice)."""
+    size = max(1, len(items) // (slots * 16))
+    return [items[i:i + size] for i in range(0, len(items), size)]
+
+
+def _map_processes(fn: Callable, items: list, workers: int | None, setup: Setup | None, setup_args: tuple,
+                   bar: tqdm) -> list:
+    """The pool's side of :func:`map_tasks` (:func:`csql_sim.infra.workers.worker_pool`: workers die with us)."""
+    workers = worker_count(workers, len(items))
+    if workers <= 1:
+        out = []
+        for item in items:
+            out.extend(_run_chunk(fn, [item], setup, setup_args))
+            bar.update()
+        return out
+    chunks = _chunks(items, workers)
+    results: list[list | None] = [None] * len(chunks)
+    with worker_pool(workers) as pool:
+        futures = {pool.submit(_run_chunk, fn, c, setup, setup_args): k for k, c in enumerate(chunks)}
+        pending = set(futures)
+        while pending:
+            done, pending = wait(pending, return_when=FIRST_COMPLETED)
+            for future in done:
+                k = futures[future]
+                try:
+                    results[k] = future.result()
+                except BrokenProcessPool as exc:
+                    results[k] = [TaskFailure(f"worker process died: {exc}")] * len(chunks[k])
+                bar.update(len(chunks[k]))
+    return [r for chunk in results for r in chunk]  # type: ignore[union-attr]
+
+
+@cache
+def _remote_run_chunk() -> Any:
+    import ray
+
+    return ray.remote(max_retries=1)(_run_chunk)
+
+
+@contextmanager
+def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
+    """Connect to (or start) Ray for ``backend``; yields the CPUs available.
+
+    Shuts Ray down on exit if this call started it; a session the caller opened stays.
+    """
+    try:
+        import ray
+    except ImportError:
+        raise CsqlError('--backend ray needs Ray: pip install "csql-sim[ray]"') from None
+    owned = not ray.is_initialized()
+    if owned:
+        began = time.perf_counter()
+        kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR,
+                                  "log_to_driver": False}
+        if backend.address is None:
+            kwargs["num_cpus"] = backend.workers or os.cpu_count() or 1
+        os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+        try:
+            ray.init(address=backend.address, **kwargs)
+        except (ConnectionError, RuntimeError, ValueError) as exc:
+            raise CsqlError(f"cannot start Ray at {backend.address or 'a local instance'}: "
+                            f"{' '.join(str(exc).split())}") from None
+        where = f"cluster at {backend.address}" if backend.address else "local instance"
+    else:
+        began, where = time.perf_counter(), "existing session"
+    try:
+        cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
+        if announce:
+            print(f"ray: {where}, {cpus} CPUs (ready in {time.perf_counter() - began:.1f} s)", file=sys.stderr)
+        yield cpus
+    finally:
+        if owned:
+            ray.shutdown()
+
+
+def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_args: tuple, bar: tqdm) -> list:
+    """Ray's side of :func:`map_tasks`, inside a :func:`ray_session` with ``cpus`` CPUs."""
+    import ray
+    from ray.exceptions import RayError
+
+    chunks = _chunks(items, cpus)
+    remote = _remote_run_chunk()
+    refs = [remote.remote(fn, c, setup, setup_args) for c in chunks]
+    index = {ref: k for k, ref in enumerate(refs)}
+    results: list[list | None] = [None] * len(chunks)
+    pending = list(refs)
+    try:
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            for ref in done:
+                k = index[ref]
+                try:
+                    results[k] = ray.get(ref)
+                except RayError as exc:
+                    reason = " ".join(str(exc).split())[:200]
+                    results[k] = [TaskFailure(f"ray task failed: {reason}")] * len(chunks[k])
+                bar.update(len(chunks[k]))
+    except BaseException:
+        for ref in pending:
+            ray.cancel(ref, force=True)
+        raise
+    return [r for chunk in results for r in chunk]  # type: ignore[union-attr]

@@ -1,0 +1,74 @@
+"""The render job: one recorded episode on the arm, its captioned video and provenance sidecar."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+from csql_sim.core.policy import Policy
+from csql_sim.core.world import State
+from csql_sim.infra.files import write_atomic
+from csql_sim.infra.provenance import provenance
+from csql_sim.sim.executor import EpisodeResult, run_physical_episode
+from csql_sim.sim.render import check_video_options, video_frame_count, write_video
+from csql_sim.sim.renderer import resolve_renderer
+from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
+
+
+def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Policy | None = None,
+                   seed: int = 0, width: int = 640, height: int = 480, fps: int = 30,
+                   workers: int | None = None, perturb: bool = False, perception: str = "pose",
+                   progress: bool = True, provenance_extra: dict | None = None,
+                   camera_noise: CameraNoise = NO_NOISE,
+                   renderer: str = "auto") -> tuple[EpisodeResult, Path]:
+    """Run one recorded episode, write its video and the video's provenance sidecar (``<video>.json``).
+
+    Args:
+        start: the start configuration.
+        goal: the goal configuration.
+        out: the .mp4 or .gif to write.
+        policy: any Policy; the BFS planner when None.
+        seed: the episode's seed.
+        width: frame width in pixels.
+        height: frame height in pixels.
+        fps: frames per simulated second.
+        workers: rendering processes (default: the cores, capped by the frames).
+        perturb: jitter the start, nudge a cube, drop a carried cube.
+        perception: ``"pose"`` or ``"camera"``.
+        progress: show progress bars on stderr.
+        provenance_extra: further parameters to record in the sidecar (e.g. the rule file).
+        camera_noise: sensor noise of camera perception.
+        renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
+
+    Returns:
+        The episode result and the path of the video (written even if the episode failed).
+    """
+    check_video_options(out, width, height, fps)
+    renderer = resolve_renderer(renderer)  # an unusable --renderer fails before the episode runs
+    from tqdm import tqdm
+
+    from csql_sim.core.planner import distance
+
+    with tqdm(total=distance(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
+              leave=False) as bar:
+        result = run_physical_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
+                                      perception=perception, fps=fps, on_action=lambda _k: bar.update(),
+                                      camera_noise=camera_noise)
+    assert result.recording is not None
+    path = write_video(result.recording, out, width, height, fps, workers, progress=progress, renderer=renderer)
+    record = provenance(start=start.notation(), goal=goal.notation(), policy=getattr(policy, "name", "bfs"),
+                        seed=seed, width=width, height=height, fps=fps, perturb=perturb, perception=perception,
+                        camera_noise=[camera_noise.depth, camera_noise.colour],
+                        renderer=renderer,
+                        **(provenance_extra or {}))
+    record["video"] = {"file": path.name, "frames": video_frame_count(result.recording, fps),
+                       "actions": result.length, "success": result.success, "reason": result.reason}
+    write_atomic(sidecar_path(path), json.dumps(record, indent=1) + "\n")
+    return result, path
+
+
+def sidecar_path(video: str | os.PathLike) -> Path:
+    """The provenance sidecar of a video: ``<video>.json``."""
+    video = Path(video)
+    return video.with_name(video.name + ".json")

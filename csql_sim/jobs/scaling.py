@@ -1,0 +1,223 @@
+"""The scaling study: trials until the greedy plans are optimal for every pair, per n and method.
+
+Each (n, method) trains one agent from the seed with the random tasks alone (no planning
+sweep: this measures learning from trials), with the temperature reaching its floor after
+60% of ``max_trials``, and checks after every 1% of ``max_trials`` whether the greedy
+action of every (state, goal) pair lies on an optimal plan. That local test is exact: a
+plan is optimal iff every step lowers the BFS distance to the goal by one. The cell is
+empty when ``max_trials`` is reached first.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import io
+import os
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from csql_sim.core.greedy_table import GreedyTable
+from csql_sim.core.pair_check import distances_to
+from csql_sim.core.world import BlocksWorld
+from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import write_atomic
+from csql_sim.learners.fast_engine import FastCSQL
+from csql_sim.learners.learner import Learner
+from csql_sim.learners.lt_ql import TabularQ
+from csql_sim.learners.params import default_params
+from csql_sim.learners.training import make_learner
+from csql_sim.learners.trial import run_training
+
+COLUMNS = ("method", "blocks", "trials_to_all_optimal", "steps", "wall_seconds")
+CHECKS = 100
+
+
+@dataclass(frozen=True)
+class ScalingRow:
+    """One (method, n) cell; ``trials`` is None when the cap was reached first."""
+
+    method: str
+    blocks: int
+    trials: int | None
+    steps: int
+    wall_seconds: float
+    optimal_pairs: int
+    pairs: int
+
+
+@functools.cache
+def distance_matrix(n: int) -> np.ndarray:
+    """``D[g, s]``: optimal plan length from state ``s`` to goal ``g``."""
+    count = len(BlocksWorld.of(n).states)
+    return np.array([distances_to(n, g) for g in range(count)], dtype=np.int16)
+
+
+def greedy_table(learner: Learner | FastCSQL) -> np.ndarray:
+    """Best action index per ``state * S + goal`` (-1 where no classifier exists)."""
+    if isinstance(learner, TabularQ):  # straight from the table rows (a rule base would be huge)
+        count = len(learner.world.states)
+        best = np.full(count * count, -1, np.int64)
+        for row in learner._rows.values():
+            best[row.state * count + row.goal] = row.q.index(max(row.q))
+        return best
+    if not isinstance(learner, FastCSQL):
+        return GreedyTable.from_rulebase(learner.rulebase()).best.astype(np.int64)
+    a = learner.q_arrays()
+    count = learner.count
+    key = a["state"] * count + a["goal"]
+    order = np.lexsort((np.arange(len(key)), -a["q"], key))
+    first = np.ones(len(order), bool)
+    first[1:] = key[order][1:] != key[order][:-1]
+    best = np.full(count * count, -1, np.int64)
+    best[key[order][first]] = a["action"][order][first]
+    return best
+
+
+def optimal_pairs(learner: Learner | FastCSQL) -> int:
+    """How many ordered pairs the learner's greedy policy plans optimally."""
+    n = learner.n
+    world = BlocksWorld.of(n)
+    count = len(world.states)
+    dist = distance_matrix(n)
+    best = greedy_table(learner).reshape(count, count)  # [state, goal]
+    table = np.array(world.next_state, dtype=np.int64)  # [state, action]
+    states = np.arange(count)[:, None]
+    nxt = np.where(best >= 0, table[states, np.maximum(best, 0)], -1)
+    goals = np.arange(count)[None, :]
+    ok = (nxt >= 0) & (dist[goals, np.maximum(nxt, 0)] == dist[goals, states] - 1)
+    return int(ok.sum())  # the diagonal never counts: its distance less one is -1
+
+
+class _Reached(Exception):
+    """Raised from the trial callback when every pair is optimal."""
+
+
+def run_cell(method: str, n: int, seed: int, max_trials: int) -> ScalingRow:
+    """Train one agent until all pairs are optimal or ``max_trials``; its row."""
+    base = default_params(method)
+    overrides: dict = {"t_decay": (base.t_min / base.t0) ** (1.0 / (0.6 * max_trials))}
+    if method == "cs-ql":
+        overrides["sweep"] = False
+    learner = make_learner(method, n, overrides, seed=seed, engine=None)
+    count = len(learner.world.states)
+    every = max(1, max_trials // CHECKS)
+    found: list[int] = []
+    spent = [0.0]
+
+    def check(k: int) -> None:
+        if (k + 1) % every == 0:
+            t0 = time.perf_counter()
+            good = optimal_pairs(learner)
+            spent[0] += time.perf_counter() - t0
+            found[:] = [k + 1, good]
+            if good == count * (count - 1):
+                raise _Reached
+
+    began = time.perf_counter()
+    reached = True
+    try:
+        if isinstance(learner, FastCSQL):
+            learner.run(max_trials, on_trial=check)
+        else:
+            run_training(learner, max_trials, on_trial=check)
+        reached = False
+    except _Reached:
+        pass
+    wall = time.perf_counter() - began - spent[0]
+    trials, good = (found or [max_trials, optimal_pairs(learner)])[:2]
+    return ScalingRow(method, n, trials if reached else None, learner.t, wall, good, count * (count - 1))
+
+
+@dataclass(frozen=True)
+class CellJob:
+    """One (method, n) cell to run."""
+
+    method: str
+    n: int
+    seed: int
+    max_trials: int
+
+
+def _load_fast_kernels() -> None:
+    """Worker setup: compile and load CS-QL's fast kernels before any cell is timed."""
+    make_learner("cs-ql", 2, engine="fast").run(1)  # type: ignore[union-attr]
+
+
+def _run_job(job: CellJob) -> ScalingRow:
+    return run_cell(job.method, job.n, job.seed, job.max_trials)
+
+
+def run_scaling(blocks: Sequence[int], methods: Sequence[str], seed: int = 0, max_trials: int = 20_000,
+                progress: bool = False, backend: Backend | None = None) -> list[ScalingRow]:
+    """Every (n, method) cell in order.
+
+    ``backend`` (default: one cell after another in this process, so that no two cells
+    share the cores while they are timed) may run cells in parallel, on Ray too; trials
+    and steps do not depend on it, wall seconds do.
+    """
+    jobs = [CellJob(m, n, seed, max_trials) for n in blocks for m in methods]
+    setup = _load_fast_kernels if "cs-ql" in methods else None
+    rows = map_tasks(_run_job, jobs, backend or Backend(workers=1), setup=setup, progress=progress,
+                     desc="scaling", unit="cell")
+    for job, row in zip(jobs, rows, strict=True):
+        if isinstance(row, TaskFailure):
+            raise CsqlError(f"the scaling cell {job.method} n={job.n} failed: {row.reason}")
+    return rows  # type: ignore[return-value]
+
+
+def csv_text(rows: Sequence[ScalingRow]) -> str:
+    """``method,blocks,trials_to_all_optimal,steps,wall_seconds`` (empty trials: cap reached)."""
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(COLUMNS)
+    for r in rows:
+        writer.writerow([r.method, r.blocks, "" if r.trials is None else r.trials, r.steps, f"{r.wall_seconds:.3f}"])
+    return out.getvalue()
+
+
+def write_png(path: str | os.PathLike, rows: Sequence[ScalingRow], max_trials: int) -> Path:
+    """Trials to all-optimal against n per method, log scale; capped cells drawn hollow at the cap."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6, 4.2))
+    ax = fig.subplots()
+    for method in dict.fromkeys(r.method for r in rows):
+        mine = [r for r in rows if r.method == method]
+        line = ax.plot([r.blocks for r in mine], [r.trials or max_trials for r in mine], marker="o",
+                       label=method.upper())[0]
+        capped = [r for r in mine if r.trials is None]
+        ax.scatter([r.blocks for r in capped], [max_trials] * len(capped), s=90, facecolors="white",
+                   edgecolors=line.get_color(), zorder=3)
+    ax.set_yscale("log")
+    ax.set_xlabel("blocks n")
+    ax.set_ylabel("trials until every pair is planned optimally")
+    ax.set_title(f"hollow: not reached within {max_trials} trials")
+    ax.set_xticks(sorted({r.blocks for r in rows}))
+    ax.legend()
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = target.with_name(f".{target.name}.tmp")
+    try:
+        fig.savefig(tmp, format="png", dpi=110)
+        os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return target
+
+
+def write_outputs(folder: str | os.PathLike, rows: Sequence[ScalingRow], max_trials: int) -> tuple[Path, Path]:
+    """Write ``scaling.csv`` and ``scaling.png`` into ``folder`` (each atomically)."""
+    csv_path = write_atomic(Path(folder) / "scaling.csv", csv_text(rows))
+    return csv_path, write_png(Path(folder) / "scaling.png", rows, max_trials)

@@ -1,0 +1,165 @@
+"""Making and training the paper's four learners: the functions the jobs and the CLI call.
+
+* ``lt-ql``: :class:`TabularQ`, Q-learning over a look-up table of all actions;
+* ``cs-ql``: :class:`CSQL`, Q-learning through the classifier system;
+* ``cs-bb-bz`` / ``cs-bb-rw``: :class:`BucketBrigade` / :class:`BucketBrigadeRoulette`.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from csql_sim.core.r_classifier import RClassifier
+from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.task import test_task
+from csql_sim.core.world import check_n
+from csql_sim.infra.provenance import provenance
+from csql_sim.learners.bucket_brigade import BucketBrigade, BucketBrigadeRoulette
+from csql_sim.learners.cs_ql import CSQL, ClassifierSystemLearner
+from csql_sim.learners.fast_engine import MAX_FAST_BLOCKS, FastCSQL
+from csql_sim.learners.learner import Learner
+from csql_sim.learners.lt_ql import TabularQ
+from csql_sim.learners.params import (
+    CommonParams,
+    ParamsError,
+    default_trials,
+    resolve_params,
+)
+from csql_sim.learners.trial import run_training, run_trial
+
+LEARNERS: dict[str, type[Learner]] = {
+    "lt-ql": TabularQ,
+    "cs-ql": CSQL,
+    "cs-bb-bz": BucketBrigade,
+    "cs-bb-rw": BucketBrigadeRoulette,
+}
+METHODS = tuple(LEARNERS)
+ENGINES = ("fast", "reference")
+
+
+def make_learner(
+    method: str,
+    n: int = 3,
+    params: CommonParams | dict | str | os.PathLike | None = None,
+    rng: np.random.Generator | None = None,
+    seed: int = 0,
+    rules: tuple[RClassifier, ...] | None = None,
+    engine: str | None = "reference",
+) -> Learner | FastCSQL:
+    """A fresh learner of ``method``; ``rng`` defaults to ``default_rng(seed)``.
+
+    ``rules`` replaces the built-in R-classifiers of the classifier-system learners
+    (LT-QL has none and refuses them). ``engine`` picks CS-QL's implementation (see
+    :func:`train`); the other methods have the reference engine only.
+    """
+    if method not in LEARNERS:
+        raise ParamsError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
+    if engine not in (None, *ENGINES):
+        raise ParamsError(f"unknown engine {engine!r}; choose from {', '.join(ENGINES)}")
+    check_n(n)
+    resolved = resolve_params(method, params, n)
+    generator = rng if rng is not None else np.random.default_rng(seed)
+    fast_ok = method == "cs-ql" and n <= MAX_FAST_BLOCKS and rules is None
+    if engine == "fast" and not fast_ok:
+        raise ParamsError(f"the fast engine runs cs-ql with the built-in rules and up to {MAX_FAST_BLOCKS} blocks")
+    if fast_ok and engine in (None, "fast"):
+        return FastCSQL(n, resolved, generator)
+    cls = LEARNERS[method]
+    if rules is None:
+        return cls(n, resolved, generator)
+    if not issubclass(cls, ClassifierSystemLearner):
+        raise ParamsError(f"{method} has no domain knowledge; R-classifiers apply to the classifier-system methods")
+    return cls(n, resolved, generator, rules)
+
+
+def train_learner(
+    method: str = "cs-ql",
+    trials: int | None = None,
+    seed: int = 0,
+    n: int = 3,
+    params: CommonParams | dict | str | os.PathLike | None = None,
+    progress: bool = False,
+    engine: str | None = None,
+    domain: tuple[RClassifier, ...] | None = None,
+) -> tuple[Learner | FastCSQL, dict]:
+    """Train one agent as :func:`train` does; the learner and the rule file's ``meta``."""
+    if trials is None:
+        trials = default_trials(n)
+    if isinstance(trials, bool) or not isinstance(trials, int) or trials < 0:
+        raise ParamsError(f"trials must be a non-negative integer, got {trials!r}")
+    learner = make_learner(method, n, params, seed=seed, rules=domain, engine=engine)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=trials, desc=method, unit="trial", leave=False)
+    on_trial = (lambda _k: bar.update()) if bar is not None else None
+    if isinstance(learner, FastCSQL):
+        learner.run(trials, on_trial=on_trial)
+    else:
+        run_training(learner, trials, on_trial=on_trial)
+    if bar is not None:
+        bar.close()
+    swept = 0
+    if isinstance(learner, (CSQL, FastCSQL)) and learner.params.sweep:
+        swept = _sweep(learner, progress)
+        task = test_task(n)
+        start, goal = learner.world.state_index(task.start), learner.world.state_index(task.goal)
+        if isinstance(learner, FastCSQL):
+            learner.run_trial(start, goal, 0.0)
+        else:
+            run_trial(learner, start, goal, 0.0)  # ends on the test task, as Figure 6 was taken
+    # the engine is left out: both engines give the same trajectory and the same file
+    meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept,
+            "provenance": provenance(method=method, trials=trials, seed=seed, blocks=n,
+                                     learner_params=learner.params)}
+    return learner, meta
+
+
+def train(
+    method: str = "cs-ql",
+    trials: int | None = None,
+    seed: int = 0,
+    n: int = 3,
+    params: CommonParams | dict | str | os.PathLike | None = None,
+    progress: bool = False,
+    engine: str | None = None,
+    domain: tuple[RClassifier, ...] | None = None,
+) -> RuleBase:
+    """Train one agent and return its whole classifier list (R and Q).
+
+    Runs ``trials`` random tasks with the test task every 50 (see
+    :func:`~csql_sim.learners.trial.run_training`), then, for CS-QL with ``sweep`` on,
+    the final planning sweep and one greedy test task.
+
+    Args:
+        method: one of :data:`METHODS`.
+        trials: number of random training trials (None: :func:`default_trials` of n).
+        seed: seed of the one ``numpy.random.Generator``.
+        n: number of blocks.
+        params: parameters (dataclass, dict of overrides, YAML path, or None: the defaults
+            for n, :func:`~csql_sim.learners.params.defaults_for_blocks`).
+        progress: show a tqdm bar on stderr.
+        engine: ``"fast"`` (the array-backed CS-QL engine: same trajectory, same file),
+            ``"reference"`` (the classifier list), or None: fast where it applies (CS-QL
+            with the built-in rules, n <= 5), the reference otherwise.
+        domain: R-classifiers to use instead of the built-in ones (classifier-system
+            methods, reference engine), e.g. rules from ``csql-sim discover``.
+
+    """
+    learner, meta = train_learner(method, trials, seed, n, params, progress, engine, domain)
+    return learner.rulebase(meta)
+
+
+def _sweep(learner: CSQL | FastCSQL, progress: bool) -> int:
+    """The CS-QL planning sweep, with a bar over its passes when ``progress`` (and it lasts over a second)."""
+    if not progress:
+        return learner.sweep()
+    from tqdm import tqdm
+
+    p = learner.params
+    with tqdm(total=p.sweep_passes + p.sweep_greedy_tail, desc="sweep (passes, at most)", unit="pass",
+              leave=False, delay=1.0) as bar:
+        return learner.sweep(on_pass=bar.update)
