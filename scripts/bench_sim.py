@@ -22,9 +22,9 @@ from csql_sim.sim.camera import RENDER_CAMERA, capture
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.recording import Recording
-from csql_sim.sim.render import write_video
 from csql_sim.sim.renderer import close_quietly, egl_available
 from csql_sim.sim.replay import apply_snapshot, replay_scene
+from csql_sim.sim.video import write_video
 
 
 def raw_steps_per_second(steps: int, config: str) -> float:

@@ -9,6 +9,7 @@ from collections.abc import Sequence
 
 from csql_sim.cli.args import add_json, add_quiet, blocks_arg, seed_arg, show_progress
 from csql_sim.cli.output import command_parameters, emit, json_stream
+from csql_sim.core.greedy_table import load_policy
 from csql_sim.core.message import (
     action_code,
     format_action_message,
@@ -17,9 +18,9 @@ from csql_sim.core.message import (
     parse_state_message,
 )
 from csql_sim.core.notation import parse_state_arg
-from csql_sim.core.planner import distance
-from csql_sim.core.policy import Policy, load_policy, rollout
+from csql_sim.core.policy import Policy
 from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.search import distance, rollout
 from csql_sim.core.world import Action, BlocksWorld, State, WorldError
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.provenance import provenance
@@ -139,11 +140,9 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
     """
     from tqdm import tqdm
 
-    from csql_sim.core.greedy_table import GreedyTable
-    from csql_sim.core.pair_check import plan_pairs
     from csql_sim.core.pairs import check_sample_size, pair_count
+    from csql_sim.core.search import check_pairs
 
-    table = policy if isinstance(policy, GreedyTable) else None
     world = BlocksWorld.of(n)
     total_pairs = pair_count(len(world.states))
     if args.pairs != "all":
@@ -157,7 +156,7 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
                                         mininterval=0.5) as bar:
         if out is not None:
             out.write(f'{{"blocks": {n}, "plans": [')
-        for r in plan_pairs(n, table, args.pairs, args.seed):
+        for r in check_pairs(policy, n, args.pairs, args.seed):
             total += 1
             covered += r.reached
             optimal += r.optimal

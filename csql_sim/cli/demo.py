@@ -22,16 +22,17 @@ from csql_sim.cli.args import (
 
 def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.cli.sim import print_episode
-    from csql_sim.core.policy import QPolicy, check_all_pairs
+    from csql_sim.core.policy import QPolicy
     from csql_sim.core.rulebase import dumps
+    from csql_sim.core.search import check_all_pairs
     from csql_sim.core.task import test_task
     from csql_sim.infra.files import check_output_folder, write_or_keep
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode
     from csql_sim.learners.pruning import count_q, figure6_table, prune
     from csql_sim.learners.training import train
-    from csql_sim.sim.render import check_video_options
     from csql_sim.sim.renderer import resolve_renderer
+    from csql_sim.sim.video import check_video_options
 
     out = check_output_folder(args.out)
     video = out / "test_task.mp4"

@@ -79,9 +79,7 @@ def cmd_experiment(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ train
 def cmd_train(args: argparse.Namespace) -> int:
-    from csql_sim.core.rulebase import file_bytes
     from csql_sim.infra.files import check_output_file, write_or_keep
-    from csql_sim.learners.fast_engine import FastCSQL
     from csql_sim.learners.training import train_learner
 
     check_output_file(args.out, "rule file")
@@ -98,18 +96,10 @@ def cmd_train(args: argparse.Namespace) -> int:
     trained = time.perf_counter()
     if args.params:
         meta["provenance"]["parameters"]["params_file"] = args.params
-    if isinstance(learner, FastCSQL):
-        content = learner.file_bytes(args.out, meta)
-        r_count, q_count = learner.counts()
-    else:
-        rb = learner.rulebase(meta)
-        content = file_bytes(args.out, rb)
-        r_count = sum(1 for c in rb.classifiers if c.kind == "R")
-        q_count = len(rb.classifiers) - r_count
-    path = write_or_keep([(args.out, content)])[0]
-    engine = "fast" if isinstance(learner, FastCSQL) else "reference"
+    path = write_or_keep([(args.out, learner.file_bytes(args.out, meta))])[0]
+    r_count, q_count = learner.counts()
     print(
-        f"{args.method} ({engine} engine), {args.blocks} blocks: {meta['trials']} trials, seed {args.seed}, "
+        f"{args.method} ({learner.engine} engine), {args.blocks} blocks: {meta['trials']} trials, seed {args.seed}, "
         f"{meta['steps']} steps in {trained - began:.2f} s; {r_count} R- and {q_count} Q-classifiers written to "
         f"{path} in {time.perf_counter() - trained:.2f} s"
     )

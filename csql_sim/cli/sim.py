@@ -45,11 +45,11 @@ def print_episode(result: EpisodeResult) -> None:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from csql_sim.core.policy import load_policy
+    from csql_sim.core.greedy_table import load_policy
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode, sidecar_path
-    from csql_sim.sim.render import check_video_options, video_frame_count
     from csql_sim.sim.rgbd import CameraNoise
+    from csql_sim.sim.video import check_video_options, video_frame_count
 
     if args.discovery:
         return render_discovery(args)
@@ -92,7 +92,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     """``render --discovery``: a short discovery episode, failed attempts captioned as such."""
     from csql_sim.core.message import parse_action_message
     from csql_sim.jobs.discover import record_discovery
-    from csql_sim.sim.render import check_video_options, write_video
+    from csql_sim.sim.video import check_video_options, write_video
 
     if args.start or args.goal or args.rules:
         raise CsqlError("render --discovery takes no --start, --goal or --rules")

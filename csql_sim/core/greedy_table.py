@@ -1,4 +1,4 @@
-"""The greedy policy of a rule base as a table: one action per (state, goal).
+"""The greedy policy of a rule file as a table: one action per (state, goal); :func:`load_policy`.
 
 :class:`GreedyTable` answers exactly what :class:`csql_sim.core.policy.QPolicy` answers (the
 action of the Q-classifier with the highest Q-value whose condition is the state
@@ -9,17 +9,18 @@ policy in seconds. Only the learned Q-classifiers decide; nothing is planned her
 
 from __future__ import annotations
 
-import functools
 import os
 
 import numpy as np
 
-from csql_sim.core.message import DIGITS, format_action_message, format_state_message, layout
-from csql_sim.core.policy import NoRuleError
+from csql_sim.core.message import format_state_message, layout
+from csql_sim.core.message_index import action_indices, base36_column, lookup, state_bodies
+from csql_sim.core.policy import VALUES, NoRuleError, Policy
+from csql_sim.core.rulebase import RuleBase, RuleBaseError, is_npz, load
+from csql_sim.core.rulebase_npz import read_arrays, to_arrays
+from csql_sim.core.search import BfsPolicy, greedy_argmax
 from csql_sim.core.world import Action, BlocksWorld, State
 from csql_sim.infra.errors import CsqlError
-
-NONE = -1
 
 
 class GreedyTable:
@@ -50,26 +51,18 @@ class GreedyTable:
         count, lay = len(world.states), layout(n)
         is_q = np.flatnonzero(kind == b"Q")
         conds = condition[is_q]
-        state = _lookup(conds, 0, lay.goal_start, _state_bodies(n))
-        goal = _base36(conds, lay.goal_start, lay.length)
-        acts = _lookup(action[is_q], 0, lay.length, _action_messages(n))
+        state = lookup(conds, 0, lay.goal_start, state_bodies(n))
+        goal = base36_column(conds, lay.goal_start, lay.length)
+        acts = lookup(action[is_q], 0, lay.length, action_indices(n))
         ok = (state >= 0) & (goal < count)  # other conditions never match a posted state message
         if (acts[ok] < 0).any():
             bad = action[is_q][ok][acts[ok] < 0][0].decode("ascii", "replace")
             raise CsqlError(f"the rule base holds a malformed action message {bad!r} for {n} blocks")
-        key = (state * count + goal)[ok]
-        order = np.lexsort((np.arange(len(key)), -q[is_q][ok], key))
-        first = np.ones(len(order), bool)
-        first[1:] = key[order][1:] != key[order][:-1]
-        best = np.full(count * count, NONE, np.int8)
-        best[key[order][first]] = acts[ok][order][first]
-        return cls(n, best)
+        return cls(n, greedy_argmax((state * count + goal)[ok], q[is_q][ok], acts[ok], count * count))
 
     @classmethod
-    def from_rulebase(cls, rulebase) -> GreedyTable:
+    def from_rulebase(cls, rulebase: RuleBase) -> GreedyTable:
         """Build from a :class:`~csql_sim.core.rulebase.RuleBase` (``meta["value"]`` names the field, default q)."""
-        from csql_sim.core.rulebase_npz import to_arrays
-
         a = to_arrays(rulebase)
         return cls.from_arrays(rulebase.blocks, a["kind"], a["condition"], a["action"], a[_value(rulebase.meta)])
 
@@ -83,11 +76,7 @@ class GreedyTable:
                 refused from its header, before its classifiers are parsed.
             progress: a bar while a large YAML file is parsed.
         """
-        from csql_sim.core.rulebase import RuleBaseError, is_npz, load
-
         if is_npz(path):
-            from csql_sim.core.rulebase_npz import read_arrays
-
             header, a = read_arrays(path, os.fspath(path), RuleBaseError)
             value = _value(header.get("meta", {}))
             return cls.from_arrays(header["blocks"], a["kind"], a["condition"], a["action"], a[value])
@@ -109,64 +98,29 @@ class GreedyTable:
         return self.world.actions[a]
 
 
-@functools.cache
-def _state_bodies(n: int) -> dict[bytes, int]:
-    """State index by message body (everything before the goal code, action slot 0)."""
-    lay = layout(n)
-    return {format_state_message(s, 0)[: lay.goal_start].encode(): i for i, s in enumerate(BlocksWorld.of(n).states)}
-
-
-@functools.cache
-def _action_messages(n: int) -> dict[bytes, int]:
-    """Action index by action message."""
-    return {format_action_message(a, n).encode(): i for i, a in enumerate(BlocksWorld.of(n).actions)}
-
-
-def known_state(n: int, conditions: np.ndarray) -> np.ndarray:
-    """Which conditions are state messages of n blocks with action slot 0 (vectorized)."""
-    lay = layout(n)
-    if len(conditions) == 0:
-        return np.zeros(0, bool)
-    body = _lookup(conditions, 0, lay.goal_start, _state_bodies(n))
-    goal = _base36(conditions, lay.goal_start, lay.length)
-    return (body >= 0) & (goal < len(BlocksWorld.of(n).states))
-
-
-def known_action(n: int, actions: np.ndarray) -> np.ndarray:
-    """Which actions are action messages of n blocks (vectorized)."""
-    if len(actions) == 0:
-        return np.zeros(0, bool)
-    return _lookup(actions, 0, layout(n).length, _action_messages(n)) >= 0
-
-
 def _value(meta: dict) -> str:
     """The field a rule base's greedy policy follows (``QPolicy``'s ``value``)."""
-    from csql_sim.core.policy import VALUES
-
     value = meta.get("value", "q")
     if value not in VALUES:
         raise CsqlError(f"value must be one of {', '.join(VALUES)}, got {value!r}")
     return value
 
 
-def _lookup(messages: np.ndarray, start: int, end: int, table: dict[bytes, int]) -> np.ndarray:
-    """Index of each message slice in ``table`` (-1 when absent), looked up once per distinct slice."""
-    if len(messages) == 0:
-        return np.zeros(0, np.int64)
-    part = messages.view("S1").reshape(len(messages), -1)[:, start:end].copy().view(f"S{end - start}").ravel()
-    uniq, inverse = np.unique(part, return_inverse=True)
-    return np.array([table.get(u, NONE) for u in uniq.tolist()], np.int64)[inverse.ravel()]
+def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: bool = False) -> Policy:
+    """The greedy policy of a rule base from ``csql-sim train``, or BFS when ``path`` is None.
 
+    Args:
+        path: a rule-base file, or None for the BFS planner.
+        n: the number of blocks the caller expects (checked against the rule file's
+            header before its classifiers are parsed).
+        progress: show a bar while a large rule file is parsed.
 
-def _base36(messages: np.ndarray, start: int, end: int) -> np.ndarray:
-    """The base-36 number in columns ``start:end`` of each message (huge when not a number)."""
-    if len(messages) == 0:
-        return np.zeros(0, np.int64)
-    chars = messages.view("u1").reshape(len(messages), -1)[:, start:end]
-    digit = np.full(256, 10**9, np.int64)
-    for i, ch in enumerate(DIGITS):
-        digit[ord(ch)] = digit[ord(ch.lower())] = i
-    value = np.zeros(len(messages), np.int64)
-    for col in range(end - start):
-        value = value * len(DIGITS) + digit[chars[:, col]]
-    return value
+    Raises:
+        CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
+    """
+    if path is None:
+        return BfsPolicy()
+    table = GreedyTable.load(path, blocks=n, progress=progress)  # QPolicy's answers as a table, YAML or npz
+    if n is not None and table.n != n:
+        raise CsqlError(f"rule base {os.fspath(path)!r} is for {table.n} blocks, not {n}")
+    return table

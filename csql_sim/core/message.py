@@ -1,6 +1,6 @@
 """The paper's state and action messages, exact for n=3 and widened for n up to 6.
 
-State message layout (positions for n=3; see encoding.md)::
+State message layout (positions for n=3; see docs/encoding.md)::
 
     S  k  cccccc  oooooo  h  g
     0  1  2..7    8..13   14 15
@@ -332,6 +332,12 @@ def parse_action_message(message: str, n: int) -> Action:
         if got != want:
             raise _fail(message, pos, repr(want) + f" for action code {slot}")
     return action
+
+
+@functools.cache
+def action_messages(n: int) -> tuple[str, ...]:
+    """Every action message of n blocks, in the stable action order (index = action code - 1)."""
+    return tuple(format_action_message(a, n) for a in all_actions(n))
 
 
 def action_code(action: Action, n: int) -> str:

@@ -18,8 +18,8 @@ Two rules per action, in the stable action order:
   action slot, and its output rewrites the fields the action changes (``#`` copies).
 
 For n=3 the 36 rules are data, ``assets/rules/blocks3.yaml`` (installed as
-``csql_sim.assets``), string for string equal to encoding.md's table; for other n they are
-generated from the four STRIPS operators by
+``csql_sim.assets``), string for string the paper's table as restored in
+docs/encoding.md; for other n they are generated from the four STRIPS operators by
 :func:`generate_rules` (which also reproduces the n=3 table).
 """
 
@@ -31,8 +31,10 @@ from importlib import resources
 from pathlib import Path
 from typing import ClassVar
 
+import yaml
+
 from csql_sim.core.message import BLOCK_FIELD, action_code, format_action_message, layout
-from csql_sim.core.world import BLOCK_NAMES, ActionKind, all_actions, check_n
+from csql_sim.core.world import BLOCK_NAMES, TABLE, Action, ActionKind, all_actions, check_n, preconditions
 from csql_sim.infra.errors import CsqlError
 
 ASSET = "blocks3.yaml"
@@ -111,25 +113,22 @@ def _blank(n: int) -> list[str]:
     return [WILDCARD] * layout(n).length
 
 
-def precondition_condition(action, n: int) -> str:
-    """The Figure 5(a) condition of ``action``: the STRIPS preconditions as a pattern."""
+def precondition_condition(action: Action, n: int) -> str:
+    """The Figure 5(a) condition of ``action``: its STRIPS preconditions as a pattern."""
     lay = layout(n)
     pat = _blank(n)
     pat[0] = "S"
-    x = action.block
-    if action.kind in (ActionKind.PICKUP, ActionKind.UNSTACK):
-        pat[lay.clear_start + x] = "1"
-        pat[lay.on_start + x] = "t" if action.kind is ActionKind.PICKUP else BLOCK_NAMES[action.target].lower()
-        pat[lay.held_pos] = "0"
-    elif action.kind is ActionKind.PUTDOWN:
-        pat[lay.held_pos] = BLOCK_NAMES[x].lower()
-    else:
-        pat[lay.clear_start + action.target] = "1"
-        pat[lay.held_pos] = BLOCK_NAMES[x].lower()
+    for p in preconditions(action):
+        if p.what == "held":
+            pat[lay.held_pos] = "0" if p.value is None else BLOCK_NAMES[p.value].lower()
+        elif p.what == "clear":
+            pat[lay.clear_start + p.block] = "1"
+        else:
+            pat[lay.on_start + p.block] = "t" if p.value == TABLE else BLOCK_NAMES[p.value].lower()
     return "".join(pat)
 
 
-def add_delete_rule(action, n: int) -> tuple[str, str]:
+def add_delete_rule(action: Action, n: int) -> tuple[str, str]:
     """The Figure 5(b) (condition, output) of ``action``."""
     lay = layout(n)
     cond = _blank(n)
@@ -171,10 +170,17 @@ def generate_rules(n: int) -> list[RClassifier]:
 
 
 def load_paper_rules() -> list[RClassifier]:
-    """The 36 R-classifiers of the paper (n=3), read from the packaged asset."""
-    from csql_sim.core.rulebase import loads  # local: rulebase imports this module's neighbours
+    """The 36 R-classifiers of the paper (n=3), read from the packaged asset.
 
-    return list(loads(_asset_text(ASSET), source=ASSET).classifiers)
+    The asset is a rule file like any other (``csql_sim.core.rulebase`` reads it too); its
+    rows are parsed here directly, so the R-classifier does not depend on the rule-file
+    reader that is built on top of it.
+    """
+    doc = yaml.safe_load(_asset_text(ASSET))
+    rows = doc["classifiers"]
+    if doc.get("count") != len(rows) or any(row.get("kind") != "R" for row in rows):
+        raise CsqlError(f"the packaged {ASSET} is damaged (reinstall csql-sim)")
+    return [parse_r_classifier(row["condition"], row["action"]) for row in rows]
 
 
 def _asset_text(name: str) -> str:
@@ -187,7 +193,7 @@ def _asset_text(name: str) -> str:
     try:
         return resources.files("csql_sim.assets").joinpath("rules", name).read_text(encoding="utf-8")
     except ModuleNotFoundError:
-        return (Path(__file__).resolve().parents[1] / "assets" / "rules" / name).read_text(encoding="utf-8")
+        return (Path(__file__).resolve().parents[2] / "assets" / "rules" / name).read_text(encoding="utf-8")
 
 
 @functools.cache

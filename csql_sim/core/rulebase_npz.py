@@ -27,7 +27,10 @@ from pathlib import Path
 import numpy as np
 
 from csql_sim.core.message import layout
+from csql_sim.core.message_index import known_action, known_state
 from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.r_classifier import parse_r_classifier
+from csql_sim.core.rulebase_yaml import RuleBase, check_strings
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import InputFileError, read_bytes_file, write_atomic
@@ -42,12 +45,12 @@ MAX_EXPANDED_BYTES = 2 * 1024 * 1024 * 1024
 ARRAYS = ("header", "kind", "condition", "action", *FLOATS)
 
 
-def to_bytes(rulebase) -> bytes:
+def to_bytes(rulebase: RuleBase) -> bytes:
     """The npz bytes of a :class:`~csql_sim.core.rulebase.RuleBase`."""
     return arrays_to_bytes(rulebase.blocks, rulebase.meta, to_arrays(rulebase))
 
 
-def to_arrays(rulebase) -> dict[str, np.ndarray]:
+def to_arrays(rulebase: RuleBase) -> dict[str, np.ndarray]:
     """A rule base's classifiers as the npz form's arrays (every classifier, list order)."""
     cs = rulebase.classifiers
     width = layout(rulebase.blocks).length
@@ -71,7 +74,7 @@ def arrays_to_bytes(blocks: int, meta: dict, arrays: dict[str, np.ndarray]) -> b
     return out.getvalue()
 
 
-def save(path: str | os.PathLike, rulebase) -> Path:
+def save(path: str | os.PathLike, rulebase: RuleBase) -> Path:
     """Write ``rulebase`` as npz atomically."""
     return write_atomic(path, to_bytes(rulebase))
 
@@ -123,16 +126,13 @@ def _check_messages(n: int, arrays: dict[str, np.ndarray], source: str, error: t
     common case (a known state body and goal code, a known action message) is checked with
     numpy, anything else by the YAML loader's own checks.
     """
-    from csql_sim.core.greedy_table import known_action, known_state
-    from csql_sim.core.rulebase import _check_strings
-
     is_q = arrays["kind"] == b"Q"
     odd = ~is_q
     odd[is_q] = ~(known_state(n, arrays["condition"][is_q]) & known_action(n, arrays["action"][is_q]))
     seen: dict[str, bool] = {}
     for k in np.flatnonzero(odd).tolist():
         kind, cond, act = (arrays[x][k].decode("ascii", "replace") for x in ("kind", "condition", "action"))
-        problem = _check_strings(kind, cond, act, n, seen)
+        problem = check_strings(kind, cond, act, n, seen)
         if problem:
             raise error(f"{source}: classifier {k + 1}: {problem}")
 
@@ -156,11 +156,8 @@ def _header(raw: np.ndarray, source: str, error: type[Exception]) -> dict:
     return header
 
 
-def load(path: str | os.PathLike, error: type[Exception]):
+def load(path: str | os.PathLike, error: type[Exception]) -> RuleBase:
     """Read an npz rule file into a :class:`~csql_sim.core.rulebase.RuleBase`."""
-    from csql_sim.core.r_classifier import parse_r_classifier
-    from csql_sim.core.rulebase import RuleBase
-
     source = os.fspath(path)
     header, a = read_arrays(path, source, error)
     kinds = a["kind"].tolist()

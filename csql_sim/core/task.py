@@ -11,6 +11,7 @@ import functools
 from dataclasses import dataclass
 
 from csql_sim.core.notation import parse_config
+from csql_sim.core.search import true_distances
 from csql_sim.core.world import TEST_GOAL, TEST_START, BlocksWorld, State, WorldError
 
 
@@ -67,14 +68,12 @@ def test_task(n: int) -> Task:
 @functools.cache
 def first_maximal_pair(n: int) -> tuple[int, int]:
     """(start, goal) state indices of the first pair of maximal optimal length (a BFS per goal)."""
-    from csql_sim.core.pair_check import distances_to
-
     best, pair = -1, (0, 0)
     for goal in range(len(BlocksWorld.of(n).states)):
-        dist = distances_to(n, goal)
-        far = max(dist)
+        dist = true_distances(n, goal)
+        far = int(dist.max())
         if far > best:
-            best, pair = far, (dist.index(far), goal)
+            best, pair = far, (int(dist.argmax()), goal)
     return pair
 
 

@@ -180,17 +180,50 @@ class Action:
         return self.name()
 
 
-def is_legal(state: State, action: Action) -> bool:
-    """Whether ``action``'s preconditions hold in ``state`` (STRIPS semantics)."""
-    held = state.held
+@dataclass(frozen=True)
+class Precondition:
+    """One STRIPS precondition, as data (the operators' one definition).
+
+    Attributes:
+        what: ``"clear"`` (nothing on ``block``, not held), ``"on"`` (``block`` stands on
+            ``value``: a block index or :data:`TABLE`) or ``"held"`` (the gripper holds
+            ``value``: a block index, or None for an empty hand).
+        block: the block the condition is about (None for ``"held"``).
+        value: see ``what``.
+    """
+
+    what: str
+    block: int | None = None
+    value: int | None = None
+
+    def holds(self, state: State) -> bool:
+        """Whether the condition is true in ``state``."""
+        if self.what == "held":
+            return state.held == self.value
+        if self.what == "clear":
+            return state.is_clear(self.block)
+        return state.support[self.block] == self.value
+
+
+def preconditions(action: Action) -> tuple[Precondition, ...]:
+    """The STRIPS preconditions of ``action``, the one definition of them.
+
+    :func:`is_legal` evaluates them on a state and the R-classifier generator
+    (:func:`csql_sim.core.r_classifier.precondition_condition`) writes them as a pattern.
+    """
     b = action.block
     if action.kind is ActionKind.PICKUP:
-        return held is None and state.support[b] == TABLE and state.is_clear(b)
+        return Precondition("held"), Precondition("clear", b), Precondition("on", b, TABLE)
     if action.kind is ActionKind.UNSTACK:
-        return held is None and state.support[b] == action.target and state.is_clear(b)
+        return Precondition("held"), Precondition("clear", b), Precondition("on", b, action.target)
     if action.kind is ActionKind.PUTDOWN:
-        return held == b
-    return held == b and action.target != b and state.is_clear(action.target)
+        return (Precondition("held", value=b),)
+    return Precondition("held", value=b), Precondition("clear", action.target)
+
+
+def is_legal(state: State, action: Action) -> bool:
+    """Whether ``action``'s preconditions hold in ``state`` (STRIPS semantics)."""
+    return all(p.holds(state) for p in preconditions(action))
 
 
 def successor(state: State, action: Action) -> State:

@@ -17,12 +17,22 @@ memo is keyed by the message without its goal, so all goals share it.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 
+import numpy as np
+
 from csql_sim.core.classifier_list import PatternIndex
-from csql_sim.core.message import format_action_message, format_state_message, layout, parse_state_message
+from csql_sim.core.message import (
+    action_messages,
+    format_action_message,
+    format_state_message,
+    layout,
+    parse_state_message,
+)
 from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier, r_classifiers
-from csql_sim.core.world import Action, State, all_actions, check_n
+from csql_sim.core.transition_table import ILLEGAL, TransitionTable
+from csql_sim.core.world import Action, BlocksWorld, State, check_n
 from csql_sim.infra.errors import CsqlError
 
 
@@ -60,12 +70,34 @@ class WorldModel:
         self._legal: dict[str, tuple[str, ...]] = {}
         self._next: dict[str, str] = {}
         self._steps: dict[str, list[str | None]] = {}
-        self._action_messages = tuple(format_action_message(a, n) for a in all_actions(n))
+        self._action_messages = action_messages(n)
 
     @classmethod
+    @functools.cache
     def for_blocks(cls, n: int) -> WorldModel:
-        """The built-in domain knowledge: the paper's rules for n = 3, generated otherwise."""
+        """The built-in domain knowledge: the paper's rules for n = 3, generated otherwise (shared per n)."""
         return cls(r_classifiers(n), n)
+
+    @functools.cached_property
+    def table(self) -> TransitionTable:
+        """Every state message of the n-block world matched and predicted once, as index arrays.
+
+        Raises:
+            WorldModelError: when the rules predict a message that is not a state of the world.
+        """
+        world = BlocksWorld.of(self.n)
+        end = layout(self.n).goal_start
+        body = {format_state_message(s, 0)[:end]: i for i, s in enumerate(world.states)}
+        code = {m: k for k, m in enumerate(self._action_messages)}
+        table = np.full((len(world.states), len(world.actions)), ILLEGAL, np.int32)
+        for s, state in enumerate(world.states):
+            message = format_state_message(state, 0)
+            for action in self.legal_actions(message):
+                nxt = body.get(self.predict(message, action)[:end])
+                if nxt is None:
+                    raise WorldModelError(f"the rules predict no state of the world for {action} in {message}")
+                table[s, code[action]] = nxt
+        return TransitionTable(self.n, table)
 
     def legal_actions(self, message: str) -> tuple[str, ...]:
         """The action messages of the precondition rules that match a state message."""

@@ -2,7 +2,7 @@
 
 From the perceived state the agent attempts an action drawn uniformly from *all* action
 messages of the world (not only the legal ones), executes it, perceives again and records
-a :class:`~csql_sim.discovery.induction.Transition`. After every transition the rules of the
+a :class:`~csql_sim.discovery.induction.Experience`. After every transition the rules of the
 attempted action are induced again (:mod:`csql_sim.discovery.induction`). Exploration stops
 when the rule set has not changed for ``Exploration.patience`` transitions (1000, or twice
 the number of distinct (state, action) pairs tried so far if that is more: 1000 for n = 3,
@@ -13,8 +13,8 @@ visited states).
 The world is anything with the :class:`~csql_sim.discovery.world.ExplorableWorld` protocol:
 :class:`~csql_sim.discovery.world.SymbolicWorld` (an illegal action fails and changes nothing;
 ``perturb`` knocks a tower top onto the table now and then), or the simulated arm
-(:mod:`csql_sim.sim.exploration`). State messages use goal code 0 throughout (exploration has no goal), so the goal position never
-varies and induces nothing.
+(:mod:`csql_sim.sim.exploration`). State messages use goal code 0 throughout (exploration
+has no goal), so the goal position never varies and induces nothing.
 """
 
 from __future__ import annotations
@@ -26,18 +26,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.core.message import format_action_message, format_state_message
+from csql_sim.core.message import action_messages, format_action_message, format_state_message
 from csql_sim.core.r_classifier import PreconditionRule, RClassifier, r_classifiers
 from csql_sim.core.world import all_actions, all_states, is_legal, successor
 from csql_sim.discovery.induction import (
     RELIABILITY,
     Evidence,
+    Experience,
     InducedRules,
     Reliability,
-    Transition,
     induce_action,
     rule_list,
 )
+from csql_sim.discovery.world import ExplorableWorld
 
 EXPLORATION_GOAL = 0  # goal code of every state message during exploration
 
@@ -71,7 +72,7 @@ class DiscoveryResult:
     wall_seconds: float = 0.0
     rules: list[RClassifier] = field(default_factory=list)
     events: list[str] = field(default_factory=list)
-    log: list[Transition] = field(default_factory=list)
+    log: list[Experience] = field(default_factory=list)
 
     def comparison(self) -> list[dict]:
         """Each given R-classifier: the induced one in its place, and whether they are equal."""
@@ -118,7 +119,7 @@ def explore(world: ExplorableWorld, rng: np.random.Generator, settings: Explorat
     """
     n = world.n
     actions = all_actions(n)
-    messages = [format_action_message(a, n) for a in actions]
+    messages = action_messages(n)
     result = DiscoveryResult(n)
     evidence = Evidence(n)
     induced: dict[str, InducedRules] = {}
@@ -141,7 +142,7 @@ def explore(world: ExplorableWorld, rng: np.random.Generator, settings: Explorat
             result.events.append(f"after {actions[k].name()}: nothing perceived, new episode")
             state = None
             continue
-        record = Transition(before, messages[k], format_state_message(after, EXPLORATION_GOAL), attempt.ok,
+        record = Experience(before, messages[k], format_state_message(after, EXPLORATION_GOAL), attempt.ok,
                             attempt.reason, attempt.refused)
         curiosity.remember(before, k, record.after)
         evidence.add(record)
@@ -218,7 +219,7 @@ class Curiosity:
         self.outcomes.setdefault((message, k), Counter())[after] += 1
 
 
-def exhaustive_transitions(n: int, repeats: int = 3) -> list[Transition]:
+def exhaustive_transitions(n: int, repeats: int = 3) -> list[Experience]:
     """Every (state, action) pair of the symbolic world ``repeats`` times, as transitions."""
     out = []
     for _ in range(repeats):
@@ -227,7 +228,7 @@ def exhaustive_transitions(n: int, repeats: int = 3) -> list[Transition]:
             for a in all_actions(n):
                 legal = is_legal(s, a)
                 after = format_state_message(successor(s, a), EXPLORATION_GOAL) if legal else before
-                out.append(Transition(before, format_action_message(a, n), after, legal))
+                out.append(Experience(before, format_action_message(a, n), after, legal))
     return out
 
 

@@ -1,6 +1,6 @@
 """Rule induction: the R-classifiers of Figure 5 from observed transitions, with ``#``.
 
-The evidence is a stream of :class:`Transition` records (the state message before, the
+The evidence is a stream of :class:`Experience` records (the state message before, the
 action message, the state message perceived after, and whether the primitive reported
 success). For every action that has enough successes, :func:`induce_rules` returns
 
@@ -51,13 +51,12 @@ import itertools
 from collections import Counter, defaultdict
 from dataclasses import dataclass
 
-from csql_sim.core.message import layout, parse_action_message
+from csql_sim.core.message import action_messages, layout, parse_action_message
 from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
-from csql_sim.core.world import all_actions
 
 
 @dataclass(frozen=True)
-class Transition:
+class Experience:
     """One attempted action as the agent saw it.
 
     Attributes:
@@ -125,7 +124,7 @@ class Evidence:
         self.count = 0
         self.motion_failures = 0
 
-    def add(self, t: Transition) -> None:
+    def add(self, t: Experience) -> None:
         """Record one transition."""
         self.count += 1
         self.pairs.add((t.before, t.action))
@@ -242,13 +241,6 @@ def induce_action(ev: Evidence, action: str, rel: Reliability = RELIABILITY) -> 
     return InducedRules(action, induce_precondition(ev, action, changed, rel), post)
 
 
-def action_messages(n: int) -> tuple[str, ...]:
-    """Every action message of the n-block world, in the stable action order."""
-    from csql_sim.core.message import format_action_message
-
-    return tuple(format_action_message(a, n) for a in all_actions(n))
-
-
 def rule_list(induced: dict[str, InducedRules], n: int) -> list[RClassifier]:
     """The induced R-classifiers in the usual order: preconditions, then add-delete rules."""
     order = [m for m in action_messages(n) if m in induced]
@@ -258,7 +250,7 @@ def rule_list(induced: dict[str, InducedRules], n: int) -> list[RClassifier]:
 
 
 def induce_rules(transitions, n: int, rel: Reliability = RELIABILITY) -> list[RClassifier]:
-    """The R-classifiers induced from an iterable of :class:`Transition` records."""
+    """The R-classifiers induced from an iterable of :class:`Experience` records."""
     ev = Evidence(n)
     for t in transitions:
         parse_action_message(t.action, n)  # reject foreign action messages early

@@ -15,7 +15,7 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
-from csql_sim.discovery.induction import Transition
+from csql_sim.discovery.induction import Experience
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import InputFileError, read_text_file, write_atomic
 
@@ -28,7 +28,7 @@ class TransitionLogError(CsqlError):
     """A missing, truncated or foreign transition log."""
 
 
-def dumps(transitions: Iterable[Transition], n: int) -> str:
+def dumps(transitions: Iterable[Experience], n: int) -> str:
     """The log's text."""
     lines = [json.dumps({"format": FORMAT, "version": VERSION, "blocks": n})]
     for t in transitions:
@@ -37,12 +37,12 @@ def dumps(transitions: Iterable[Transition], n: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def save(path: str | os.PathLike, transitions: Iterable[Transition], n: int) -> Path:
+def save(path: str | os.PathLike, transitions: Iterable[Experience], n: int) -> Path:
     """Write the log atomically."""
     return write_atomic(path, dumps(transitions, n))
 
 
-def load(path: str | os.PathLike) -> tuple[int, list[Transition]]:
+def load(path: str | os.PathLike) -> tuple[int, list[Experience]]:
     """Read a log: (number of blocks, transitions).
 
     Raises:
@@ -57,7 +57,7 @@ def load(path: str | os.PathLike) -> tuple[int, list[Transition]]:
         head = json.loads(rows[0]) if rows else {}
         if head.get("format") != FORMAT or head.get("version") != VERSION:
             raise TransitionLogError(f"{path} is not a version-{VERSION} {FORMAT!r} file")
-        out = [Transition(r["before"], r["action"], r["after"], bool(r["ok"]), r.get("reason", ""), r.get("refused"))
+        out = [Experience(r["before"], r["action"], r["after"], bool(r["ok"]), r.get("reason", ""), r.get("refused"))
                for r in map(json.loads, rows[1:])]
     except (json.JSONDecodeError, KeyError, TypeError, AttributeError) as exc:
         raise TransitionLogError(f"{path}: corrupt transition log ({exc})") from None

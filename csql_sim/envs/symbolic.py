@@ -10,9 +10,9 @@
   :class:`State`, a configuration (``"CBA"``), or a state index; either missing is drawn
   from the environment's generator (distinct from the other).
 
-:func:`run_env_episode` lets any learner act on such an environment (the physical world
-offers the same interface) through the learner's act/learn interface, learning from the
-*observed* next state.
+:func:`run_env_episode` lets a learner act on such an environment (the physical world
+offers the same interface) through its step-level act/learn interface
+(:class:`~csql_sim.learners.trial.StepLearner`), learning from the *observed* next state.
 """
 
 from __future__ import annotations
@@ -23,39 +23,28 @@ from typing import Any, NamedTuple
 import gymnasium as gym
 import numpy as np
 
-from csql_sim.core.message import DIGITS, format_action_message, format_state_message, layout, parse_state_message
+from csql_sim.core.message import DIGITS, format_state_message, layout
 from csql_sim.core.notation import parse_config
+from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule
+from csql_sim.core.rulebase import load
+from csql_sim.core.transition_table import true_table
 from csql_sim.core.world import BlocksWorld, State
+from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.learner import Learner, Transition
+from csql_sim.learners.learner import Transition
+from csql_sim.learners.trial import StepLearner
 
 
-def rule_transitions(world: BlocksWorld, rules: str | os.PathLike) -> list[list[int]]:
-    """``[state][action]`` -> next state index (-1: illegal) as a rule file's R-classifiers say."""
-    from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule
-    from csql_sim.core.rulebase import load
-    from csql_sim.core.world_model import WorldModel
-
+def rule_transitions(world: BlocksWorld, rules: str | os.PathLike) -> np.ndarray:
+    """``[state, action]`` -> next state index (-1: illegal): the rule file's world model's table."""
     base = load(rules)
     if base.blocks != world.n:
         raise CsqlError(f"{rules}: rules for {base.blocks} blocks, the environment has {world.n}")
     model = WorldModel([c for c in base.classifiers if isinstance(c, (PreconditionRule, AddDeleteRule))], world.n)
-    messages = [format_action_message(a, world.n) for a in world.actions]
-    table = []
-    for state in world.states:
-        message = format_state_message(state, 0)
-        legal = set(model.legal_actions(message))
-        row = []
-        for action in messages:
-            if action not in legal:
-                row.append(-1)
-                continue
-            try:
-                row.append(world.state_index(parse_state_message(model.predict(message, action), world.n).state))
-            except CsqlError as exc:
-                raise CsqlError(f"{rules}: {action} in {message}: {exc}") from None
-        table.append(row)
-    return table
+    try:
+        return model.table.next_state
+    except CsqlError as exc:
+        raise CsqlError(f"{rules}: {exc}") from None
 
 
 class EnvEpisode(NamedTuple):
@@ -138,10 +127,9 @@ class BlocksWorldEnv(gym.Env):
         self.observation_space = gym.spaces.Text(min_length=length, max_length=length, charset=charset)
         self.action_space = gym.spaces.Discrete(len(self.world.actions))
         self.rules = rules
-        self.next_state = self.world.next_state if rules is None else rule_transitions(self.world, rules)
-        self._masks = [np.zeros(len(self.world.actions), dtype=np.int8) for _ in self.world.states]
-        for s, row in enumerate(self.next_state):
-            self._masks[s][[a for a, t in enumerate(row) if t >= 0]] = 1
+        table = true_table(n).next_state if rules is None else rule_transitions(self.world, rules)
+        self.next_state = table.tolist()
+        self._masks = list((table >= 0).astype(np.int8))
         self.state = 0
         self.goal = 1
         self.steps = 0
@@ -207,17 +195,17 @@ class BlocksWorldEnv(gym.Env):
         return None
 
 
-def run_env_episode(env: gym.Env, learner: Learner, temperature: float, options: dict | None = None,
+def run_env_episode(env: gym.Env, learner: StepLearner, temperature: float, options: dict | None = None,
                     cap: int | None = None, seed: int | None = None) -> EnvEpisode:
     """Let ``learner`` act on ``env`` for one episode, learning from the observed transitions.
 
     Each step: the learner acts on the observation (one uniform from its stream, as in
     training), the environment steps, and the learner learns from what was observed.
-    Works with any learner and any environment with this interface, symbolic or physical.
+    Works with any step learner and any environment with this interface, symbolic or physical.
 
     Args:
         env: a blocks-world environment (observations are state messages).
-        learner: any :class:`~csql_sim.learners.learner.Learner`.
+        learner: any :class:`~csql_sim.learners.trial.StepLearner` (a reference engine).
         temperature: T of eq. 3 (0 = greedy).
         options: passed to ``env.reset`` (``start``, ``goal``).
         cap: the most steps (default ``learner.params.step_cap``).

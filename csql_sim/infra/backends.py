@@ -2,9 +2,13 @@
 
 :func:`map_tasks` calls ``fn(item)`` for every item and returns the results in item
 order, whichever backend runs them, so a seeded run gives the same results on both.
-Items are sent in chunks; a progress bar counts finished items. A task that raises, or
-whose worker dies, yields a :class:`TaskFailure` in its place instead of stopping the
-run. Ctrl-C cancels what is still running and re-raises :class:`KeyboardInterrupt`.
+Items are sent in chunks; a progress bar counts finished items. A task that fails as a
+task can (:data:`TASK_ERRORS`: the project's :class:`CsqlError`, e.g. a world that cannot
+be built, or running out of memory), or whose worker dies (the pool breaks, Ray loses the
+worker or its node), yields a :class:`TaskFailure` in its place instead of stopping the
+run. Any other exception is a bug in the task and propagates out of :func:`map_tasks`
+(the remaining tasks are cancelled). Ctrl-C cancels what is still running and re-raises
+:class:`KeyboardInterrupt`.
 
 With Ray (the optional extra ``pip install "csql-sim[ray]"``), the chunks are Ray tasks:
 on a local instance started for the call (``address=None``, ``workers`` CPUs) or on an
@@ -20,7 +24,7 @@ import logging
 import os
 import sys
 import time
-from collections.abc import Callable, Hashable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import contextmanager
@@ -34,6 +38,7 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.workers import worker_count, worker_pool
 
 BACKENDS = ("processes", "ray")
+TASK_ERRORS = (CsqlError, MemoryError)  # how a task (or a worker's setup) may fail without a bug
 T = TypeVar("T")
 R = TypeVar("R")
 
@@ -65,35 +70,40 @@ class Backend:
 
 @dataclass(frozen=True)
 class TaskFailure:
-    """Stands in for the result of a task that raised or whose worker died."""
+    """Stands in for the result of a task that raised one of :data:`TASK_ERRORS` or whose worker died."""
 
     reason: str
 
 
 Setup = Callable[..., None]
-_SETUP_DONE: set[Hashable] = set()  # owned by _run_chunk: the setups already run in this process
+_SETUP_DONE: dict[tuple[str, str], tuple] = {}  # owned by _run_chunk: each setup's last arguments in this process
 
 
 def _run_chunk(fn: Callable[[T], R], chunk: Sequence[T], setup: Setup | None,
                setup_args: tuple) -> list[R | TaskFailure]:
-    """Run ``fn`` on each item of ``chunk`` in a worker; an exception becomes a TaskFailure.
+    """Run ``fn`` on each item of ``chunk`` in a worker; one of :data:`TASK_ERRORS` becomes a TaskFailure.
 
-    ``setup(*setup_args)`` runs once per worker process and setup (Ray reuses workers
-    across calls, so the key includes the arguments).
+    Any other exception (a bug: a TypeError, an AttributeError ...) propagates.
+
+    ``setup(*setup_args)`` runs first unless this process's last run of ``setup`` had equal
+    arguments: a process serves many calls (Ray reuses workers; with one worker the tasks
+    run in the caller's process), and a setup with other arguments in between replaced
+    the state the setup leaves.
     """
     if setup is not None:
-        key = (setup.__module__, setup.__qualname__, setup_args)
-        if key not in _SETUP_DONE:
+        key = (setup.__module__, setup.__qualname__)
+        if key not in _SETUP_DONE or _SETUP_DONE[key] != setup_args:
+            _SETUP_DONE.pop(key, None)  # half done until it returns
             try:
                 setup(*setup_args)
-            except Exception as exc:  # noqa: BLE001 - every task of the chunk fails with the setup's reason
+            except TASK_ERRORS as exc:  # every task of the chunk fails with the setup's reason
                 return [TaskFailure(f"worker setup failed: {_describe(exc)}")] * len(chunk)
-            _SETUP_DONE.add(key)
+            _SETUP_DONE[key] = setup_args
     out: list[R | TaskFailure] = []
     for item in chunk:
         try:
             out.append(fn(item))
-        except Exception as exc:  # noqa: BLE001 - reported in the task's place, like a failed episode
+        except TASK_ERRORS as exc:  # reported in the task's place, like a failed episode
             out.append(TaskFailure(_describe(exc)))
     return out
 
@@ -113,7 +123,8 @@ def map_tasks(fn: Callable[[T], R], items: Sequence[T], backend: Backend = Backe
         items: the tasks' arguments (picklable).
         backend: where to run them.
         setup: a module-level function run once in each worker before its first task
-            (e.g. loading a rule file); ``setup_args`` must be hashable.
+            (e.g. building a policy), and again when its arguments differ from those of
+            its last run in that worker; ``setup_args`` are compared with ``==``.
         setup_args: the arguments of ``setup``.
         progress: show a tqdm bar on stderr (and, for Ray, one line on where it runs).
         desc: the bar's label.
@@ -121,6 +132,9 @@ def map_tasks(fn: Callable[[T], R], items: Sequence[T], backend: Backend = Backe
 
     Returns:
         One result, or a :class:`TaskFailure`, per item.
+
+    Raises:
+        Exception: any exception of a task (or setup) other than :data:`TASK_ERRORS`: a bug.
     """
     items = list(items)
     if not items:
@@ -212,7 +226,7 @@ def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
 def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_args: tuple, bar: tqdm) -> list:
     """Ray's side of :func:`map_tasks`, inside a :func:`ray_session` with ``cpus`` CPUs."""
     import ray
-    from ray.exceptions import RayError
+    from ray.exceptions import RayError, RayTaskError
 
     chunks = _chunks(items, cpus)
     remote = _remote_run_chunk()
@@ -227,7 +241,9 @@ def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_ar
                 k = index[ref]
                 try:
                     results[k] = ray.get(ref)
-                except RayError as exc:
+                except RayTaskError:
+                    raise  # the task itself raised (its TASK_ERRORS came back as failures): a bug
+                except RayError as exc:  # the worker or its node died, the object was lost, ...
                     reason = " ".join(str(exc).split())[:200]
                     results[k] = [TaskFailure(f"ray task failed: {reason}")] * len(chunks[k])
                 bar.update(len(chunks[k]))

@@ -18,7 +18,7 @@ from csql_sim.core.world import BlocksWorld
 from csql_sim.learners.learner import UniformStream
 from csql_sim.learners.params import CSQLParams
 from csql_sim.learners.selection import boltzmann
-from csql_sim.learners.trial import TEST_EVERY, run_training
+from csql_sim.learners.trial import TEST_EVERY
 
 
 def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -> int:
@@ -112,16 +112,12 @@ def bench(trials: int = 2500, seed: int = 0, repeats: int = 5) -> BenchResult:
     are identical when both engines write the same rule file.
     """
     from csql_sim.core.rulebase import dumps
-    from csql_sim.learners.fast_engine import FastCSQL
     from csql_sim.learners.training import make_learner
 
     def run(engine: str):
         def job():
             learner = make_learner("cs-ql", 3, seed=seed, engine=engine)
-            if isinstance(learner, FastCSQL):
-                learner.run(trials)
-            else:
-                run_training(learner, trials)
+            learner.train(trials)
             return learner, learner.t
         return job
 

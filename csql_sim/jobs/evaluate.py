@@ -10,9 +10,10 @@ from pathlib import Path
 import numpy as np
 
 from csql_sim import __version__
+from csql_sim.core.greedy_table import GreedyTable, load_policy
 from csql_sim.core.notation import parse_config
 from csql_sim.core.pairs import check_sample_size, pair_count, selected_pairs
-from csql_sim.core.policy import Policy, load_policy
+from csql_sim.core.policy import Policy
 from csql_sim.core.world import all_states
 from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
@@ -207,14 +208,52 @@ class EpisodeRunner:
                               mismatches=len(r.mismatches), perturbations=len(events), events=events)
 
 
+@dataclass(frozen=True)
+class PolicyData:
+    """The policy of an evaluation as data for its workers, so that no worker reads the rule file.
+
+    Plain bytes, not an array: worker setup arguments are compared with ``==``.
+
+    Attributes:
+        n: number of blocks.
+        best: a rule file's :class:`~csql_sim.core.greedy_table.GreedyTable` ``best`` array as
+            bytes, or None for the BFS planner.
+        dtype: the array's dtype (``numpy.dtype.str``).
+    """
+
+    n: int
+    best: bytes | None = None
+    dtype: str = ""
+
+    @classmethod
+    def read(cls, rules: str | os.PathLike | None, n: int, progress: bool = False) -> PolicyData:
+        """Read the rule file ``rules`` (once; BFS when None, reading nothing).
+
+        Raises:
+            CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
+        """
+        if rules is None:
+            return cls(n)
+        table = load_policy(rules, n, progress=progress)
+        assert isinstance(table, GreedyTable), "a rule file's policy is a greedy table"
+        best = np.ascontiguousarray(table.best)
+        return cls(table.n, best.tobytes(), best.dtype.str)
+
+    def policy(self) -> Policy:
+        """The policy itself (a greedy table over the shipped array, or BFS)."""
+        if self.best is None:
+            return load_policy(None, self.n)
+        return GreedyTable(self.n, np.frombuffer(self.best, np.dtype(self.dtype)))
+
+
 _WORKER_RUNNER: EpisodeRunner | None = None  # the one runner of an evaluation worker process
 
 
-def _init_worker(rules: str | None, n: int, perturb: bool, perception: str,
+def _init_worker(policy: PolicyData, n: int, perturb: bool, perception: str,
                  camera_noise: tuple[float, float] = (0.0, 0.0)) -> None:
-    """Worker setup (once per worker and arguments): the process's EpisodeRunner, which lives as long as it."""
+    """Worker setup (again only for other arguments): the process's EpisodeRunner, which lives as long as it."""
     global _WORKER_RUNNER
-    _WORKER_RUNNER = EpisodeRunner(load_policy(rules, n), n, perturb, perception, camera_noise)
+    _WORKER_RUNNER = EpisodeRunner(policy.policy(), n, perturb, perception, camera_noise)
 
 
 def _run_in_worker(spec: EpisodeSpec) -> EpisodeSummary:
@@ -241,18 +280,24 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         seed: seeds the sample of pairs (``pairs`` = K).
         camera_noise: (depth m, colour 8-bit levels) standard deviations of camera noise.
         backend: where the episodes run (default: a local process pool whose workers die
-            with this process; or Ray). A task that fails in its worker is reported as a
-            failed episode.
+            with this process; or Ray). A task that fails with a CsqlError, or whose
+            worker dies, is reported as a failed episode; any other exception (a bug)
+            propagates.
+
+    Raises:
+        CsqlError: bad perception mode, camera noise, rule file or pairs, before any episode.
     """
+    from csql_sim.sim.physical import check_perception
     from csql_sim.sim.rgbd import CameraNoise
 
-    load_policy(rules, n, progress=progress)  # fail fast on a bad file, before starting workers
-    CameraNoise(*camera_noise)  # and on bad noise
+    check_perception(perception)  # bad options fail once, here, not in every episode
+    CameraNoise(*camera_noise)
+    policy = PolicyData.read(rules, n, progress=progress)  # the one read; the workers get the data
     specs = make_specs(n, pairs, seeds, sample_seed=seed)
     backend = backend or Backend()
     if workers is not None:
         backend = Backend(backend.kind, workers, backend.address)
-    setup_args = (rules, n, perturb, perception, tuple(camera_noise))
+    setup_args = (policy, n, perturb, perception, tuple(camera_noise))
     results = map_tasks(_run_in_worker, specs, backend, setup=_init_worker, setup_args=setup_args,
                         progress=progress, desc="episodes", unit="ep")
     report = summarise([_failed(spec, r.reason) if isinstance(r, TaskFailure) else r

@@ -1,9 +1,9 @@
 """Figure 7: test-task curves of the four learners, averaged over cycles run in parallel.
 
 Each cycle is one fresh agent trained for ``trials`` random tasks with the test task
-every 50 trials (:func:`csql_sim.learners.trial.run_training`). Cycle ``c`` of every method
-draws from ``numpy.random.SeedSequence(seed).spawn(cycles)[c]``, so results do not
-depend on the number of worker processes.
+every 50 trials (:meth:`csql_sim.learners.learner.Learner.train`). Cycle ``c`` of every
+method draws from ``numpy.random.SeedSequence(seed).spawn(cycles)[c]``, so results do
+not depend on the number of worker processes.
 """
 
 from __future__ import annotations
@@ -18,17 +18,16 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from csql_sim.core.planner import distance
+from csql_sim.core.search import distance
 from csql_sim.core.task import test_task
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.infra.workers import worker_count
-from csql_sim.learners.fast_engine import FastCSQL
+from csql_sim.learners.learner import Curve
 from csql_sim.learners.params import CommonParams, resolve_params
 from csql_sim.learners.training import METHODS, make_learner
-from csql_sim.learners.trial import Curve, run_training
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -107,10 +106,7 @@ class ExperimentResult:
 
 def run_cycle(method: str, trials: int, seed: np.random.SeedSequence, n: int, params: CommonParams) -> Curve:
     """One cycle: a fresh learner trained on ``trials`` tasks; its test-task curve."""
-    learner = make_learner(method, n, params, rng=np.random.default_rng(seed), engine=None)
-    if isinstance(learner, FastCSQL):  # the fast CS-QL engine: the same curve
-        return learner.run(trials)
-    return run_training(learner, trials)
+    return make_learner(method, n, params, rng=np.random.default_rng(seed), engine=None).train(trials)
 
 
 def _resolve(methods: Sequence[str], cycles: int, trials: int,

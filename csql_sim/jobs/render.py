@@ -11,9 +11,9 @@ from csql_sim.core.world import State
 from csql_sim.infra.files import write_atomic
 from csql_sim.infra.provenance import provenance
 from csql_sim.sim.executor import EpisodeResult, run_physical_episode
-from csql_sim.sim.render import check_video_options, video_frame_count, write_video
 from csql_sim.sim.renderer import resolve_renderer
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
+from csql_sim.sim.video import check_video_options, video_frame_count, write_video
 
 
 def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Policy | None = None,
@@ -48,7 +48,7 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
     renderer = resolve_renderer(renderer)  # an unusable --renderer fails before the episode runs
     from tqdm import tqdm
 
-    from csql_sim.core.planner import distance
+    from csql_sim.core.search import distance
 
     with tqdm(total=distance(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
               leave=False) as bar:

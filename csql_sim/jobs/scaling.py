@@ -21,18 +21,14 @@ from pathlib import Path
 
 import numpy as np
 
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.pair_check import distances_to
+from csql_sim.core.search import true_distances
 from csql_sim.core.world import BlocksWorld
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_atomic
-from csql_sim.learners.fast_engine import FastCSQL
 from csql_sim.learners.learner import Learner
-from csql_sim.learners.lt_ql import TabularQ
 from csql_sim.learners.params import default_params
 from csql_sim.learners.training import make_learner
-from csql_sim.learners.trial import run_training
 
 COLUMNS = ("method", "blocks", "trials_to_all_optimal", "steps", "wall_seconds")
 CHECKS = 100
@@ -55,37 +51,16 @@ class ScalingRow:
 def distance_matrix(n: int) -> np.ndarray:
     """``D[g, s]``: optimal plan length from state ``s`` to goal ``g``."""
     count = len(BlocksWorld.of(n).states)
-    return np.array([distances_to(n, g) for g in range(count)], dtype=np.int16)
+    return np.array([true_distances(n, g) for g in range(count)], dtype=np.int16)
 
 
-def greedy_table(learner: Learner | FastCSQL) -> np.ndarray:
-    """Best action index per ``state * S + goal`` (-1 where no classifier exists)."""
-    if isinstance(learner, TabularQ):  # straight from the table rows (a rule base would be huge)
-        count = len(learner.world.states)
-        best = np.full(count * count, -1, np.int64)
-        for row in learner._rows.values():
-            best[row.state * count + row.goal] = row.q.index(max(row.q))
-        return best
-    if not isinstance(learner, FastCSQL):
-        return GreedyTable.from_rulebase(learner.rulebase()).best.astype(np.int64)
-    a = learner.q_arrays()
-    count = learner.count
-    key = a["state"] * count + a["goal"]
-    order = np.lexsort((np.arange(len(key)), -a["q"], key))
-    first = np.ones(len(order), bool)
-    first[1:] = key[order][1:] != key[order][:-1]
-    best = np.full(count * count, -1, np.int64)
-    best[key[order][first]] = a["action"][order][first]
-    return best
-
-
-def optimal_pairs(learner: Learner | FastCSQL) -> int:
-    """How many ordered pairs the learner's greedy policy plans optimally."""
+def optimal_pairs(learner: Learner) -> int:
+    """How many ordered pairs the learner's greedy policy (:meth:`Learner.greedy_table`) plans optimally."""
     n = learner.n
     world = BlocksWorld.of(n)
     count = len(world.states)
     dist = distance_matrix(n)
-    best = greedy_table(learner).reshape(count, count)  # [state, goal]
+    best = learner.greedy_table().best.reshape(count, count)  # [state, goal]
     table = np.array(world.next_state, dtype=np.int64)  # [state, action]
     states = np.arange(count)[:, None]
     nxt = np.where(best >= 0, table[states, np.maximum(best, 0)], -1)
@@ -122,10 +97,7 @@ def run_cell(method: str, n: int, seed: int, max_trials: int) -> ScalingRow:
     began = time.perf_counter()
     reached = True
     try:
-        if isinstance(learner, FastCSQL):
-            learner.run(max_trials, on_trial=check)
-        else:
-            run_training(learner, max_trials, on_trial=check)
+        learner.train(max_trials, on_trial=check)
         reached = False
     except _Reached:
         pass
@@ -144,9 +116,9 @@ class CellJob:
     max_trials: int
 
 
-def _load_fast_kernels() -> None:
-    """Worker setup: compile and load CS-QL's fast kernels before any cell is timed."""
-    make_learner("cs-ql", 2, engine="fast").run(1)  # type: ignore[union-attr]
+def _warm_up_cs_ql() -> None:
+    """Worker setup: load CS-QL's engine (compiling the fast kernels) before any cell is timed."""
+    make_learner("cs-ql", 2, engine=None).train(1)
 
 
 def _run_job(job: CellJob) -> ScalingRow:
@@ -162,7 +134,7 @@ def run_scaling(blocks: Sequence[int], methods: Sequence[str], seed: int = 0, ma
     and steps do not depend on it, wall seconds do.
     """
     jobs = [CellJob(m, n, seed, max_trials) for n in blocks for m in methods]
-    setup = _load_fast_kernels if "cs-ql" in methods else None
+    setup = _warm_up_cs_ql if "cs-ql" in methods else None
     rows = map_tasks(_run_job, jobs, backend or Backend(workers=1), setup=setup, progress=progress,
                      desc="scaling", unit="cell")
     for job, row in zip(jobs, rows, strict=True):

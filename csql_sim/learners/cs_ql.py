@@ -26,15 +26,15 @@ from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import RClassifier, r_classifiers
 from csql_sim.core.rulebase import RuleBase
 from csql_sim.core.world_model import WorldModel
-from csql_sim.learners.learner import Learner, Transition
+from csql_sim.learners.learner import Transition
 from csql_sim.learners.params import CommonParams, CSQLParams
 from csql_sim.learners.selection import boltzmann
-from csql_sim.learners.trial import run_trial
+from csql_sim.learners.trial import StepLearner, run_trial
 
 INF = float("inf")
 
 
-class ClassifierSystemLearner(Learner):
+class ClassifierSystemLearner(StepLearner):
     """The classifier-system part shared by CS-QL and the bucket-brigade learners.
 
     Args:
@@ -118,6 +118,11 @@ class ClassifierSystemLearner(Learner):
         self.settle()
         return RuleBase(blocks=self.n, classifiers=list(self.classifiers), meta=dict(meta or {}))
 
+    def counts(self) -> tuple[int, int]:
+        """The numbers of R- and Q-classifiers in the list."""
+        r = len(self.classifiers.r_classifiers)
+        return r, len(self.classifiers) - r
+
 
 class CSQL(ClassifierSystemLearner):
     """Classifier-system Q-learning (section 4) with eq. 1-4."""
@@ -162,7 +167,28 @@ class CSQL(ClassifierSystemLearner):
             c.strength = 1.0 - c.error
             c.last_active = self.t
 
+    @property
+    def max_sweep_passes(self) -> int:
+        """``sweep_passes + sweep_greedy_tail`` with ``sweep`` on, else 0."""
+        p = self.params
+        return p.sweep_passes + p.sweep_greedy_tail if p.sweep else 0
+
     def sweep(self, on_pass: Callable[[], None] | None = None) -> int:
+        """With ``sweep`` on: :meth:`plan` over every pair, then the test task once greedily.
+
+        Training thus ends on the test task, as Figure 6 was taken. Returns the planning
+        steps (the test task's not counted); 0 with ``sweep`` off.
+
+        Args:
+            on_pass: called after each planning pass (progress).
+        """
+        if not self.params.sweep:
+            return 0
+        steps = self.plan(on_pass)
+        run_trial(self, *self.test_task(), 0.0)
+        return steps
+
+    def plan(self, on_pass: Callable[[], None] | None = None) -> int:
         """Greedy planning passes over every (start, goal) pair on the world model.
 
         Each pass predicts every pair's greedy path with the add-delete R-classifiers and

@@ -1,6 +1,7 @@
 """The array-backed CS-QL engine: the reference engine's trajectory, compiled.
 
-:class:`FastCSQL` trains exactly as :class:`csql_sim.learners.csql.CSQL` does (same
+:class:`FastCSQL` is one more engine behind the :class:`~csql_sim.learners.learner.Learner`
+contract. It trains exactly as :class:`csql_sim.learners.cs_ql.CSQL` does (same
 uniforms consumed in the same order, same floating-point operations in the same order,
 same classifier creation order), so the same seed writes the same rule file byte for
 byte. Its state is a handful of numpy arrays (see :mod:`csql_sim.learners.fast_kernels`)
@@ -15,26 +16,24 @@ state, when the engine is built. Nothing comes from the world's own transition t
 from __future__ import annotations
 
 import functools
+import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
-from csql_sim.core.message import decode_code, format_action_message, format_state_message, goal_code, layout
+from csql_sim.core.greedy_table import GreedyTable
+from csql_sim.core.message import format_action_message, format_state_message, goal_code, layout
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import r_classifiers
 from csql_sim.core.rulebase import RuleBase, dumps, is_npz
 from csql_sim.core.rulebase_npz import arrays_to_bytes
-from csql_sim.core.task import test_task
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.search import greedy_argmax
 from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import write_atomic
-from csql_sim.learners.learner import BATCH
+from csql_sim.learners.learner import BATCH, TEST_EVERY, Curve, Learner
 from csql_sim.learners.params import CSQLParams
-from csql_sim.learners.trial import TEST_EVERY, Curve
 
 
 class _Kernels:
@@ -48,6 +47,9 @@ class _Kernels:
 
 fk = _Kernels()
 MAX_FAST_BLOCKS = 5
+STEPS_PER_CALL = 1_000_000
+"""Steps one compiled call of :meth:`FastCSQL.train` may take before it returns to Python
+(it pauses between trials, so plus those under way): a few hundredths of a second."""
 COMPENSATED_SUM = sys.version_info >= (3, 12)
 """Python 3.12 made ``sum()`` of floats compensated; the kernels follow the running Python."""
 
@@ -58,7 +60,7 @@ class ModelArrays:
 
     Attributes:
         lo: ``lo[s] .. lo[s + 1]`` index state ``s``'s candidates in ``action`` and ``nxt``.
-        action: each candidate's action index (the precondition rules' order).
+        action: each candidate's action index (ascending, the stable action order).
         nxt: each candidate's predicted successor state index (the add-delete rule).
 
     """
@@ -70,152 +72,134 @@ class ModelArrays:
 
 @functools.cache
 def world_model(n: int) -> ModelArrays:
-    """Match and predict every state message once through the R-classifiers (cached per n)."""
-    world = BlocksWorld.of(n)
-    model = WorldModel.for_blocks(n)
-    lay = layout(n)
-    width, body_end = lay.action_width, lay.goal_start
-    body_index = {format_state_message(s, 0)[:body_end]: i for i, s in enumerate(world.states)}
-    lo, actions, nxt = [0], [], []
-    for s in world.states:
-        message = format_state_message(s, 0)
-        for action in model.legal_actions(message):
-            actions.append(decode_code(action[1 : 1 + width]) - 1)
-            nxt.append(body_index[model.predict(message, action)[:body_end]])
-        lo.append(len(actions))
-    arrays = [np.array(x, np.int64) for x in (lo, actions, nxt)]
-    for a in arrays:
-        a.flags.writeable = False
-    return ModelArrays(*arrays)
+    """The R-classifiers' answers for every state, from the world model's one transition table (cached per n)."""
+    table = WorldModel.for_blocks(n).table
+    legal = table.legal
+    lo = np.zeros(len(legal) + 1, np.int64)
+    lo[1:] = np.cumsum([len(row) for row in legal])
+    action = np.fromiter((a for row in legal for a in row), np.int64, count=int(lo[-1]))
+    nxt = table.next_state[np.repeat(np.arange(len(legal)), np.diff(lo)), action].astype(np.int64)
+    for x in (lo, action, nxt):
+        x.flags.writeable = False
+    return ModelArrays(lo, action, nxt)
 
 
-class FastCSQL:
-    """CS-QL on arrays; the same public steps as the reference: run, sweep, run_trial, rulebase.
+class FastCSQL(Learner):
+    """CS-QL on arrays, behind the :class:`~csql_sim.learners.learner.Learner` contract.
 
     Args:
         n: number of blocks (2..5).
         params: CS-QL parameters.
         rng: the only source of randomness.
 
+    Attributes:
+        model: the R-classifiers' answers for every state (:func:`world_model`).
+        kernel: the state and constants the compiled kernels take
+            (:class:`~csql_sim.learners.fast_kernels.Engine`).
+
     """
 
     method = "cs-ql"
+    engine = "fast"
+    params: CSQLParams
 
     def __init__(self, n: int, params: CSQLParams, rng: np.random.Generator) -> None:
         if n > MAX_FAST_BLOCKS:
             raise CsqlError(f"the fast engine handles up to {MAX_FAST_BLOCKS} blocks; use --engine reference")
-        self.n, self.params, self.rng = n, params, rng
-        self.world = BlocksWorld.of(n)
+        super().__init__(n, params)
+        self.rng = rng
         self.model = world_model(n)
         count = self.count = len(self.world.states)
         slots = count * int(self.model.lo[-1])
-        self.node_id = np.full(count * count, -1, np.int64)
-        self.node_off = np.zeros(count * count, np.int64)
-        self.node_state = np.zeros(count * count, np.int64)
-        self.node_born = np.zeros(count * count, np.int64)
-        self.q = np.zeros(slots)
-        self.err = np.zeros(slots)
-        self.last = np.zeros(slots, np.int64)
-        self.ctr = np.zeros(fk.CTR_SIZE, np.int64)
-        self.buf = np.zeros(BATCH)
-        self.ctr[fk.POS] = BATCH  # spent: the first uniform draws a batch
-        self.scratch = np.zeros(int(np.diff(self.model.lo).max()))
+        ctr = np.zeros(fk.CTR_SIZE, np.int64)
+        ctr[fk.POS] = BATCH  # spent: the first uniform draws a batch
+        self.kernel = fk.Engine(
+            buf=np.zeros(BATCH), ctr=ctr, count=count, lo_legal=self.model.lo, nxt_state=self.model.nxt,
+            node_id=np.full(count * count, -1, np.int64), node_off=np.zeros(count * count, np.int64),
+            node_state=np.zeros(count * count, np.int64), node_born=np.zeros(count * count, np.int64),
+            q=np.zeros(slots), err=np.zeros(slots), last=np.zeros(slots, np.int64),
+            q0=params.q0, gamma=params.gamma, eta=params.eta, payoff=params.payoff, compensated=COMPENSATED_SUM,
+            scratch=np.zeros(int(np.diff(self.model.lo).max())),
+        )
 
     @property
     def t(self) -> int:
         """The clock: steps taken over the engine's life."""
-        return int(self.ctr[fk.T])
+        return int(self.kernel.ctr[fk.T])
 
-    def _state(self) -> tuple:
-        p = self.params
-        return (
-            self.rng,
-            self.buf,
-            self.ctr,
-            self.count,
-            self.model.lo,
-            self.model.nxt,
-            self.node_id,
-            self.node_off,
-            self.node_state,
-            self.node_born,
-            self.q,
-            self.err,
-            self.last,
-            p.q0,
-            p.gamma,
-            p.eta,
-            p.payoff,
-            COMPENSATED_SUM,
-            self.scratch,
-        )
+    # -- training ------------------------------------------------------------------------
+    def train(self, trials: int, on_trial: Callable[[int], None] | None = None,
+              test_every: int = TEST_EVERY) -> Curve:
+        """:meth:`Learner.train`, compiled (``run_training``).
 
-    def test_task(self) -> tuple[int, int]:
-        """The test task's (start, goal) state indices (:func:`csql_sim.core.task.test_task`)."""
-        task = test_task(self.n)
-        return self.world.state_index(task.start), self.world.state_index(task.goal)
-
-    def run(self, trials: int, test_every: int = TEST_EVERY, on_trial: Callable[[int], None] | None = None) -> Curve:
-        """``Learner.run``: ``trials`` random tasks, the test task every ``test_every``."""
+        The compiled loop pauses every 1% of the trials for ``on_trial``, and after every
+        :data:`STEPS_PER_CALL` steps in any case: back in Python between calls, a Ctrl-C
+        (KeyboardInterrupt) is raised within a fraction of a second. Pauses change nothing
+        in the trajectory.
+        """
         p = self.params
         points = trials // test_every + 1 if test_every else 0
         steps, values = np.zeros(points, np.int64), np.zeros(points)
-        start, goal = self.test_task()
-        self.ctr[fk.K] = self.ctr[fk.PHASE] = 0
+        plan = fk.Schedule(trials, test_every, *self.test_task(), p.t0, p.t_decay, p.t_min, p.step_cap)
+        ctr = self.kernel.ctr
+        ctr[fk.K] = ctr[fk.PHASE] = 0
         chunk = max(1, trials // 100) if on_trial is not None else trials + 1
         stop, reported = min(chunk, trials), 0
         while True:
-            status = fk.run_trials(
-                trials,
-                stop,
-                test_every,
-                start,
-                goal,
-                p.t0,
-                p.t_decay,
-                p.t_min,
-                p.step_cap,
-                *self._state(),
-                steps,
-                values,
-            )
-            done = int(self.ctr[fk.K])
+            budget = int(ctr[fk.T]) + STEPS_PER_CALL
+            status = fk.run_trials(plan, stop, budget, self.rng, self.kernel, steps, values)
+            done = int(ctr[fk.K])
             if on_trial is not None:
                 for k in range(reported, min(done, trials)):
                     on_trial(k)
             reported = done
             if status == fk.DONE:
                 break
-            stop = min(stop + chunk, trials)
+            if done >= stop:  # paused for on_trial (not for the step budget)
+                stop = min(stop + chunk, trials)
         marks = tuple(range(0, trials + 1, test_every)) if test_every else ()
         return Curve(marks, tuple(int(x) for x in steps), tuple(float(x) for x in values))
 
     def run_trial(self, start: int, goal: int, temperature: float, cap: int | None = None) -> int:
         """One trial; returns its steps."""
         cap = self.params.step_cap if cap is None else cap
-        steps, _, _ = fk.trial(start, goal, temperature, cap, True, 0.0, *self._state())
+        steps, _, _ = fk.trial(start, goal, temperature, cap, True, 0.0, self.rng, self.kernel)
         return int(steps)
 
+    @property
+    def max_sweep_passes(self) -> int:
+        """:attr:`CSQL.max_sweep_passes <csql_sim.learners.cs_ql.CSQL.max_sweep_passes>`."""
+        p = self.params
+        return p.sweep_passes + p.sweep_greedy_tail if p.sweep else 0
+
     def sweep(self, on_pass: Callable[[], None] | None = None) -> int:
-        """:meth:`CSQL.sweep`: greedy passes over every pair until |epsilon| <= tolerance.
+        """:meth:`CSQL.sweep <csql_sim.learners.cs_ql.CSQL.sweep>`: plan, then the test task once greedily."""
+        if not self.params.sweep:
+            return 0
+        steps = self.plan(on_pass)
+        self.run_trial(*self.test_task(), 0.0)
+        return steps
+
+    def plan(self, on_pass: Callable[[], None] | None = None) -> int:
+        """:meth:`CSQL.plan <csql_sim.learners.cs_ql.CSQL.plan>`: greedy passes until |epsilon| <= tolerance.
 
         Args:
             on_pass: called after each pass (progress).
         """
-        p = self.params
+        p, k = self.params, self.kernel
         before = self.t
         for _ in range(p.sweep_passes):
             start_t = self.t
-            fk.sweep_pass(p.sweep_eta if p.sweep_backup_all else 0.0, *self._state())
+            fk.sweep_pass(p.sweep_eta if p.sweep_backup_all else 0.0, self.rng, k)
             if on_pass is not None:
                 on_pass()
-            used = int(self.ctr[fk.CLS])
-            active = self.last[:used] >= start_t
-            worst = float(self.err[:used][active].max()) if active.any() else 0.0
+            used = int(k.ctr[fk.CLS])
+            active = k.last[:used] >= start_t
+            worst = float(k.err[:used][active].max()) if active.any() else 0.0
             if worst <= p.sweep_tolerance:
                 break
         for _ in range(p.sweep_greedy_tail):
-            fk.sweep_pass(0.0, *self._state())
+            fk.sweep_pass(0.0, self.rng, k)
             if on_pass is not None:
                 on_pass()
         return self.t - before
@@ -223,32 +207,40 @@ class FastCSQL:
     # -- export ------------------------------------------------------------------------
     def q_arrays(self) -> dict[str, np.ndarray]:
         """The Q-classifiers settled to now, in creation order: node, action and the fields."""
-        used_nodes, used = int(self.ctr[fk.NODES]), int(self.ctr[fk.CLS])
-        node_of = np.repeat(np.arange(used_nodes), np.diff(np.append(self.node_off[:used_nodes], used)))
-        state = self.node_state[:used_nodes][node_of]
-        rank = np.arange(used) - self.node_off[:used_nodes][node_of]
+        k = self.kernel
+        used_nodes, used = int(k.ctr[fk.NODES]), int(k.ctr[fk.CLS])
+        node_of = np.repeat(np.arange(used_nodes), np.diff(np.append(k.node_off[:used_nodes], used)))
+        state = k.node_state[:used_nodes][node_of]
+        rank = np.arange(used) - k.node_off[:used_nodes][node_of]
         action = self.model.action[self.model.lo[state] + rank]
         goal = self._goals(used_nodes)[node_of]
         t = self.t
-        error = self.err[:used] + self.params.error_increment * (t - self.last[:used])
-        born = self.node_born[:used_nodes][node_of]
+        error = k.err[:used] + self.params.error_increment * (t - k.last[:used])
+        born = k.node_born[:used_nodes][node_of]
         age = (t - born) / self.params.age_unit
         return {
             "born": born,
             "state": state,
             "goal": goal,
             "action": action,
-            "q": self.q[:used].copy(),
+            "q": k.q[:used].copy(),
             "error": error,
             "strength": 1.0 - error,
             "age": age,
         }
 
     def _goals(self, used_nodes: int) -> np.ndarray:
-        keys = np.flatnonzero(self.node_id >= 0)
+        node_id = self.kernel.node_id
+        keys = np.flatnonzero(node_id >= 0)
         goals = np.empty(used_nodes, np.int64)
-        goals[self.node_id[keys]] = keys % self.count
+        goals[node_id[keys]] = keys % self.count
         return goals
+
+    def greedy_table(self) -> GreedyTable:
+        """The greedy policy straight from the arrays (the highest Q per node, the first on ties)."""
+        a = self.q_arrays()
+        count = self.count
+        return GreedyTable(self.n, greedy_argmax(a["state"] * count + a["goal"], a["q"], a["action"], count * count))
 
     def rule_arrays(self) -> dict[str, np.ndarray]:
         """The whole classifier list as the npz form's arrays (R, then Q in creation order)."""
@@ -269,17 +261,13 @@ class FastCSQL:
 
     def counts(self) -> tuple[int, int]:
         """The numbers of R- and Q-classifiers."""
-        return len(r_classifiers(self.n)), int(self.ctr[fk.CLS])
+        return len(r_classifiers(self.n)), int(self.kernel.ctr[fk.CLS])
 
-    def file_bytes(self, path, meta: dict) -> str | bytes:
+    def file_bytes(self, path: str | os.PathLike, meta: dict) -> str | bytes:
         """The rule file's content for ``path``: npz straight from the arrays, YAML via :meth:`rulebase`."""
         if not is_npz(path):
             return dumps(self.rulebase(meta))
         return arrays_to_bytes(self.n, meta, self.rule_arrays())
-
-    def save(self, path, meta: dict) -> Path:
-        """Write the rule file atomically (npz or YAML by suffix)."""
-        return write_atomic(path, self.file_bytes(path, meta))
 
     def rulebase(self, meta: dict | None = None) -> RuleBase:
         """The whole classifier list (R, then Q in creation order), as the reference writes it."""

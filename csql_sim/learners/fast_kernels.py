@@ -11,16 +11,24 @@ operation, so that the same uniforms give the same floating-point results:
 * :func:`run_trials` is :func:`~csql_sim.learners.trial.run_training`;
 * :func:`sweep_pass` is one pass of :meth:`~csql_sim.learners.cs_ql.CSQL.sweep`.
 
-The trial loop is written out in one function on purpose: numba's IR-level inlining of
-small helpers cost reference-count traffic on every step (about 10x slower).
+The kernels take the engine's arrays and constants as one record, :class:`Engine` (a
+NamedTuple, which numba passes as a tuple), with the generator ``rng`` beside it (inside
+the record it would make numba type the whole record in Python on every call, about
+0.1 ms), and :func:`run_trials` takes the training schedule as another, :class:`Schedule`.
+The loops index the record's arrays where they use them (``e.q[c]``): numba prunes the
+reference counting of each such access, whereas unpacking the arrays into locals at the
+top of :func:`trial` cost a reference-count increment and decrement per array per trial
+(20-30% slower). The trial loop is written out in one function on purpose: numba's
+IR-level inlining of small helpers cost reference-count traffic on every step (about 10x
+slower).
 
 Memory layout. A *node* is a (state, goal) pair that has been posted; nodes are numbered
 in the order they were first processed, and node ``j``'s Q-classifiers are the
 consecutive slots ``off[j] .. off[j] + legal count`` of ``q``, ``err`` and ``last`` (the
 candidates in precondition-rule order). That is the reference's classifier-list order.
 
-Counters live in one int64 array ``ctr`` (indices below), so a run can pause for a
-progress bar and resume. The uniform stream is the reference's: ``rng.random(BATCH)``
+Counters live in one int64 array ``ctr`` (indices below), so a run can pause (for a
+progress bar, or to let Python see Ctrl-C) and resume. The uniform stream is the reference's: ``rng.random(BATCH)``
 batches (numba draws from the same ``numpy.random.Generator``, the same numbers), one
 uniform per selection, two per random task.
 """
@@ -28,6 +36,7 @@ uniform per selection, two per random task.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -39,68 +48,143 @@ CTR_SIZE = 6
 DONE, PAUSED = 0, 1
 
 
+class Engine(NamedTuple):
+    """The engine's state and constants, as every kernel takes them.
+
+    The arrays are updated in place; the scalars are fixed for the engine's life.
+
+    Attributes:
+        buf: the current batch of uniforms (``rng.random(BATCH)``).
+        ctr: the counters (indices :data:`NODES` .. :data:`PHASE`).
+        count: the number of states.
+        lo_legal: ``lo_legal[s] .. lo_legal[s + 1]`` index state ``s``'s candidates.
+        nxt_state: each candidate's predicted successor state.
+        node_id: node of each ``state * count + goal`` (-1: not posted yet).
+        node_off: each node's first classifier slot.
+        node_state: each node's state.
+        node_born: the clock when each node was covered.
+        q: Q-value per slot.
+        err: |epsilon| per slot at its last update.
+        last: the clock of each slot's last update.
+        q0: a new classifier's Q-value.
+        gamma: the discount (eq. 2).
+        eta: the step size (eq. 1).
+        payoff: the reward at the goal.
+        compensated: sum weights as Python >= 3.12's compensated ``sum()`` does.
+        scratch: room for one state's Boltzmann weights.
+
+    """
+
+    buf: np.ndarray
+    ctr: np.ndarray
+    count: int
+    lo_legal: np.ndarray
+    nxt_state: np.ndarray
+    node_id: np.ndarray
+    node_off: np.ndarray
+    node_state: np.ndarray
+    node_born: np.ndarray
+    q: np.ndarray
+    err: np.ndarray
+    last: np.ndarray
+    q0: float
+    gamma: float
+    eta: float
+    payoff: float
+    compensated: bool
+    scratch: np.ndarray
+
+
+class Schedule(NamedTuple):
+    """What :func:`run_trials` runs: the trials, the test task and the temperature schedule.
+
+    Attributes:
+        trials: random training trials.
+        test_every: the test task runs before every this many (0: never).
+        test_start: the test task's start state.
+        test_goal: the test task's goal state.
+        t0: the first temperature.
+        t_decay: its decay per trial.
+        t_min: its floor.
+        cap: the step cap of a trial.
+
+    """
+
+    trials: int
+    test_every: int
+    test_start: int
+    test_goal: int
+    t0: float
+    t_decay: float
+    t_min: float
+    cap: int
+
+
 @njit(cache=True, error_model="numpy")
-def new_node(s, g, t, count, node_id, node_off, node_state, node_born, q, err, last, lo_legal, ctr, q0):
-    """Process (cover) the node of (s, g) at clock ``t``: its Q-classifiers get the next slots."""
+def new_node(e, s, g, t):
+    """Process (cover) the node of (s, g) on engine ``e`` at clock ``t``: its Q-classifiers get the next slots."""
+    ctr = e.ctr
     j = ctr[NODES]
     ctr[NODES] = j + 1
-    node_id[s * count + g] = j
+    e.node_id[s * e.count + g] = j
     off = ctr[CLS]
-    nl = lo_legal[s + 1] - lo_legal[s]
+    nl = e.lo_legal[s + 1] - e.lo_legal[s]
     ctr[CLS] = off + nl
-    node_off[j] = off
-    node_state[j] = s
-    node_born[j] = t
+    e.node_off[j] = off
+    e.node_state[j] = s
+    e.node_born[j] = t
     for i in range(nl):
-        q[off + i] = q0
-        err[off + i] = 0.0
-        last[off + i] = t
+        e.q[off + i] = e.q0
+        e.err[off + i] = 0.0
+        e.last[off + i] = t
     return j
 
 
 @njit(cache=True, error_model="numpy")
-def trial(start, goal, temperature, cap, track, plan_eta, rng, buf, ctr, count, lo_legal, nxt_state, node_id,
-          node_off, node_state, node_born, q, err, last, q0, gamma, eta, payoff, compensated, scratch):
-    """One trial; returns (steps, reached, value_sum). ``plan_eta > 0``: Dyna backups of every candidate."""
-    t = ctr[T]
-    pos = ctr[POS]
-    size = buf.shape[0]
-    j = node_id[start * count + goal]
+def trial(start, goal, temperature, cap, track, plan_eta, rng, e):
+    """One trial on engine ``e``: (steps, reached, value_sum). ``plan_eta > 0``: Dyna backups of every candidate.
+
+    ``track`` sums the chosen classifiers' Q-values (the test task's mean).
+    """
+    count, gamma, eta, payoff, compensated = e.count, e.gamma, e.eta, e.payoff, e.compensated
+    t = e.ctr[T]
+    pos = e.ctr[POS]
+    size = e.buf.shape[0]
+    j = e.node_id[start * count + goal]
     if j < 0:
-        j = new_node(start, goal, t, count, node_id, node_off, node_state, node_born, q, err, last, lo_legal,
-                     ctr, q0)
+        j = new_node(e, start, goal, t)
     value_sum = 0.0
     t0 = t
     end = t0 + cap
     reached = False
     while t < end:
-        s = node_state[j]
-        off = node_off[j]
-        lo = lo_legal[s]
-        nl = lo_legal[s + 1] - lo
+        s = e.node_state[j]
+        off = e.node_off[j]
+        lo = e.lo_legal[s]
+        nl = e.lo_legal[s + 1] - lo
         if pos >= size:  # the stream's next batch
-            buf[:] = rng.random(size)
+            e.buf[:] = rng.random(size)
             pos = 0
-        u = buf[pos]
+        u = e.buf[pos]
         pos += 1
         i = 0  # eq. 3; a lone candidate is taken without it (the uniform is spent either way)
         if nl > 1:
-            top = q[off]
+            top = e.q[off]
             for k in range(1, nl):
-                if q[off + k] > top:
-                    top = q[off + k]
+                if e.q[off + k] > top:
+                    top = e.q[off + k]
             if temperature <= 0.0:
                 for k in range(nl):
-                    if q[off + k] == top:
+                    if e.q[off + k] == top:
                         i = k
                         break
             else:
                 for k in range(nl):
-                    scratch[k] = math.exp((q[off + k] - top) / temperature)
-                total = scratch[0]
+                    e.scratch[k] = math.exp((e.q[off + k] - top) / temperature)
+                total = e.scratch[0]
                 comp = 0.0
                 for k in range(1, nl):
-                    x = scratch[k]
+                    x = e.scratch[k]
                     sm = total + x
                     if compensated:  # Python >= 3.12: sum() of floats is Neumaier-compensated
                         if abs(total) >= abs(x):
@@ -114,84 +198,82 @@ def trial(start, goal, temperature, cap, track, plan_eta, rng, buf, ctr, count, 
                 acc = 0.0
                 i = nl - 1
                 for k in range(nl):
-                    acc += scratch[k]
+                    acc += e.scratch[k]
                     if x < acc:
                         i = k
                         break
         c = off + i
         if track:
-            value_sum += q[c]
-        ns = nxt_state[lo + i]
+            value_sum += e.q[c]
+        ns = e.nxt_state[lo + i]
         nj = -1
         target = payoff
         if ns != goal:
-            nj = node_id[ns * count + goal]
+            nj = e.node_id[ns * count + goal]
             if nj < 0:
-                nj = new_node(ns, goal, t, count, node_id, node_off, node_state, node_born, q, err, last, lo_legal,
-                              ctr, q0)
-            noff = node_off[nj]
+                nj = new_node(e, ns, goal, t)
+            noff = e.node_off[nj]
             best = -np.inf
-            for d in range(noff, noff + lo_legal[ns + 1] - lo_legal[ns]):
-                if q[d] > best:
-                    best = q[d]
+            for d in range(noff, noff + e.lo_legal[ns + 1] - e.lo_legal[ns]):
+                if e.q[d] > best:
+                    best = e.q[d]
             target = gamma * best
         t += 1
         if plan_eta > 0.0:  # CSQL.update_all: successors in candidate order at t - 1, then every backup
             for k in range(nl):
-                ks = nxt_state[lo + k]
-                if ks != goal and node_id[ks * count + goal] < 0:
-                    new_node(ks, goal, t - 1, count, node_id, node_off, node_state, node_born, q, err, last,
-                             lo_legal, ctr, q0)
+                ks = e.nxt_state[lo + k]
+                if ks != goal and e.node_id[ks * count + goal] < 0:
+                    new_node(e, ks, goal, t - 1)
             for k in range(nl):
-                ks = nxt_state[lo + k]
+                ks = e.nxt_state[lo + k]
                 kt = payoff
                 if ks != goal:
-                    koff = node_off[node_id[ks * count + goal]]
+                    koff = e.node_off[e.node_id[ks * count + goal]]
                     best = -np.inf
-                    for d in range(koff, koff + lo_legal[ks + 1] - lo_legal[ks]):
-                        if q[d] > best:
-                            best = q[d]
+                    for d in range(koff, koff + e.lo_legal[ks + 1] - e.lo_legal[ks]):
+                        if e.q[d] > best:
+                            best = e.q[d]
                     kt = gamma * best
-                eps = kt - q[off + k]
-                q[off + k] += plan_eta * eps
-                err[off + k] = eps if eps >= 0.0 else -eps
-                last[off + k] = t
+                eps = kt - e.q[off + k]
+                e.q[off + k] += plan_eta * eps
+                e.err[off + k] = eps if eps >= 0.0 else -eps
+                e.last[off + k] = t
         else:  # eq. 1 and 2
-            eps = target - q[c]
-            q[c] += eta * eps
-            err[c] = eps if eps >= 0.0 else -eps
-            last[c] = t
+            eps = target - e.q[c]
+            e.q[c] += eta * eps
+            e.err[c] = eps if eps >= 0.0 else -eps
+            e.last[c] = t
         if nj < 0:
             reached = True
             break
         j = nj
-    ctr[T] = t
-    ctr[POS] = pos
+    e.ctr[T] = t
+    e.ctr[POS] = pos
     return t - t0, reached, value_sum
 
 
 @njit(cache=True, error_model="numpy")
-def run_trials(trials, k_stop, test_every, test_start, test_goal, t0, t_decay, t_min, cap, rng, buf, ctr, count,
-               lo_legal, nxt_state, node_id, node_off, node_state, node_born, q, err, last, q0, gamma, eta, payoff,
-               compensated, scratch, curve_steps, curve_values):
-    """``run_training``: the test task every ``test_every`` trials and the random tasks.
+def run_trials(plan, k_stop, t_stop, rng, e, curve_steps, curve_values):
+    """``run_training`` of schedule ``plan`` on engine ``e``: the test task every ``plan.test_every`` trials.
 
-    Stops with PAUSED when trial ``k_stop`` is due (for a progress bar), DONE after the
-    test task that follows the last trial.
+    Stops with PAUSED when trial ``k_stop`` is due (for a progress bar) or, between trials,
+    once the clock has reached ``t_stop`` (so that the caller sees Ctrl-C), DONE after the
+    test task that follows the last trial. A pause changes nothing: the next call resumes
+    the same trajectory. Test task ``m`` writes ``curve_steps[m]`` and ``curve_values[m]``.
     """
+    trials, test_every, cap = plan.trials, plan.test_every, plan.cap
+    buf, ctr, count = e.buf, e.ctr, e.count
     size = buf.shape[0]
     while True:
         k = ctr[K]
-        temperature = t0 * t_decay ** np.float64(k)  # CommonParams.temperature, operation for operation
-        if not temperature > t_min:
-            temperature = t_min
+        temperature = plan.t0 * plan.t_decay ** np.float64(k)  # CommonParams.temperature, operation for operation
+        if not temperature > plan.t_min:
+            temperature = plan.t_min
         if ctr[PHASE] == 0:
-            if k == k_stop and k < trials:
+            if (k == k_stop or ctr[T] >= t_stop) and k < trials:
                 return PAUSED
             if test_every > 0 and k % test_every == 0:
-                steps, _, vsum = trial(test_start, test_goal, temperature, cap, True, 0.0, rng, buf, ctr, count,
-                                       lo_legal, nxt_state, node_id, node_off, node_state, node_born, q, err, last,
-                                       q0, gamma, eta, payoff, compensated, scratch)
+                steps, _, vsum = trial(plan.test_start, plan.test_goal, temperature, cap, True, 0.0, rng, e)
                 m = k // test_every
                 curve_steps[m] = steps
                 curve_values[m] = vsum / steps if steps else 0.0
@@ -213,18 +295,16 @@ def run_trials(trials, k_stop, test_every, test_start, test_goal, t0, t_decay, t
         goal = min(int(v * (count - 1)), count - 2)
         if goal >= start:
             goal += 1
-        trial(start, goal, temperature, cap, False, 0.0, rng, buf, ctr, count, lo_legal, nxt_state, node_id,
-              node_off, node_state, node_born, q, err, last, q0, gamma, eta, payoff, compensated, scratch)
+        trial(start, goal, temperature, cap, False, 0.0, rng, e)
         ctr[K] = k + 1
         ctr[PHASE] = 0
 
 
 @njit(cache=True, error_model="numpy")
-def sweep_pass(plan_eta, rng, buf, ctr, count, lo_legal, nxt_state, node_id, node_off, node_state, node_born, q, err,
-               last, q0, gamma, eta, payoff, compensated, scratch):
-    """One greedy pass over every (start, goal) pair, goal-major (``CSQL.sweep_pass``)."""
+def sweep_pass(plan_eta, rng, e):
+    """One greedy pass on engine ``e`` over every (start, goal) pair, goal-major (``CSQL.sweep_pass``)."""
+    count = e.count
     for g in range(count):
         for s in range(count):
             if s != g:
-                trial(s, g, 0.0, count, True, plan_eta, rng, buf, ctr, count, lo_legal, nxt_state, node_id,
-                      node_off, node_state, node_born, q, err, last, q0, gamma, eta, payoff, compensated, scratch)
+                trial(s, g, 0.0, count, True, plan_eta, rng, e)

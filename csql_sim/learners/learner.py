@@ -1,35 +1,45 @@
-"""What every learner is: act on an observation, learn from a transition, export a rule base.
+"""The one learner contract, and the vocabulary the learners share.
 
-The trial loop (:mod:`csql_sim.learners.trial`), the symbolic Gymnasium environment and
-the physical one all drive a learner through this interface and nothing else:
+Every learner, whichever method and whichever engine runs it (the reference engines on
+classifier objects, the array engine of :mod:`~csql_sim.learners.fast_engine`), is a
+:class:`Learner`; callers outside this package use nothing else:
 
-* :meth:`Learner.begin_episode` before an episode's first action;
-* :meth:`Learner.act`: the action index to take for an observed state message;
-* :meth:`Learner.learn`: credit assignment from the :class:`Transition` that followed;
-* :meth:`Learner.rulebase`: the learned classifiers as a rule base.
+* :meth:`Learner.train`: the training schedule (random tasks, the test task every
+  :data:`TEST_EVERY`), with a per-trial callback for progress; returns the test-task
+  :class:`Curve`;
+* :meth:`Learner.sweep`: the planning sweep that ends training, where the method has one;
+* :meth:`Learner.greedy_table`: the greedy policy over the learner's own classifiers;
+* :meth:`Learner.rulebase`, :meth:`Learner.file_bytes`, :meth:`Learner.write`: the
+  learned classifiers as a rule base, as a rule file's content, written to a file.
 
-A learner also offers :attr:`Learner.model`, the transition model its training trials
-run on: the R-classifiers' world model for the classifier-system learners (Dyna-style
-planning, as the paper's trials are), the true transition table for LT-QL.
+The reference engines are also driven one step at a time (act on an observation, learn
+from the :class:`Transition` that followed) by the trial loop and the environments:
+:class:`~csql_sim.learners.trial.StepLearner`.
 
 Units: the learner's clock :attr:`Learner.t` counts learning steps over its whole life,
-test tasks and sweeps included; :meth:`learn` ticks it before its update, so a
-classifier updated at the last step has grown no error yet (Figure 6's last row).
+test tasks and sweeps included.
 """
 
 from __future__ import annotations
 
+import os
 from abc import ABC, abstractmethod
-from typing import NamedTuple, Protocol
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
-from csql_sim.core.message import format_state_message
-from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.greedy_table import GreedyTable
+from csql_sim.core.rulebase import RuleBase, file_bytes
+from csql_sim.core.task import test_task
 from csql_sim.core.world import BlocksWorld
+from csql_sim.infra.files import write_atomic
 from csql_sim.learners.params import CommonParams
 
 BATCH = 4096
+TEST_EVERY = 50
 
 
 class Transition(NamedTuple):
@@ -49,12 +59,20 @@ class Transition(NamedTuple):
     terminated: bool
 
 
-class TransitionModel(Protocol):
-    """What training trials step on: the next state message after an action index."""
+@dataclass(frozen=True)
+class Curve:
+    """Test-task measurements over training (one point every ``TEST_EVERY`` trials).
 
-    def step(self, message: str, action: int) -> str:
-        """The state message after ``action`` in ``message``."""
-        ...
+    Attributes:
+        trials: the training trial index before which each test ran (0, 50, ..., trials).
+        steps: test-task steps at each point.
+        values: the test task's mean Q-value (or strength) per step at each point.
+
+    """
+
+    trials: tuple[int, ...]
+    steps: tuple[int, ...]
+    values: tuple[float, ...]
 
 
 class UniformStream:
@@ -94,52 +112,89 @@ class UniformStream:
 
 
 class Learner(ABC):
-    """Base of the four learners.
+    """What every learner is, whichever engine runs it.
 
     Args:
         n: number of blocks.
         params: the learner's parameter dataclass.
-        rng: the only source of randomness (through :attr:`uniforms`).
+
+    Attributes:
+        method: the method's name (``lt-ql``, ``cs-ql``, ``cs-bb-bz``, ``cs-bb-rw``, ...).
+        engine: the engine's name, for messages (both engines write the same files).
+        n: number of blocks.
+        params: the learner's parameters.
+        world: the n-block world (state and action indices).
+        t: the clock, learning steps over the learner's life.
 
     """
 
     method = "base"
+    engine = "reference"
+    t: int
 
-    def __init__(self, n: int, params: CommonParams, rng: np.random.Generator) -> None:
+    def __init__(self, n: int, params: CommonParams) -> None:
         self.n = n
         self.params = params
         self.world = BlocksWorld.of(n)
-        self.uniforms = UniformStream(rng)
-        self.t = 0
-        self._messages: dict[tuple[int, int], str] = {}
 
-    def message(self, state: int, goal: int) -> str:
-        """The state message of state index ``state`` for goal index ``goal`` (memoized)."""
-        text = self._messages.get((state, goal))
-        if text is None:
-            text = self._messages[(state, goal)] = format_state_message(self.world.states[state], goal)
-        return text
+    def test_task(self) -> tuple[int, int]:
+        """The test task's (start, goal) state indices (:func:`csql_sim.core.task.test_task`)."""
+        task = test_task(self.n)
+        return self.world.state_index(task.start), self.world.state_index(task.goal)
+
+    # -- training ------------------------------------------------------------------------
+    @abstractmethod
+    def train(self, trials: int, on_trial: Callable[[int], None] | None = None,
+              test_every: int = TEST_EVERY) -> Curve:
+        """Train on ``trials`` random tasks, running the test task every ``test_every``.
+
+        The test task runs before trial 0 and after every ``test_every`` trials (so also
+        after the last one when ``trials`` is a multiple); it learns like any trial, at the
+        temperature of the training trial it precedes.
+
+        Args:
+            trials: random training tasks.
+            on_trial: called with each training trial's index once it is done (progress).
+            test_every: trials between test tasks (0: none).
+
+        Returns:
+            The test task's steps and mean value at each test.
+        """
 
     @property
-    @abstractmethod
-    def model(self) -> TransitionModel:
-        """The transition model training trials run on."""
+    def max_sweep_passes(self) -> int:
+        """The most passes :meth:`sweep` makes (0: it does nothing), for a progress bar."""
+        return 0
 
-    def begin_episode(self) -> None:  # noqa: B027 - a hook; most learners need nothing here
-        """Called before an episode's first action (the bucket brigade forgets its predecessor)."""
+    def sweep(self, on_pass: Callable[[], None] | None = None) -> int:
+        """The planning sweep that ends training, where the method has one; its steps (0: none).
 
-    @abstractmethod
-    def act(self, observation: str, temperature: float) -> int:
-        """Choose an action index for a state message (eq. 3 at ``temperature``; 0 = greedy)."""
+        CS-QL with ``sweep`` on plans over every (start, goal) pair and then runs the test
+        task once greedily, so that training ends on the test task as Figure 6 was taken.
 
-    @abstractmethod
-    def value(self, observation: str, action: int) -> float:
-        """The learner's current value of ``action`` in ``observation`` (Q-value or strength)."""
+        Args:
+            on_pass: called after each pass (progress).
+        """
+        return 0
 
-    @abstractmethod
-    def learn(self, transition: Transition) -> None:
-        """Credit assignment for the transition that followed the last :meth:`act`."""
-
+    # -- what was learned ----------------------------------------------------------------
     @abstractmethod
     def rulebase(self, meta: dict | None = None) -> RuleBase:
         """The learned classifiers (with R-classifiers, if any), settled to the current step."""
+
+    def greedy_table(self) -> GreedyTable:
+        """The greedy policy over the learner's classifiers: the best action per (state, goal)."""
+        return GreedyTable.from_rulebase(self.rulebase())
+
+    def counts(self) -> tuple[int, int]:
+        """The numbers of R- and Q-classifiers in :meth:`rulebase`."""
+        kinds = [c.kind for c in self.rulebase().classifiers]
+        return kinds.count("R"), len(kinds) - kinds.count("R")
+
+    def file_bytes(self, path: str | os.PathLike, meta: dict) -> str | bytes:
+        """The rule file's content for ``path``: npz bytes or YAML text, by suffix."""
+        return file_bytes(path, self.rulebase(meta))
+
+    def write(self, path: str | os.PathLike, meta: dict) -> Path:
+        """Write the rule file atomically (npz or YAML by suffix); the path written."""
+        return write_atomic(path, self.file_bytes(path, meta))

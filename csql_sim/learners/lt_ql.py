@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from csql_sim.core.greedy_table import GreedyTable
 from csql_sim.core.message import format_action_message, format_state_message, parse_state_message
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.rulebase import RuleBase
 from csql_sim.core.world import BlocksWorld
-from csql_sim.learners.learner import Learner, Transition
+from csql_sim.learners.learner import Transition
 from csql_sim.learners.params import TabularParams
 from csql_sim.learners.selection import boltzmann
+from csql_sim.learners.trial import StepLearner
 
 
 class Row:
@@ -66,7 +68,7 @@ class TableModel:
         return nxt
 
 
-class TabularQ(Learner):
+class TabularQ(StepLearner):
     """LT-QL: TD(0) Q-learning on a look-up table (eq. 1-3)."""
 
     method = "lt-ql"
@@ -112,6 +114,18 @@ class TabularQ(Learner):
         row.q[a] += p.eta * eps
         row.error[a] = eps if eps >= 0.0 else -eps
         row.last[a] = self.t
+
+    def greedy_table(self) -> GreedyTable:
+        """The greedy action of every visited row, straight from the table (its rule base is large)."""
+        count = len(self.world.states)
+        best = np.full(count * count, -1, np.int8)
+        for row in self._rows.values():
+            best[row.state * count + row.goal] = row.q.index(max(row.q))
+        return GreedyTable(self.n, best)
+
+    def counts(self) -> tuple[int, int]:
+        """No R-classifiers; one Q-classifier per action of every visited row."""
+        return 0, len(self._rows) * self._actions
 
     def rulebase(self, meta: dict | None = None) -> RuleBase:
         """The table as Q-classifiers (every action of every visited row).

@@ -7,6 +7,7 @@ from csql_sim.core.notation import parse_state_arg
 from csql_sim.core.policy import QPolicy
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.search import rollout
 from csql_sim.core.world import State, WorldError
 from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.errors import CsqlError
@@ -47,17 +48,16 @@ def greedy_path(rulebase: RuleBase, start: State | str, goal: State | str) -> li
     policy = QPolicy.from_rulebase(rulebase)
     rules = policy.classifiers.r_classifiers
     model = WorldModel(rules, rulebase.blocks) if rules else WorldModel.for_blocks(rulebase.blocks)
+    plan = rollout(policy, start, goal, world_model=model)
+    if not plan.reached:
+        raise CsqlError(f"the greedy policy does not reach {goal.notation()} from {start.notation()}: {plan.reason}")
     goal_index = policy.world.state_index(goal)
     path: list[QClassifier] = []
-    state, seen = start, {start}
-    while state != goal:
-        action = policy.act(state, goal)
+    state = start
+    for action in plan.actions:
         message = format_state_message(state, goal_index)
         path.append(policy.classifiers.q_for(message)[format_action_message(action, rulebase.blocks)])
         state = model.predict_state(state, action, goal_index)
-        if state in seen:
-            raise CsqlError(f"the greedy policy loops at {state.notation()} on the way to {goal.notation()}")
-        seen.add(state)
     return path
 
 

@@ -1,8 +1,12 @@
 """Making and training the paper's four learners: the functions the jobs and the CLI call.
 
 * ``lt-ql``: :class:`TabularQ`, Q-learning over a look-up table of all actions;
-* ``cs-ql``: :class:`CSQL`, Q-learning through the classifier system;
+* ``cs-ql``: :class:`CSQL`, Q-learning through the classifier system, or its array
+  engine :class:`FastCSQL` (the same trajectory);
 * ``cs-bb-bz`` / ``cs-bb-rw``: :class:`BucketBrigade` / :class:`BucketBrigadeRoulette`.
+
+:func:`make_learner` is the one place an engine is chosen; every learner it returns is a
+:class:`~csql_sim.learners.learner.Learner` and is used through that contract only.
 """
 
 from __future__ import annotations
@@ -13,7 +17,6 @@ import numpy as np
 
 from csql_sim.core.r_classifier import RClassifier
 from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.task import test_task
 from csql_sim.core.world import check_n
 from csql_sim.infra.provenance import provenance
 from csql_sim.learners.bucket_brigade import BucketBrigade, BucketBrigadeRoulette
@@ -27,9 +30,9 @@ from csql_sim.learners.params import (
     default_trials,
     resolve_params,
 )
-from csql_sim.learners.trial import run_training, run_trial
+from csql_sim.learners.trial import StepLearner
 
-LEARNERS: dict[str, type[Learner]] = {
+LEARNERS: dict[str, type[StepLearner]] = {
     "lt-ql": TabularQ,
     "cs-ql": CSQL,
     "cs-bb-bz": BucketBrigade,
@@ -47,7 +50,7 @@ def make_learner(
     seed: int = 0,
     rules: tuple[RClassifier, ...] | None = None,
     engine: str | None = "reference",
-) -> Learner | FastCSQL:
+) -> Learner:
     """A fresh learner of ``method``; ``rng`` defaults to ``default_rng(seed)``.
 
     ``rules`` replaces the built-in R-classifiers of the classifier-system learners
@@ -83,7 +86,7 @@ def train_learner(
     progress: bool = False,
     engine: str | None = None,
     domain: tuple[RClassifier, ...] | None = None,
-) -> tuple[Learner | FastCSQL, dict]:
+) -> tuple[Learner, dict]:
     """Train one agent as :func:`train` does; the learner and the rule file's ``meta``."""
     if trials is None:
         trials = default_trials(n)
@@ -95,22 +98,10 @@ def train_learner(
         from tqdm import tqdm
 
         bar = tqdm(total=trials, desc=method, unit="trial", leave=False)
-    on_trial = (lambda _k: bar.update()) if bar is not None else None
-    if isinstance(learner, FastCSQL):
-        learner.run(trials, on_trial=on_trial)
-    else:
-        run_training(learner, trials, on_trial=on_trial)
+    learner.train(trials, on_trial=(lambda _k: bar.update()) if bar is not None else None)
     if bar is not None:
         bar.close()
-    swept = 0
-    if isinstance(learner, (CSQL, FastCSQL)) and learner.params.sweep:
-        swept = _sweep(learner, progress)
-        task = test_task(n)
-        start, goal = learner.world.state_index(task.start), learner.world.state_index(task.goal)
-        if isinstance(learner, FastCSQL):
-            learner.run_trial(start, goal, 0.0)
-        else:
-            run_trial(learner, start, goal, 0.0)  # ends on the test task, as Figure 6 was taken
+    swept = _sweep(learner, progress)  # CS-QL's planning sweep (with sweep on), ending on the test task
     # the engine is left out: both engines give the same trajectory and the same file
     meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept,
             "provenance": provenance(method=method, trials=trials, seed=seed, blocks=n,
@@ -130,9 +121,10 @@ def train(
 ) -> RuleBase:
     """Train one agent and return its whole classifier list (R and Q).
 
-    Runs ``trials`` random tasks with the test task every 50 (see
-    :func:`~csql_sim.learners.trial.run_training`), then, for CS-QL with ``sweep`` on,
-    the final planning sweep and one greedy test task.
+    Runs ``trials`` random tasks with the test task every 50
+    (:meth:`~csql_sim.learners.learner.Learner.train`), then the learner's
+    :meth:`~csql_sim.learners.learner.Learner.sweep`: for CS-QL with ``sweep`` on, the
+    final planning sweep and one greedy test task.
 
     Args:
         method: one of :data:`METHODS`.
@@ -153,13 +145,12 @@ def train(
     return learner.rulebase(meta)
 
 
-def _sweep(learner: CSQL | FastCSQL, progress: bool) -> int:
-    """The CS-QL planning sweep, with a bar over its passes when ``progress`` (and it lasts over a second)."""
-    if not progress:
+def _sweep(learner: Learner, progress: bool) -> int:
+    """The learner's sweep, with a bar over its passes when ``progress`` (and it lasts over a second)."""
+    if not progress or not learner.max_sweep_passes:
         return learner.sweep()
     from tqdm import tqdm
 
-    p = learner.params
-    with tqdm(total=p.sweep_passes + p.sweep_greedy_tail, desc="sweep (passes, at most)", unit="pass",
+    with tqdm(total=learner.max_sweep_passes, desc="sweep (passes, at most)", unit="pass",
               leave=False, delay=1.0) as bar:
         return learner.sweep(on_pass=bar.update)

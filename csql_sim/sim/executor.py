@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from csql_sim.core.message import action_code, format_state_message
-from csql_sim.core.planner import BfsPolicy, distance
 from csql_sim.core.policy import Policy
+from csql_sim.core.search import BfsPolicy, distance
 from csql_sim.core.task import Task
 from csql_sim.core.world import Action, BlocksWorld, State
 from csql_sim.core.world_model import WorldModel

@@ -86,9 +86,8 @@ class ArmWorld:
         events: tuple[str, ...] = ()
         if self.perturb and self.rng.random() < self.nudge_probability:
             events = (_nudge(self.world, self.rng, self.perturbation),)
-        refused = not status.ok and status.steps == 0  # stopped before the arm moved
         return Attempt(status.ok, status.reason, (scene.steps - start) * self.config.physics.time_step, events,
-                       refused)
+                       status.refused)  # only a precondition refusal, never "did not move"
 
     def close(self) -> None:
         """Release the physics client."""

@@ -3,11 +3,14 @@
 Discovery attempts actions whose preconditions may not hold. Before any motion the
 guarded primitive looks at the observation (cube poses from perception and the finger
 opening) and refuses, with a failure :class:`~csql_sim.sim.primitives.Status` of zero
-steps, when there is nothing to grasp where the action expects the cube, something sits
-on top of the cube to grasp or of the cube to stack onto, or the hand is already full.
-Nothing held to put down is noticed by :class:`~csql_sim.sim.primitives.Place` itself
-(the fingers do not touch the cube). After a put, the guarded primitive checks that the
-cube came to rest where the action puts it. Guards never read the symbolic state.
+steps marked ``refused``, when there is nothing to grasp where the action expects the
+cube, something sits on top of the cube to grasp or of the cube to stack onto, or the
+hand is already full. Nothing held to put down is noticed by
+:class:`~csql_sim.sim.primitives.Place` itself (the fingers do not touch the cube), also
+as a refusal. No other failure is a refusal, not even one before the arm moved (a
+putdown that finds no free spot on the table): it says nothing about the preconditions.
+After a put, the guarded primitive checks that the cube came to rest where the action
+puts it. Guards never read the symbolic state.
 """
 
 from __future__ import annotations
@@ -79,7 +82,7 @@ class Guarded:
                  carry_hook: CarryHook | None = None) -> Status:
         why = refusal(self.action, obs, self.tol)
         if why:
-            return Status(False, why, 0)
+            return Status(False, why, 0, refused=True)
         status = self.primitive(scene, panda, obs, rng, carry_hook)
         if status.ok and self.observe is not None:
             missed = missed_outcome(self.action, self.observe(), self.tol)

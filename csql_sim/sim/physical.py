@@ -28,6 +28,17 @@ class SimError(CsqlError):
     """A physical world that cannot be built or a bad simulation option."""
 
 
+def check_perception(perception: str) -> str:
+    """``perception`` if it is one of :data:`PERCEPTION_MODES`.
+
+    Raises:
+        SimError: for any other mode.
+    """
+    if perception not in PERCEPTION_MODES:
+        raise SimError(f"perception must be one of {', '.join(PERCEPTION_MODES)}, got {perception!r}")
+    return perception
+
+
 @dataclass
 class PhysicalWorld:
     """A scene with its Panda, the seeded generator and a perception mode.
@@ -55,8 +66,7 @@ class PhysicalWorld:
     _seen: tuple[int, Observation] | None = field(init=False, default=None)  # (scene step, observation)
 
     def __post_init__(self) -> None:
-        if self.perception not in PERCEPTION_MODES:
-            raise SimError(f"perception must be one of {', '.join(PERCEPTION_MODES)}, got {self.perception!r}")
+        check_perception(self.perception)
         self.scene = Scene(self.n, self.config)
         self.panda = Panda(self.scene)
         self.rng = np.random.default_rng(self.seed)

@@ -42,11 +42,16 @@ class Status:
         ok: True when the motion completed as intended.
         reason: why not, else empty.
         steps: simulation steps the primitive took.
+        refused: the action did not start because its preconditions do not hold as sensed
+            (a guard's verdict on the observation, or a put with nothing in the gripper).
+            Any other failure, even one before the arm moved (no free spot on the table),
+            is not a refusal: it says nothing about the preconditions.
     """
 
     ok: bool
     reason: str = ""
     steps: int = 0
+    refused: bool = False
 
 
 CarryHook = Callable[[float], None]
@@ -172,14 +177,14 @@ class Place:
         size = obs.size
         body = scene.block_body(self.block)
         if not panda.grips(body):
-            return Status(False, f"{BLOCK_NAMES[self.block]} is not in the gripper", 0)
+            return Status(False, f"{BLOCK_NAMES[self.block]} is not in the gripper", 0, refused=True)
         held = obs.blocks[self.block]
         gp = np.asarray(obs.grasp_point)
         offset = np.asarray(held.position[:2]) - gp[:2]  # where the cube hangs relative to the grasp point
         if self.onto is None:
             spot = free_spot(obs, self.block, scene, rng)
             if spot is None:
-                return Status(False, "no free spot on the table", 0)
+                return Status(False, "no free spot on the table", 0)  # not a refusal: holding(x) holds
             tx, ty, support_top, want = spot[0], spot[1], 0.0, held.yaw
         else:
             below = obs.blocks[self.onto]

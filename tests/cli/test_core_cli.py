@@ -6,7 +6,7 @@ import pytest
 
 from csql_sim.cli import main
 from csql_sim.core.notation import parse_config
-from csql_sim.core.planner import distance
+from csql_sim.core.search import distance
 
 
 def run(capsys, *argv):

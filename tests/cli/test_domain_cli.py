@@ -2,9 +2,9 @@ import pytest
 from pddl import parse_domain, parse_problem
 
 from csql_sim.cli import main
+from csql_sim.core.greedy_table import load_policy
 from csql_sim.core.notation import parse_config
-from csql_sim.core.planner import distance
-from csql_sim.core.policy import check_all_pairs, load_policy
+from csql_sim.core.search import check_all_pairs, distance
 
 
 @pytest.fixture(scope="module")

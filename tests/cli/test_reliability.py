@@ -1,10 +1,11 @@
 """Bad input and hostile files: exit status 2, one line on stderr, no traceback, nothing written."""
 
+import importlib
 import os
 import stat
-import time
 
 import pytest
+import yaml
 
 from csql_sim.cli import main
 from csql_sim.core.r_classifier import r_classifiers
@@ -19,13 +20,65 @@ def run(capsys, *argv):
 
 def refused(capsys, *argv, fragment=""):
     """Run a command that must be refused: status 2, one stderr line (containing fragment)."""
-    began = time.perf_counter()
     code, _, err = run(capsys, *argv)
     assert code == 2, err
     assert err.count("\n") == 1 and err.startswith("csql-sim: error: "), err
     assert "Traceback" not in err
     assert fragment in err, err
-    return err, time.perf_counter() - began
+    return err
+
+
+WORK = [  # where the commands compute: cycles, episodes, pruning, rendering
+    ("csql_sim.jobs.experiment", "run_experiment"), ("csql_sim.jobs.evaluate", "evaluate"),
+    ("csql_sim.learners.pruning", "prune"), ("csql_sim.jobs.render", "render_episode"),
+]
+
+
+def spy(monkeypatch, owner, name, calls, note=lambda *args: True, on_return=False):
+    """Replace ``owner.name`` by a wrapper that appends ``name`` to ``calls`` when ``note(*args)``.
+
+    ``on_return``: only once the call has returned (not when it raised).
+    """
+    real = getattr(owner, name)
+
+    def wrapper(*args, **kwargs):
+        noted = note(*args)
+        if noted and not on_return:
+            calls.append(name)
+        out = real(*args, **kwargs)
+        if noted and on_return:
+            calls.append(name)
+        return out
+
+    monkeypatch.setattr(owner, name, wrapper)
+
+
+@pytest.fixture
+def work(monkeypatch):
+    """The :data:`WORK` functions a command called, and ``make_learner`` once a learner was built."""
+    from csql_sim.learners import training
+
+    called = []
+    for module, name in WORK:
+        spy(monkeypatch, importlib.import_module(module), name, called)
+    spy(monkeypatch, training, "make_learner", called, on_return=True)  # its training trials follow at once
+    return called
+
+
+@pytest.fixture
+def parsed(monkeypatch):
+    """YAML documents built into Python objects (aliases must be refused before this)."""
+    built = []
+    spy(monkeypatch, yaml, "load", built)
+    return built
+
+
+@pytest.fixture
+def opened(monkeypatch):
+    """Files opened for reading through os.fdopen (every guarded read of an input file)."""
+    files = []
+    spy(monkeypatch, os, "fdopen", files, note=lambda fd, mode="r", *rest: "r" in mode)
+    return files
 
 
 def usage_error(capsys, *argv, fragment=""):
@@ -45,17 +98,17 @@ def rules3(tmp_path_factory):
 
 
 # ------------------------------------------------------------------ lost work
-def test_experiment_out_is_a_file_refused_before_any_cycle(capsys, tmp_path):
+def test_experiment_out_is_a_file_refused_before_any_cycle(capsys, tmp_path, work):
     afile = tmp_path / "afile"
     afile.write_text("keep me")
-    _, seconds = refused(capsys, "experiment", "--out", afile, "--quiet", fragment="exists and is not a folder")
-    assert seconds < 2.0  # 50 cycles x 2500 trials would take minutes: nothing was computed
+    refused(capsys, "experiment", "--out", afile, "--quiet", fragment="exists and is not a folder")
+    assert work == []  # not one cycle was computed
     assert afile.read_text() == "keep me"
 
 
-def test_evaluate_json_is_a_folder_refused_before_any_episode(capsys, tmp_path):
-    _, seconds = refused(capsys, "evaluate", "--json", tmp_path, "--quiet", fragment="is a folder")
-    assert seconds < 2.0
+def test_evaluate_json_is_a_folder_refused_before_any_episode(capsys, tmp_path, work):
+    refused(capsys, "evaluate", "--json", tmp_path, "--quiet", fragment="is a folder")
+    assert work == []
     assert list(tmp_path.iterdir()) == []
 
 
@@ -77,10 +130,10 @@ def test_parent_is_a_file(capsys, tmp_path):
     ["render", "--start", "CBA", "--goal", "BAC"],
     ["demo", "--trials", "5"],
 ])
-def test_read_only_folder_outputs_are_refused_before_work(capsys, read_only_dir, rules3, monkeypatch, argv):
+def test_read_only_folder_outputs_are_refused_before_work(capsys, read_only_dir, rules3, monkeypatch, work, argv):
     monkeypatch.chdir(read_only_dir)
-    _, seconds = refused(capsys, *[str(rules3) if a == "RULES" else a for a in argv], fragment="cannot write in")
-    assert seconds < 2.0
+    refused(capsys, *[str(rules3) if a == "RULES" else a for a in argv], fragment="cannot write in")
+    assert work == []
     assert list(read_only_dir.iterdir()) == []
 
 
@@ -100,8 +153,8 @@ def test_a_failed_final_write_keeps_the_results(capsys, read_only_dir, monkeypat
 
     # the preflight passes (as if the folder became read-only during training) ...
     monkeypatch.setattr(csql_sim.infra.files, "check_output_file", lambda path, what="": path)
-    err, _ = refused(capsys, "train", "--out", read_only_dir / "r.yaml", "--trials", "20", "--quiet",
-                     fragment="the results are kept in ")
+    err = refused(capsys, "train", "--out", read_only_dir / "r.yaml", "--trials", "20", "--quiet",
+                  fragment="the results are kept in ")
     # ... and the trained rule base is where the message says, complete
     kept = err.rsplit("the results are kept in ", 1)[1].strip()
     assert sum(c.kind == "Q" for c in load(kept).classifiers) > 0
@@ -135,35 +188,37 @@ def test_negative_seeds_are_refused_by_the_parser(capsys, command):
 LAUGHS = "".join(f"l{k}: &l{k} [{', '.join(['*l' + str(k - 1)] * 9) if k else 'lol'}]\n" for k in range(9))
 
 
-def test_billion_laughs_in_a_rule_file(capsys, tmp_path):
+def test_billion_laughs_in_a_rule_file(capsys, tmp_path, parsed):
     path = tmp_path / "laughs.yaml"
     path.write_text(LAUGHS + "format: csql-sim rule base\nversion: 2\nblocks: *l8\ncount: 0\nclassifiers: []\n")
-    _, seconds = refused(capsys, "show", path, fragment="YAML aliases (*l0) are not allowed")
-    assert seconds < 2.0
+    refused(capsys, "show", path, fragment="YAML aliases (*l0) are not allowed")
+    assert parsed == []  # refused from the parser's events: no alias was ever expanded
 
 
-def test_billion_laughs_in_params(capsys, tmp_path):
+def test_billion_laughs_in_params(capsys, tmp_path, parsed, work):
     path = tmp_path / "params.yaml"
     path.write_text(LAUGHS + "eta: *l8\n")
-    _, seconds = refused(capsys, "train", "--out", tmp_path / "r.yaml", "--params", path, fragment="aliases")
-    assert seconds < 2.0 and not (tmp_path / "r.yaml").exists()
+    refused(capsys, "train", "--out", tmp_path / "r.yaml", "--params", path, fragment="aliases")
+    assert parsed == [] and work == [] and not (tmp_path / "r.yaml").exists()
 
 
 def test_deeply_nested_rule_file(capsys, tmp_path):
     path = tmp_path / "deep.yaml"
     path.write_text("[" * 1000 + "]" * 1000 + "\n")
-    refused(capsys, "plan", "--rules", path, "--all", fragment="nested deeper than 32 levels")
+    # PyYAML may refuse this depth itself, before our 32-level check: assert our promise only
+    # (one line naming the file, exit 2), not whose wording it is.
+    refused(capsys, "plan", "--rules", path, "--all", fragment=str(path))
 
 
 def test_show_dev_zero(capsys):
     refused(capsys, "show", "/dev/zero", fragment="not a regular rule file")
 
 
-def test_a_50_mb_file_does_not_hang(capsys, tmp_path):
+def test_a_50_mb_file_is_refused_without_reading_it(capsys, tmp_path, opened, parsed):
     path = tmp_path / "big.yaml"
     path.write_text("x: " + "a" * (50 * 1024 * 1024) + "\n")
-    _, seconds = refused(capsys, "show", path, fragment="above the 16,777,216-byte limit")
-    assert seconds < 2.0
+    refused(capsys, "show", path, fragment="above the 16,777,216-byte limit")
+    assert opened == [] and parsed == []  # refused from its size: not one byte read, nothing parsed
 
 
 def test_a_rule_file_cut_at_a_line_boundary(capsys, rules3, tmp_path):

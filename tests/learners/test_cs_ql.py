@@ -3,8 +3,9 @@ import pytest
 
 from csql_sim.core.message import format_state_message, parse_state_message
 from csql_sim.core.notation import parse_config
-from csql_sim.core.policy import QPolicy, check_all_pairs
+from csql_sim.core.policy import QPolicy
 from csql_sim.core.rulebase import dumps
+from csql_sim.core.search import check_all_pairs
 from csql_sim.core.world import BlocksWorld
 from csql_sim.learners.cs_ql import CSQL
 from csql_sim.learners.learner import Transition

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from csql_sim.core.rulebase import dumps
+from csql_sim.core.search import check_pairs
 from csql_sim.core.world import BlocksWorld
 from csql_sim.learners.fast_engine import FastCSQL, world_model
 from csql_sim.learners.params import ParamsError
@@ -26,7 +27,7 @@ def test_same_curves_and_dyna_sweep_n3():
     assert dumps(train("cs-ql", 400, 3, params=over, engine="fast")) == dumps(
         train("cs-ql", 400, 3, params=over, engine="reference"))
     a, b = make_learner("cs-ql", seed=9, engine="fast"), make_learner("cs-ql", seed=9, engine="reference")
-    assert a.run(600) == run_training(b, 600)
+    assert a.train(600) == b.train(600) == run_training(make_learner("cs-ql", seed=9, engine="reference"), 600)
     assert a.t == b.t
 
 
@@ -64,9 +65,8 @@ def test_n4_defaults_prune_to_one_optimal_classifier_per_pair():
     q = [c for c in pruned.classifiers if c.kind == "Q"]
     assert len(q) == 15_500 == len({c.condition for c in q})
     from csql_sim.core.greedy_table import GreedyTable
-    from csql_sim.core.pair_check import plan_pairs
 
-    results = list(plan_pairs(4, GreedyTable.from_rulebase(pruned), "all"))
+    results = list(check_pairs(GreedyTable.from_rulebase(pruned), 4, "all"))
     assert len(results) == 15_500 and all(r.optimal for r in results)
 
 

@@ -1,8 +1,13 @@
+from dataclasses import replace
+
 import numpy as np
 
 from csql_sim.cli import main
+from csql_sim.core.notation import parse_action_name
+from csql_sim.core.world import BLOCK_NAMES, legal_actions
 from csql_sim.discovery.explore import Exploration, explore
 from csql_sim.jobs.discover import record_discovery
+from csql_sim.sim.config import DEFAULT_CONFIG
 from csql_sim.sim.exploration import ArmWorld
 
 
@@ -29,3 +34,20 @@ def test_render_discovery_writes_a_video(tmp_path, capsys):
     assert main(["render", "--discovery", "--transitions", "2", "--out", str(out), "--width", "64",
                  "--height", "48", "--fps", "5", "--workers", "1"]) == 0
     assert out.stat().st_size > 0 and "FAILED" in capsys.readouterr().out
+
+
+def test_a_putdown_with_no_free_spot_is_a_failure_not_a_refusal():
+    # every putdown spot is closer than the clearance to some cube: the table has no free spot
+    crowded = replace(DEFAULT_CONFIG, layout=replace(DEFAULT_CONFIG.layout, free_clearance=10.0))
+    rng = np.random.default_rng(1)
+    with ArmWorld(3, rng, config=crowded) as arm:
+        pick = next(a for a in legal_actions(arm.perceive()) if a.is_pick)
+        assert arm.attempt(pick).ok
+        held = arm.perceive()
+        assert held.held == pick.block
+        put = arm.attempt(parse_action_name(f"putdown({BLOCK_NAMES[pick.block]})", 3))
+        assert not put.ok and put.sim_seconds == 0  # failed before the arm moved ...
+        assert not put.refused  # ... yet putdown's precondition (holding) holds: no evidence against it
+        assert arm.perceive() == held
+        again = arm.attempt(pick)  # the hand is full: the guard refuses, and that is a refusal
+        assert not again.ok and again.refused

@@ -8,9 +8,9 @@ import pytest
 from csql_sim.core.notation import parse_config
 from csql_sim.sim.camera import RENDER_CAMERA, capture
 from csql_sim.sim.executor import run_physical_episode
-from csql_sim.sim.render import CAPTION_HEIGHT, video_frame_count, write_video
 from csql_sim.sim.renderer import RendererError, close_quietly, egl_available, egl_plugin_path, resolve_renderer
 from csql_sim.sim.replay import apply_snapshot, replay_scene
+from csql_sim.sim.video import CAPTION_HEIGHT, video_frame_count, write_video
 
 needs_egl = pytest.mark.skipif(
     not egl_available(),

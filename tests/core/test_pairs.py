@@ -6,10 +6,9 @@ import pytest
 from csql_sim.core.classifier_list import ClassifierList
 from csql_sim.core.greedy_table import GreedyTable
 from csql_sim.core.notation import parse_config
-from csql_sim.core.pair_check import distances_to, plan_pairs
 from csql_sim.core.pairs import pair_count, rank, sample_ranks, unrank
-from csql_sim.core.planner import distance
 from csql_sim.core.policy import QPolicy
+from csql_sim.core.search import check_pairs, distance, true_distances
 from csql_sim.core.world import BlocksWorld
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import make_specs
@@ -49,7 +48,7 @@ def test_evaluate_specs_for_n6_sample_one_pair():
 
 
 def test_bfs_plans_for_sampled_n6_pairs_are_optimal():
-    results = list(plan_pairs(6, None, 3, seed=1))
+    results = list(check_pairs(None, 6, 3, seed=1))
     world = BlocksWorld.of(6)
     assert len(results) == 3
     for r in results:
@@ -79,9 +78,9 @@ def test_greedy_table_answers_as_qpolicy():
 
 def test_all_pairs_against_bfs_n3():
     rb = train("cs-ql", 2500, seed=0)
-    results = list(plan_pairs(3, GreedyTable.from_rulebase(rb), "all"))
+    results = list(check_pairs(GreedyTable.from_rulebase(rb), 3, "all"))
     assert len(results) == 462 and all(r.optimal for r in results)
-    assert distances_to(3, 12) == [distance(s, BlocksWorld.of(3).states[12]) for s in BlocksWorld.of(3).states]
+    assert list(true_distances(3, 12)) == [distance(s, BlocksWorld.of(3).states[12]) for s in BlocksWorld.of(3).states]
     assert np.all(GreedyTable.from_rulebase(rb).best.reshape(22, 22).diagonal() == -1)
 
 
@@ -94,7 +93,7 @@ def test_test_tasks_are_maximal_pairs():
         assert (world.state_index(t.start), world.state_index(t.goal)) == task_module.first_maximal_pair(n)
     world = BlocksWorld.of(4)
     t = task_module.test_task(4)
-    assert distance(t.start, t.goal) == 12 == max(distances_to(4, world.state_index(t.goal)))
+    assert distance(t.start, t.goal) == 12 == max(true_distances(4, world.state_index(t.goal)))
     assert (task_module.test_task(3).start.notation(), task_module.test_task(3).goal.notation()) == ("CBA", "BAC")
 
 
@@ -103,4 +102,4 @@ def test_greedy_pass_steps_table():
 
     for n in (2, 3, 4):
         count = len(BlocksWorld.of(n).states)
-        assert sum(sum(distances_to(n, g)) for g in range(count)) == GREEDY_PASS_STEPS[n]
+        assert sum(int(true_distances(n, g).sum()) for g in range(count)) == GREEDY_PASS_STEPS[n]

@@ -5,24 +5,43 @@ import gymnasium
 import numpy as np
 import pytest
 
-import csql_sim  # noqa: F401 - registers the environments
 from csql_sim.core.message import format_state_message
 from csql_sim.core.notation import parse_config
-from csql_sim.core.planner import bfs_plan
 from csql_sim.core.r_classifier import PreconditionRule, r_classifiers
 from csql_sim.core.rulebase import RuleBase, save
+from csql_sim.core.search import bfs_plan
 from csql_sim.core.world import BlocksWorld, successor
-from csql_sim.envs.registration import BLOCKS_WORLD_ID, PANDA_BLOCKS_ID
+from csql_sim.envs.registration import BLOCKS_WORLD_ID, PANDA_BLOCKS_ID, register_envs
 from csql_sim.infra.errors import CsqlError
 
+register_envs()
 
-def test_import_registers_both_ids_without_pybullet():
+
+def test_import_has_no_side_effects():
+    """``import csql_sim`` registers nothing and loads none of its layers."""
     code = ("import sys, gymnasium, csql_sim; "
+            f"assert {BLOCKS_WORLD_ID!r} not in gymnasium.registry, 'registered on import'; "
+            "assert not [m for m in sys.modules if m.startswith('csql_sim.')], 'layers imported'")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False)
+    assert done.returncode == 0, done.stderr
+
+
+def test_register_envs_registers_both_ids_without_pybullet():
+    code = ("import sys, gymnasium; from csql_sim.envs.registration import register_envs; register_envs(); "
+            "register_envs(); "  # idempotent
             f"gymnasium.make({BLOCKS_WORLD_ID!r}, blocks=4).reset(seed=0); "
             f"assert {PANDA_BLOCKS_ID!r} in gymnasium.registry; "
             "assert 'pybullet' not in sys.modules, 'pybullet imported'")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=False)
     assert done.returncode == 0, done.stderr
+
+
+def test_gymnasium_plugin_entry_point_is_installed_and_registers():
+    """The ``gymnasium.envs`` entry point (loaded by Gymnasium 0.26-0.29) names register_envs."""
+    from importlib.metadata import entry_points
+
+    ours = [ep for ep in entry_points(group="gymnasium.envs") if ep.value.startswith("csql_sim.")]
+    assert len(ours) == 1 and ours[0].load() is register_envs
 
 
 def test_blocks_world_make_plays_an_optimal_plan_to_the_goal():

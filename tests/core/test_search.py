@@ -3,7 +3,7 @@ from collections import deque
 import pytest
 
 from csql_sim.core.notation import parse_config
-from csql_sim.core.planner import BfsPolicy, bfs_plan, distance
+from csql_sim.core.search import BfsPolicy, bfs_plan, distance
 from csql_sim.core.world import BlocksWorld, legal_actions, successor
 
 
@@ -60,7 +60,7 @@ def test_bfs_policy():
 
 
 def test_bfs_on_the_world_model_equals_bfs_on_the_world():
-    from csql_sim.core.policy import check_all_pairs
+    from csql_sim.core.search import check_all_pairs
     from csql_sim.core.world_model import WorldModel
 
     results = check_all_pairs(BfsPolicy(WorldModel.for_blocks(3)), 3)
@@ -68,8 +68,8 @@ def test_bfs_on_the_world_model_equals_bfs_on_the_world():
 
 
 def test_bfs_on_a_world_model_that_forbids_pickups_finds_no_plan():
-    from csql_sim.core.planner import NoPlanError
     from csql_sim.core.r_classifier import PreconditionRule, generate_rules
+    from csql_sim.core.search import NoPlanError
     from csql_sim.core.world_model import WorldModel
 
     rules = [r for r in generate_rules(3) if not (isinstance(r, PreconditionRule) and r.action[8:12] == "1000"

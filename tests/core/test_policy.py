@@ -3,9 +3,9 @@ import pytest
 from csql_sim.core.classifier_list import ClassifierList
 from csql_sim.core.message import format_action_message, format_state_message
 from csql_sim.core.notation import parse_config
-from csql_sim.core.planner import BfsPolicy, optimal_actions
-from csql_sim.core.policy import NoRuleError, QPolicy, check_all_pairs, rollout
+from csql_sim.core.policy import NoRuleError, QPolicy
 from csql_sim.core.q_classifier import QClassifier
+from csql_sim.core.search import BfsPolicy, check_all_pairs, optimal_actions, rollout
 from csql_sim.core.world import BlocksWorld, all_actions
 
 

@@ -1,7 +1,7 @@
 import pytest
 
 from csql_sim.core.notation import parse_config
-from csql_sim.core.planner import distance
+from csql_sim.core.search import distance
 from csql_sim.core.task import Task, test_task
 from csql_sim.core.world import WorldError
 

@@ -3,12 +3,19 @@ import os
 
 import pytest
 
+from csql_sim.core.notation import parse_config
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import evaluate
 from csql_sim.jobs.experiment import csv_text, run_experiment
 
-SQRT_EXPECTED = [2.0, TaskFailure("ValueError: math domain error"), 3.0, 0.0]
+CONFIGS = ["AB,C", "A?", "CBA", "C,B,A"]  # the second raises WorldError (a CsqlError): a failed task
+
+
+def check_configs(out):
+    """In item order, the failed task in its place."""
+    assert len(out) == 4 and [out[k] for k in (0, 2, 3)] == [parse_config(CONFIGS[k]) for k in (0, 2, 3)]
+    assert isinstance(out[1], TaskFailure) and out[1].reason.startswith("WorldError: ")
 
 
 def test_backend_validation():
@@ -21,8 +28,42 @@ def test_backend_validation():
 
 
 @pytest.mark.parametrize("workers", [1, 2])
-def test_processes_keep_order_and_report_a_raising_task_in_its_place(workers):
-    assert map_tasks(math.sqrt, [4, -1, 9, 0], Backend("processes", workers)) == SQRT_EXPECTED
+def test_processes_keep_order_and_report_a_failing_task_in_its_place(workers):
+    check_configs(map_tasks(parse_config, CONFIGS, Backend("processes", workers)))
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_bug_in_a_task_propagates_instead_of_becoming_a_failure(workers):
+    with pytest.raises(TypeError):
+        map_tasks(math.sqrt, [4.0, "x", 9.0], Backend("processes", workers))
+    with pytest.raises(ValueError) as raised:  # a ValueError that is no CsqlError is a bug too
+        map_tasks(math.sqrt, [4.0, -1.0], Backend("processes", workers))
+    assert not isinstance(raised.value, CsqlError)
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_a_failing_worker_setup_fails_every_task_but_a_buggy_one_propagates(workers):
+    out = map_tasks(math.sqrt, [1.0, 4.0], Backend("processes", workers), setup=parse_config, setup_args=("A?",))
+    assert len(out) == 2 and all(isinstance(r, TaskFailure) and "setup" in r.reason for r in out)
+    with pytest.raises(TypeError):
+        map_tasks(math.sqrt, [1.0, 4.0], Backend("processes", workers), setup=math.sqrt, setup_args=("x",))
+
+
+_REMEMBERED = []  # what _remember set up last in this process
+
+
+def _remember(value):
+    _REMEMBERED[:] = [value]
+
+
+def _recall(_item):
+    return _REMEMBERED[0]
+
+
+def test_a_setup_runs_again_after_one_with_other_arguments():
+    one = Backend("processes", 1)  # the tasks, and their setup, run in this process
+    runs = [map_tasks(_recall, [0, 1], one, setup=_remember, setup_args=(v,)) for v in ("a", "b", "a")]
+    assert runs == [["a", "a"], ["b", "b"], ["a", "a"]]
 
 
 def test_processes_report_a_dead_worker_as_failures():
@@ -42,9 +83,15 @@ def ray_local():
     ray.shutdown()
 
 
-def test_ray_keeps_order_and_reports_a_raising_task_in_its_place(ray_local):
-    assert map_tasks(math.sqrt, [4, -1, 9, 0], Backend("ray")) == SQRT_EXPECTED
+def test_ray_keeps_order_and_reports_a_failing_task_in_its_place(ray_local):
+    check_configs(map_tasks(parse_config, CONFIGS, Backend("ray")))
     assert ray_local.is_initialized(), "a session the caller opened must stay open"
+
+
+def test_a_bug_in_a_ray_task_propagates(ray_local):
+    with pytest.raises(TypeError):
+        map_tasks(math.sqrt, [4.0, "x", 9.0], Backend("ray"))
+    assert ray_local.is_initialized()
 
 
 def test_ray_says_where_it_runs_in_one_line_with_progress(ray_local, capsys):

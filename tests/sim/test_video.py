@@ -4,7 +4,7 @@ import pytest
 from csql_sim.core.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.executor import run_physical_episode
-from csql_sim.sim.render import ReplayRenderer, caption_image, check_video_options, video_frame_count, write_video
+from csql_sim.sim.video import ReplayRenderer, caption_image, check_video_options, video_frame_count, write_video
 
 
 @pytest.fixture(scope="module")
@@ -98,7 +98,7 @@ def test_bad_video_options(args):
 
 
 def test_failed_render_keeps_the_old_video_and_leaves_no_temporary(recording, tmp_path, monkeypatch):
-    from csql_sim.sim import render
+    from csql_sim.sim import video as render
 
     out = tmp_path / "ep.gif"
     out.write_bytes(b"old video")

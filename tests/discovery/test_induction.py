@@ -4,7 +4,7 @@ from csql_sim.core.message import format_action_message, format_state_message
 from csql_sim.core.notation import parse_action_name, parse_config
 from csql_sim.core.r_classifier import generate_rules, load_paper_rules
 from csql_sim.discovery.explore import exhaustive_transitions
-from csql_sim.discovery.induction import Evidence, Reliability, Transition, induce_action, induce_rules
+from csql_sim.discovery.induction import Evidence, Experience, Reliability, induce_action, induce_rules
 
 
 def strings(rules):
@@ -31,7 +31,7 @@ def test_too_few_successes_make_no_rule():
 def _transition(before, action, after, ok):
     n = 3
     act = parse_action_name(action, n)
-    return Transition(format_state_message(parse_config(before, n), 0), format_action_message(act, n),
+    return Experience(format_state_message(parse_config(before, n), 0), format_action_message(act, n),
                       format_state_message(parse_config(after, n), 0), ok)
 
 
@@ -63,7 +63,7 @@ def test_a_legal_state_with_a_missed_grasp_stays_a_success_state():
 def test_inconsistent_evidence_makes_no_precondition():
     # pickup(A) reported failing in every state where it is legal, succeeding nowhere else
     bad = [t for t in exhaustive_transitions(3) if t.action == "A70000001000at00"]
-    flipped = [Transition(t.before, t.action, t.after, not t.ok) for t in bad]
+    flipped = [Experience(t.before, t.action, t.after, not t.ok) for t in bad]
     rules = induce_rules(flipped, 3)
     assert all(r.action != "A70000001000at00" for r in rules)
 
@@ -82,11 +82,11 @@ def test_two_blocks_give_equivalent_shorter_conditions(n):
 
 def test_failures_after_moving_are_not_negative_evidence():
     # pickup(A) legal in "A,B,C" but the grasp missed there again and again (a cube askew)
-    missed = [Transition(t.before, t.action, t.after, False, "grasp of A missed", refused=False)
+    missed = [Experience(t.before, t.action, t.after, False, "grasp of A missed", refused=False)
               for t in exhaustive_transitions(3, repeats=1)
               if t.ok and t.action == "A70000001000at00" and t.before == "S0111000ttt00000"] * 20
     assert missed
     assert strings(induce_rules(exhaustive_transitions(3) + missed, 3)) == strings(load_paper_rules())
-    as_refusals = [Transition(t.before, t.action, t.after, False, t.reason) for t in missed]
+    as_refusals = [Experience(t.before, t.action, t.after, False, t.reason) for t in missed]
     rules = induce_rules(exhaustive_transitions(3) + as_refusals, 3)
     assert "A70000001000at00" not in {r.action for r in rules if r.action.startswith("A")}

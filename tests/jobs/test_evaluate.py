@@ -36,7 +36,7 @@ def test_specs():
 
 
 def test_runner_turns_an_error_into_a_failed_summary():
-    from csql_sim.core.planner import BfsPolicy
+    from csql_sim.core.search import BfsPolicy
 
     runner = EpisodeRunner(BfsPolicy(), 3, perturb=False, perception="pose")
     bad = runner.run(EpisodeSpec(start="A,B,C", goal="AB", seed=4))  # goal of another world
@@ -149,12 +149,75 @@ def test_camera_noise_option():
 
 def test_a_task_that_fails_in_its_worker_is_a_failed_episode(monkeypatch):
     import csql_sim.jobs.evaluate as ev
+    from csql_sim.sim.physical import SimError
 
     def broken(spec):
-        raise RuntimeError(f"no physics for {spec.start}")
+        raise SimError(f"no physics for {spec.start}")
 
     monkeypatch.setattr(ev, "_run_in_worker", broken)
     report = evaluate(3, pairs=2, workers=1, progress=False)
     assert report.episodes == 2 and report.successes == 0
-    assert [f["reason"] for f in report.failures] == [f"RuntimeError: no physics for {spec.start}"
+    assert [f["reason"] for f in report.failures] == [f"SimError: no physics for {spec.start}"
                                                      for spec in ev.make_specs(3, 2)]
+
+
+def test_a_bug_in_a_worker_task_stops_the_evaluation(monkeypatch):
+    import csql_sim.jobs.evaluate as ev
+
+    def buggy(spec):
+        return spec.no_such_field
+
+    monkeypatch.setattr(ev, "_run_in_worker", buggy)
+    with pytest.raises(AttributeError):
+        evaluate(3, pairs=2, workers=1, progress=False)
+
+
+def test_the_rule_file_is_read_once_and_the_workers_get_the_policy_as_data(tmp_path, monkeypatch):
+    import csql_sim.jobs.evaluate as ev
+    from csql_sim.cli import main
+    from csql_sim.core.greedy_table import GreedyTable
+
+    rules = tmp_path / "r.yaml"
+    assert main(["train", "--trials", "300", "--out", str(rules), "--quiet"]) == 0
+    kwargs = {"pairs": 4, "workers": 2, "progress": False, "rules": str(rules)}
+    plain = evaluate(3, **kwargs).to_dict()
+    loads = []
+    load = GreedyTable.load.__func__
+    monkeypatch.setattr(GreedyTable, "load", classmethod(lambda cls, *a, **k: loads.append(a) or load(cls, *a, **k)))
+    map_tasks = ev.map_tasks
+
+    def without_the_file(*args, **kw):  # while the episodes run, no worker could read the rule file
+        away = rules.rename(tmp_path / "away.yaml")
+        try:
+            return map_tasks(*args, **kw)
+        finally:
+            away.rename(rules)
+
+    monkeypatch.setattr(ev, "map_tasks", without_the_file)
+    assert evaluate(3, **kwargs).to_dict() == plain  # the same report, the file read once (by the parent)
+    assert len(loads) == 1
+    assert plain["episodes"] == 4 and plain["config"]["rules"]["sha256"] is not None
+
+
+def test_an_evaluation_never_runs_the_policy_of_an_earlier_one(tmp_path):
+    from csql_sim.core.r_classifier import r_classifiers
+    from csql_sim.core.rulebase import RuleBase, save
+
+    empty = save(tmp_path / "empty.yaml", RuleBase(3, list(r_classifiers(3))))
+    here = {"pairs": 1, "workers": 1, "progress": False}  # one worker: the episodes run in this process
+    bfs = evaluate(3, **here).to_dict()["runs"]
+    assert bfs[0]["success"]
+    assert evaluate(3, **here, rules=str(empty)).successes == 0  # no Q-classifier: no action
+    assert evaluate(3, **here).to_dict()["runs"] == bfs  # BFS again, not the empty rule base
+
+
+@pytest.mark.parametrize("option", [{"perception": "lidar"}, {"camera_noise": (0.0, -1.0)}])
+def test_bad_options_are_refused_before_any_episode(monkeypatch, option):
+    import csql_sim.jobs.evaluate as ev
+
+    started = []
+    monkeypatch.setattr(ev, "map_tasks", lambda *a, **k: started.append(a))
+    monkeypatch.setattr(ev, "load_policy", lambda *a, **k: started.append(a))
+    with pytest.raises(CsqlError):
+        evaluate(3, pairs=2, workers=2, progress=False, **option)
+    assert started == []  # refused before the rule file was read or any episode started

@@ -14,7 +14,7 @@ from csql_sim.core.r_classifier import (
 )
 from csql_sim.core.world import BlocksWorld, all_actions
 
-FIGURE5_TABLE = Path(__file__).parent / "data" / "figure5.md"
+FIGURE5_TABLE = Path(__file__).parents[1] / "data" / "figure5.md"
 """encoding.md's table of Figure 5, copied verbatim into the tests so that a fresh clone checks it."""
 
 

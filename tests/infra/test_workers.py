@@ -1,0 +1,119 @@
+"""Processes: Ctrl-C stops at once, workers die with their parent, no orphans.
+
+A cycle of :data:`EXPERIMENT` lasts many minutes, far beyond :data:`HANG_GUARD`: a command or
+worker that finished its running task, let alone its queue, would trip the guard. The
+guard only stops a hung test; the assertions are on what ran and what is left.
+"""
+
+import contextlib
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+
+
+def children(pid: int) -> set[int]:
+    """Pids whose parent is ``pid``."""
+    found = set()
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as fh:
+                    fields = fh.read().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid and fields[0] != "Z":
+                found.add(int(entry))
+    return found
+
+
+def alive(pids: set[int]) -> set[int]:
+    """The pids of ``pids`` still running (zombies count as gone)."""
+    out = set()
+    for pid in pids:
+        try:
+            with open(f"/proc/{pid}/stat") as fh:
+                if fh.read().rsplit(")", 1)[1].split()[0] != "Z":
+                    out.add(pid)
+        except OSError:
+            pass
+    return out
+
+
+HANG_GUARD = 60.0  # seconds; only against a hang, never the assertion
+
+
+@pytest.fixture
+def start(tmp_path):
+    """``start(*argv)``: run ``csql-sim argv`` in its own session, wait until its two workers run.
+
+    At teardown, whatever is left of each session started is killed: a failed test leaves
+    no experiment running.
+    """
+    started = []
+
+    def start_(*argv):
+        proc = subprocess.Popen([sys.executable, "-m", "csql_sim", *argv], cwd=tmp_path, start_new_session=True,
+                                stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        started.append(proc)
+        deadline = time.monotonic() + HANG_GUARD
+        while len(children(proc.pid)) < 2:
+            assert proc.poll() is None, proc.communicate()
+            assert time.monotonic() < deadline, "workers never started"
+            time.sleep(0.1)
+        time.sleep(0.5)  # let the workers get into their tasks
+        return proc, children(proc.pid)
+
+    yield start_
+    for proc in started:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+
+
+def wait_gone(pids: set[int]) -> set[int]:
+    """The pids of ``pids`` still alive once all are gone or :data:`HANG_GUARD` has passed."""
+    deadline = time.monotonic() + HANG_GUARD
+    while alive(pids) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return alive(pids)
+
+
+# 20 cycles of 50 million trials each: one cycle takes many minutes, so none can finish during a test
+EXPERIMENT = ("experiment", "--cycles", "20", "--trials", "50000000", "--workers", "2", "--out", "fig")
+
+
+def test_ctrl_c_stops_experiment_in_the_middle_of_its_cycles(tmp_path, start):
+    proc, workers = start(*EXPERIMENT)
+    os.killpg(proc.pid, signal.SIGINT)  # what a terminal's Ctrl-C does: the whole foreground group
+    out, err = proc.communicate(timeout=HANG_GUARD)  # waiting for a running cycle would trip this guard
+    assert proc.returncode == 130
+    assert err == "csql-sim: interrupted\n"  # no worker traceback, no banner
+    assert not alive(workers)  # already gone when the command exited: ended mid-cycle, not after it
+    assert not (tmp_path / "fig").exists()  # nothing written
+
+
+@pytest.mark.parametrize(("argv", "sig"), [
+    (EXPERIMENT, signal.SIGKILL),
+    (EXPERIMENT, signal.SIGTERM),
+    (("evaluate", "--pairs", "40", "--workers", "2", "--quiet"), signal.SIGKILL),
+])
+def test_workers_die_with_their_parent(start, argv, sig):
+    proc, workers = start(*argv)
+    os.kill(proc.pid, sig)  # the main process only, as a crash or an OOM kill would
+    proc.communicate(timeout=HANG_GUARD)
+    assert wait_gone(workers) == set(), "orphans left"  # left alone, they would outlast the guard
+
+
+@pytest.mark.slow
+def test_render_workers_and_encoder_die_with_their_parent(start):
+    proc, workers = start("render", "--start", "CBA", "--goal", "BAC", "--out", "v.mp4", "--width", "320",
+                          "--height", "240", "--workers", "2", "--quiet")
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.communicate(timeout=HANG_GUARD)
+    assert wait_gone(workers) == set(), "orphans left"
