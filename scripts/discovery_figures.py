@@ -36,10 +36,12 @@ def run(setting: str, seeds: range, n: int, cap: int) -> dict:
                      "transitions": r.transitions, "failed": r.failed,
                      "restarts": r.restarts, "sim_seconds": round(r.sim_seconds, 1),
                      "wall_seconds": round(time.perf_counter() - began, 1), "equal": r.equal_to_given,
-                     "rules": len(r.rules), "perturbations": len(r.events)})
+                     "rules": len(r.rules), "perturbations": len(r.events),
+                     "disturbed": r.disturbed})
         print(setting, rows[-1], file=sys.stderr, flush=True)
     summary = {"setting": setting, "runs": len(rows), "all_36_equal": sum(x["equal"] for x in rows)}
-    for key in ("final_after", "failed_to_final", "transitions", "failed", "sim_seconds", "wall_seconds"):
+    for key in ("final_after", "failed_to_final", "transitions", "failed", "disturbed", "sim_seconds",
+                "wall_seconds"):
         values = [x[key] for x in rows]
         summary[key] = {"median": statistics.median(values), "max": max(values)}
     return {"summary": summary, "runs": rows}
@@ -60,8 +62,8 @@ def main() -> None:
         s = item["summary"]
         print(f"{s['setting']:<17} runs {s['runs']:>2}  all equal {s['all_36_equal']:>2}  "
               + "  ".join(f"{k} {s[k]['median']}/{s[k]['max']}"
-                          for k in ("final_after", "failed_to_final", "transitions", "failed", "sim_seconds",
-                                    "wall_seconds")))
+                          for k in ("final_after", "failed_to_final", "transitions", "failed", "disturbed",
+                                    "sim_seconds", "wall_seconds")))
     if args.json:
         with open(args.json, "w", encoding="utf-8") as fh:
             json.dump(out, fh, indent=1)

@@ -3,20 +3,70 @@
 Each subcommand lives in a small module with a ``register(subparsers)`` function; the
 handlers call library functions and raise :class:`csql_sim.infra.errors.CsqlError` for bad
 input, which :func:`main` prints as one line before exiting with status 2.
+
+:func:`main` also
+
+* checks every output of the command before it runs (:func:`csql_sim.cli.output.plan_outputs`);
+* turns SIGTERM into an exception (:class:`Terminated`), so that temporary files are
+  removed and worker processes stopped as on Ctrl-C (exit status 143);
+* turns a failed write to stdout (``> /dev/full``) into one line (exit status 2), and
+  writes what stdout's encoding cannot show as backslash escapes instead of failing.
 """
 
 from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from typing import Any
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, learn, pddl_cmd, sim
-from csql_sim.cli.output import check_json_output
+from csql_sim.cli import core, demo, discover, execute, learn, pddl_cmd, sim
+from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError
 
-SUBCOMMAND_MODULES = (core, learn, sim, demo, discover, pddl_cmd)
+TERMINATED_STATUS = 128 + signal.SIGTERM
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived: unwinds like KeyboardInterrupt (``finally`` blocks run, workers stop)."""
+
+
+class StdoutError(CsqlError):
+    """Standard output could not be written (a full disk, a closed terminal)."""
+
+
+class _GuardedStdout:
+    """sys.stdout, but a failed write or flush raises :class:`StdoutError` (a broken pipe stays one)."""
+
+    def __init__(self, stream: Any) -> None:
+        self._stream = stream
+
+    def _guard(self, name: str, *args: Any) -> Any:
+        try:
+            return getattr(self._stream, name)(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise StdoutError(f"cannot write to standard output ({exc.strerror or exc})") from None
+
+    def write(self, text: str) -> int:  # noqa: D102
+        return self._guard("write", text)
+
+    def writelines(self, lines: Any) -> None:  # noqa: D102
+        self._guard("writelines", lines)
+
+    def flush(self) -> None:  # noqa: D102
+        self._guard("flush")
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self._stream, name)
+
+SUBCOMMAND_MODULES = (core, learn, sim, demo, discover, pddl_cmd, execute)
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -43,21 +93,104 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script; returns the exit status."""
     args = build_parser().parse_args(argv)
+    with _on_sigterm_raise(), _guarded_stdout():
+        try:
+            plan_outputs(args)
+            status = int(args.func(args) or 0)
+            sys.stdout.flush()
+            return status
+        except CsqlError as exc:
+            print(f"csql-sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
+            if isinstance(exc, StdoutError):
+                _silence_stdout()
+            return 2
+        except BrokenPipeError:
+            # The reader (e.g. `| head`) closed the pipe: stop quietly, as Unix tools do.
+            _silence_stdout()
+            return 0
+        except KeyboardInterrupt:
+            _close_progress_bars()
+            print("csql-sim: interrupted", file=sys.stderr)
+            return 130
+        except Terminated:
+            _close_progress_bars()
+            print("csql-sim: terminated", file=sys.stderr)
+            return TERMINATED_STATUS
+
+
+@contextmanager
+def _on_sigterm_raise() -> Iterator[None]:
+    """While the command runs, SIGTERM raises :class:`Terminated` in this process (main thread only).
+
+    A forked worker inherits the handler; there it restores the default and dies by the
+    signal, as it would have without the handler. A second SIGTERM while the first unwinds
+    is ignored, so that it cannot cut the cleanup short (SIGKILL still ends the process).
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    me = os.getpid()
+
+    def handler(signum: int, _frame: object) -> None:
+        if os.getpid() != me:
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
+        signal.signal(signum, signal.SIG_IGN)
+        raise Terminated
+
+    handler.csql_sim_terminate = True  # type: ignore[attr-defined]
+    previous = signal.signal(signal.SIGTERM, handler)
     try:
-        check_json_output(args)
-        return int(args.func(args) or 0)
-    except CsqlError as exc:
-        print(f"csql-sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
-        return 2
-    except BrokenPipeError:
-        # The reader (e.g. `| head`) closed the pipe: stop quietly, as Unix tools do.
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _default_sigterm_in_child() -> None:
+    """After a fork: a worker dies by SIGTERM at once, as without :func:`_on_sigterm_raise`."""
+    if getattr(signal.getsignal(signal.SIGTERM), "csql_sim_terminate", False):
+        try:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        except ValueError:  # not the main thread
+            pass
+
+
+os.register_at_fork(after_in_child=_default_sigterm_in_child)
+
+
+@contextmanager
+def _guarded_stdout() -> Iterator[None]:
+    """Replace sys.stdout by a :class:`_GuardedStdout`; text it cannot encode is escaped, not an error."""
+    stream = sys.stdout
+    errors = getattr(stream, "errors", None)
+    _set_errors(stream, "backslashreplace")
+    sys.stdout = _GuardedStdout(stream)
+    try:
+        yield
+    finally:
+        if isinstance(sys.stdout, _GuardedStdout):
+            sys.stdout = stream
+        if errors is not None:
+            _set_errors(stream, errors)
+
+
+def _set_errors(stream: Any, errors: str) -> None:
+    try:
+        stream.reconfigure(errors=errors)
+    except (AttributeError, ValueError, OSError):
+        pass
+
+
+def _silence_stdout() -> None:
+    """Point stdout at /dev/null, so that the interpreter's last flush cannot fail again."""
+    try:
+        fileno = sys.stdout.fileno()
         devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-        return 0
-    except KeyboardInterrupt:
-        _close_progress_bars()
-        print("csql-sim: interrupted", file=sys.stderr)
-        return 130
+        os.dup2(devnull, fileno)
+        os.close(devnull)
+    except (OSError, ValueError):
+        pass
 
 
 def _close_progress_bars() -> None:

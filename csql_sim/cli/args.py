@@ -70,13 +70,36 @@ def warn_workers(workers: int | None) -> None:
               f"extra processes only share them", file=sys.stderr)
 
 
+def path_arg(text: str) -> str:
+    """Argparse type of every file or folder argument: any path but the empty one."""
+    if not text:
+        raise argparse.ArgumentTypeError("empty path; give a file name")
+    return text
+
+
+def add_overwrite(parser: argparse.ArgumentParser) -> None:
+    """``--overwrite``: replace existing output files whatever they are (added once per parser).
+
+    Without it a command refuses to replace a file at a default output path, and a file at
+    a path the user named unless it is a csql-sim output of the same kind
+    (:mod:`csql_sim.infra.outputs`).
+    """
+    if "--overwrite" in parser._option_string_actions:
+        return
+    parser.add_argument("--overwrite", action="store_true",
+                        help="replace existing output files (default: refuse a file at a default path, and a "
+                             "named file that is not a csql-sim output of the same kind)")
+
+
 def add_json(parser: argparse.ArgumentParser) -> None:
     """``--json [FILE]``: JSON instead of text, to FILE or (without one) to stdout; sets ``args.json``.
 
-    ``args.json`` is None without the flag, ``"-"`` for stdout, or the file name.
+    ``args.json`` is None without the flag, ``"-"`` for stdout, or the file name. Adds
+    ``--overwrite`` too (:func:`add_overwrite`).
     """
-    parser.add_argument("--json", nargs="?", const="-", default=None, metavar="FILE",
+    parser.add_argument("--json", nargs="?", const="-", default=None, metavar="FILE", type=path_arg,
                         help="JSON instead of text: to FILE if given, otherwise to stdout")
+    add_overwrite(parser)
 
 
 def add_workers(parser: argparse.ArgumentParser, what: str = "processes") -> None:

@@ -7,8 +7,8 @@ import json
 import sys
 from collections.abc import Sequence
 
-from csql_sim.cli.args import add_json, add_quiet, blocks_arg, seed_arg, show_progress
-from csql_sim.cli.output import command_parameters, emit, json_stream
+from csql_sim.cli.args import add_json, add_quiet, blocks_arg, path_arg, seed_arg, show_progress
+from csql_sim.cli.output import REPORT_VERSION, command_parameters, emit, json_stream
 from csql_sim.core.greedy_table import load_policy
 from csql_sim.core.message import (
     action_code,
@@ -23,6 +23,7 @@ from csql_sim.core.r_classifier import r_classifiers
 from csql_sim.core.search import distance, rollout
 from csql_sim.core.world import Action, BlocksWorld, State, WorldError
 from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.outputs import Outputs
 from csql_sim.infra.provenance import provenance
 
 
@@ -98,7 +99,16 @@ def _policy_for(args: argparse.Namespace) -> Policy:
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
         raise CsqlError("--planner rules needs --rules FILE")
+    if planner == "bfs" and args.rules:
+        raise CsqlError(f"--planner bfs does not read --rules {args.rules!r}; give one of them")
     return load_policy(args.rules if planner == "rules" else None, args.blocks, progress=show_progress(args))
+
+
+def declare_plan(args: argparse.Namespace, outputs: Outputs) -> None:
+    """``plan`` reads ``--rules`` (no output may be that file) and may write ``--plan-out``."""
+    outputs.input(args.rules, "rule file")
+    if args.plan_out is not None:
+        outputs.file(args.plan_out, "plan file", "pddl", option="--plan-out")
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
@@ -124,6 +134,12 @@ def cmd_plan(args: argparse.Namespace) -> int:
         emit(args, doc)
         print(f"csql-sim: no plan from {start.notation()} to {goal.notation()}: {result.reason}", file=sys.stderr)
         return 1
+    if args.plan_out is not None:
+        from csql_sim.core.ipc_plan import write_ipc_plan
+        from csql_sim.infra.outputs import PDDL_HEADER
+
+        header = f"{PDDL_HEADER} plan {start.notation()} -> {goal.notation()} (objects a, b, ... are blocks A, B, ...)"
+        write_ipc_plan(result.actions, args.plan_out, header=header)
     if start == goal:
         emit(args, doc, f"the start {start.notation()} is the goal: 0 actions")
     else:
@@ -135,8 +151,8 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
     """``plan --pairs all|K``: stream each pair's plan, count the covered and optimal ones.
 
     With ``--json`` the plans are streamed into one JSON object (stdout or the file):
-    ``{"blocks", "plans": [...], "pairs", "covered", "optimal", "provenance"}``, each plan
-    as :func:`pair_record` makes it.
+    ``{"format": "csql-sim plan pairs report", "version": 1, "blocks", "plans": [...],
+    "pairs", "covered", "optimal", "provenance"}``, one object per pair.
     """
     from tqdm import tqdm
 
@@ -155,7 +171,8 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
                                         unit="pair", disable=not show_progress(args), leave=False, delay=1.0,
                                         mininterval=0.5) as bar:
         if out is not None:
-            out.write(f'{{"blocks": {n}, "plans": [')
+            head = {"format": "csql-sim plan pairs report", "version": REPORT_VERSION, "blocks": n}
+            out.write(json.dumps(head)[:-1] + ', "plans": [')
         for r in check_pairs(policy, n, args.pairs, args.seed):
             total += 1
             covered += r.reached
@@ -175,6 +192,9 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
             out.write("\n], " + json.dumps(tail)[1:] + "\n")
     if out is None:
         print(f"pairs: {total}  covered: {covered}  optimal: {optimal}")
+        if policy.name == "bfs":
+            print("  (the BFS planner checked against BFS, the yardstick itself; "
+                  "give --rules FILE to check a rule base)")
         for r in bad:
             what = r.reason or f"length {len(r.actions)}, optimal {r.optimal_length}"
             print(f"  {notation[r.start]} -> {notation[r.goal]}: {what}")
@@ -207,12 +227,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--goal", help="goal configuration, e.g. BAC (default: the goal of a state message --start)")
     p.add_argument("--blocks", type=blocks_arg, help="number of blocks (default: from the configuration)")
     p.add_argument("--planner", choices=("bfs", "rules"), help="bfs (default) or rules (default with --rules)")
-    p.add_argument("--rules", help="a rule base from 'csql-sim train': plan greedily from its Q-classifiers")
+    p.add_argument("--rules", type=path_arg,
+                   help="a rule base from 'csql-sim train': plan greedily from its Q-classifiers")
     p.add_argument("--pairs", type=_pairs_arg, default=None,
                    help="plan every ordered pair of distinct states (all) or a seeded sample of K, streamed; "
                         "print a summary")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the --pairs sample (default 0)")
     p.add_argument("--all", action="store_true", help="the same as --pairs all")
+    p.add_argument("--plan-out", type=path_arg, default=None,
+                   help="also write the plan as an IPC plan file (as Fast Downward writes them; "
+                        "'execute --plan' reads it)")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_plan)
+    p.set_defaults(func=cmd_plan, declare=declare_plan)

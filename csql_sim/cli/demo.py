@@ -6,18 +6,45 @@ The README's first quick-start command runs it with its defaults.
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from csql_sim.cli.args import (
+    add_overwrite,
     add_quiet,
     add_renderer_argument,
     add_workers,
     blocks_arg,
+    path_arg,
     positive_int,
     seed_arg,
     show_progress,
     threshold_arg,
     warn_workers,
 )
+from csql_sim.cli.output import default_path
+from csql_sim.infra.outputs import Outputs
+
+DEFAULT_OUT = "out"
+VIDEO = "test_task.mp4"
+
+
+def declare_demo(args: argparse.Namespace, outputs: Outputs) -> None:
+    """The folder (default ``out/``) and the four files the demo writes in it.
+
+    In the default folder no existing file is replaced unless ``--overwrite`` is given; in a
+    folder the user named, existing files are replaced when they are csql-sim's own.
+    """
+    from csql_sim.jobs.render import sidecar_path
+    from csql_sim.sim.video import check_video_options
+
+    default = default_path(args, "out", DEFAULT_OUT)
+    out = outputs.folder(args.out, "output folder", default=default)
+    video = out / VIDEO
+    check_video_options(video, args.width, args.height, args.fps)
+    outputs.file(out / "rules.yaml", "rule file", "rules", default=default)
+    outputs.file(out / "pruned.yaml", "pruned rule file", "rules", default=default)
+    outputs.file(video, "video file", "video", default=default, sidecar=sidecar_path(video))
+    outputs.file(sidecar_path(video), "video provenance", "json", default=default)
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
@@ -26,19 +53,20 @@ def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.core.rulebase import dumps
     from csql_sim.core.search import check_all_pairs
     from csql_sim.core.task import test_task
-    from csql_sim.infra.files import check_output_folder, write_or_keep
+    from csql_sim.infra.files import write_or_keep
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode
+    from csql_sim.learners.params import default_trials
     from csql_sim.learners.pruning import count_q, figure6_table, prune
     from csql_sim.learners.training import train
     from csql_sim.sim.renderer import resolve_renderer
-    from csql_sim.sim.video import check_video_options
 
-    out = check_output_folder(args.out)
-    video = out / "test_task.mp4"
-    check_video_options(video, args.width, args.height, args.fps)
+    out = Path(args.out)
+    video = out / VIDEO
     warn_workers(args.workers)
     resolve_renderer(args.renderer)  # fail before training if --renderer egl cannot load
+    if args.trials is None:
+        args.trials = default_trials(args.blocks)
     task = test_task(args.blocks)
     start, goal = task.start, task.goal
     progress = show_progress(args)
@@ -76,8 +104,10 @@ def cmd_demo(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``demo`` to the subparsers."""
     p = sub.add_parser("demo", help="train CS-QL, prune, show Figure 6, run the test task on the arm, write a video")
-    p.add_argument("--out", default="out", help="output folder (default out/)")
-    p.add_argument("--trials", type=positive_int, default=2500, help="training trials (default 2500)")
+    p.add_argument("--out", type=path_arg, default=None,
+                   help=f"output folder (default {DEFAULT_OUT}/; its existing files are kept unless --overwrite)")
+    p.add_argument("--trials", type=positive_int, default=None,
+                   help="training trials (default by n, as 'train': 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed for training and the episode (default 0)")
     p.add_argument("--threshold", type=threshold_arg, default=0.1,
                    help="pruning strength threshold in [0, 1] (default 0.1)")
@@ -89,4 +119,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_workers(p, "rendering processes")
     add_quiet(p)
     add_renderer_argument(p)
-    p.set_defaults(func=cmd_demo)
+    add_overwrite(p)
+    p.set_defaults(func=cmd_demo, declare=declare_demo)

@@ -5,21 +5,28 @@ from __future__ import annotations
 import argparse
 import sys
 
-from csql_sim.cli.args import add_json, add_quiet, blocks_arg, positive_int, seed_arg, show_progress
-from csql_sim.cli.output import check_json_output, emit
+from csql_sim.cli.args import add_json, add_quiet, blocks_arg, path_arg, positive_int, seed_arg, show_progress
+from csql_sim.cli.output import default_path, emit
+from csql_sim.infra.outputs import Outputs
+
+DEFAULT_OUT = "rules.yaml"
+
+
+def declare_discover(args: argparse.Namespace, outputs: Outputs) -> None:
+    """The rule file (default ``rules.yaml``, never replaced unless asked) and the optional log."""
+    default = default_path(args, "out", DEFAULT_OUT)
+    outputs.file(args.out, "rule file", "rules", default=default)
+    if args.log is not None:
+        outputs.file(args.log, "transition log", "transitions", option="--log")
 
 
 def cmd_discover(args: argparse.Namespace) -> int:
     from csql_sim.core import rulebase
     from csql_sim.discovery import transition_log
     from csql_sim.discovery.explore import Exploration, report_dict, report_lines
-    from csql_sim.infra.files import check_output_file, write_or_keep
+    from csql_sim.infra.files import write_or_keep
     from csql_sim.jobs.discover import discover
 
-    check_output_file(args.out, "rule file")
-    if args.log:
-        check_output_file(args.log, "transition log")
-    check_json_output(args)
     meta = {"source": "csql-sim discover", "world": args.world, "seed": args.seed, "perturb": args.perturb,
             "perception": args.perception if args.world == "physical" else None}
 
@@ -34,7 +41,7 @@ def cmd_discover(args: argparse.Namespace) -> int:
         print(file=sys.stderr)
     meta = {**meta, "transitions": result.transitions, "failed_attempts": result.failed}
     outputs = [(args.out, rulebase.dumps(rulebase.RuleBase(args.blocks, result.rules, meta)))]
-    if args.log:
+    if args.log is not None:
         outputs.append((args.log, transition_log.dumps(result.log, args.blocks)))
     written = [str(p) for p in write_or_keep(outputs)]
     wrote = f"wrote {len(result.rules)} R-classifiers to {written[0]}" + "".join(f", {p}" for p in written[1:])
@@ -50,15 +57,17 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="the simulated arm (default) or the STRIPS world")
     p.add_argument("--transitions", type=positive_int, default=50000,
                    help="stop after K transitions at the latest (default 50000)")
-    p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (physical)")
+    p.add_argument("--perception", choices=("pose", "camera"), default="pose",
+                   help="perception mode on the arm (default pose)")
     p.add_argument("--perturb", action="store_true",
                    help="noise: jittered scenes and nudged cubes (physical), knocked towers (symbolic)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the run's one generator (default 0)")
-    p.add_argument("--out", default="rules.yaml", help="rule file to write (default rules.yaml)")
-    p.add_argument("--log", help="also write every transition as JSON lines")
+    p.add_argument("--out", type=path_arg, default=None,
+                   help=f"rule file to write (default {DEFAULT_OUT}; an existing one is kept unless --overwrite)")
+    p.add_argument("--log", type=path_arg, help="also write every transition as JSON lines")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_discover)
+    p.set_defaults(func=cmd_discover, declare=declare_discover)
 
 
 __all__ = ["register"]

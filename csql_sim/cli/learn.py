@@ -9,11 +9,13 @@ import time
 from csql_sim.cli.args import (
     add_backend_arguments,
     add_json,
+    add_overwrite,
     add_quiet,
     add_workers,
     backend_from_args,
     blocks_arg,
     non_negative_int,
+    path_arg,
     positive_int,
     seed_arg,
     show_progress,
@@ -21,8 +23,35 @@ from csql_sim.cli.args import (
     warn_workers,
 )
 from csql_sim.cli.core import read_task_for_rules
-from csql_sim.cli.output import emit, json_text
+from csql_sim.cli.output import emit, json_text, with_format
 from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.outputs import Outputs
+
+FIGURE7_FILES = ("figure7.csv", "figure7.json", "figure7.png")
+SCALING_FILES = ("scaling.csv", "scaling.json", "scaling.png")
+
+
+def declare_folder(args: argparse.Namespace, outputs: Outputs, names: tuple[str, str, str]) -> None:
+    """An output folder with a CSV, its provenance JSON (which vouches for both others) and a PNG."""
+    out = outputs.folder(args.out, "output folder")
+    csv_name, json_name, png_name = names
+    outputs.file(out / csv_name, "CSV table", "csv", sidecar=out / json_name)
+    outputs.file(out / json_name, "provenance", "json")
+    outputs.file(out / png_name, "figure", "png", sidecar=out / json_name)
+    outputs.input(getattr(args, "params", None), "parameter file")
+
+
+def declare_rule_file(args: argparse.Namespace, outputs: Outputs) -> None:
+    """``train`` and ``prune``: one rule file; the rule files and parameters they read are inputs."""
+    outputs.file(args.out, "rule file", "rules")
+    outputs.input(getattr(args, "rules", None), "rule file")
+    outputs.input(getattr(args, "domain", None), "domain rule file")
+    outputs.input(getattr(args, "params", None), "parameter file")
+
+
+def declare_show(args: argparse.Namespace, outputs: Outputs) -> None:
+    """``show`` reads its rule file: its ``--json FILE`` may not be that file."""
+    outputs.input(args.rules, "rule file")
 
 
 def _methods(text: str) -> list[str]:
@@ -39,12 +68,10 @@ def _methods(text: str) -> list[str]:
 
 # ------------------------------------------------------------------ experiment
 def cmd_experiment(args: argparse.Namespace) -> int:
-    from csql_sim.infra.files import check_output_folder
     from csql_sim.jobs.experiment import run_experiment, summary_lines, write_figure7
     from csql_sim.jobs.figure7_statements import evaluate, statement_lines
     from csql_sim.learners.params import default_trials
 
-    check_output_folder(args.out)
     warn_workers(args.workers)
     began = time.perf_counter()
     trials = args.trials if args.trials is not None else default_trials(args.blocks)
@@ -79,10 +106,9 @@ def cmd_experiment(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ train
 def cmd_train(args: argparse.Namespace) -> int:
-    from csql_sim.infra.files import check_output_file, write_or_keep
+    from csql_sim.infra.files import write_or_keep
     from csql_sim.learners.training import train_learner
 
-    check_output_file(args.out, "rule file")
     domain = None
     if args.domain:
         from csql_sim.core.rulebase import load_r_classifiers
@@ -127,10 +153,9 @@ def cmd_show(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ prune
 def cmd_prune(args: argparse.Namespace) -> int:
     from csql_sim.core.rulebase import file_bytes, load
-    from csql_sim.infra.files import check_output_file, write_or_keep
+    from csql_sim.infra.files import write_or_keep
     from csql_sim.learners.pruning import count_q, prune
 
-    check_output_file(args.out, "rule file")
     rb = load(args.rules, progress=show_progress(args))
     pruned = prune(rb, args.threshold)
     path = write_or_keep([(args.out, file_bytes(args.out, pruned))])[0]
@@ -167,17 +192,16 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ scaling
 def cmd_scaling(args: argparse.Namespace) -> int:
-    from csql_sim.infra.files import check_output_folder, write_or_keep
     from csql_sim.infra.provenance import plain, provenance
     from csql_sim.jobs.scaling import run_scaling, write_outputs
 
-    check_output_folder(args.out)
     rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args),
                        backend=backend_from_args(args))
-    csv_path, png_path = write_outputs(args.out, rows, args.max_trials)
+    csv_path, sidecar, png_path = (os.path.join(args.out, name) for name in SCALING_FILES)
     record = provenance(blocks=args.blocks, methods=args.methods, seed=args.seed, max_trials=args.max_trials)
-    doc = {"rows": plain(rows), "files": {"csv": str(csv_path), "png": str(png_path)}, "provenance": record}
-    sidecar = write_or_keep([(os.path.join(args.out, "scaling.json"), json_text(doc))])[0]
+    doc = with_format({"rows": plain(rows), "files": {"csv": csv_path, "png": png_path}, "provenance": record},
+                      "csql-sim scaling report")
+    write_outputs(args.out, rows, args.max_trials, sidecar=json_text(doc))
 
     def text() -> list[str]:
         lines = []
@@ -223,11 +247,12 @@ def _register_experiment(sub: argparse._SubParsersAction, methods: tuple[str, ..
     add_backend_arguments(p)
     p.add_argument("--blocks", type=blocks_arg, default=3,
                    help="number of blocks (default 3); for n != 3 the test task is a pair of maximal optimal length")
-    p.add_argument("--params", help="YAML parameter overrides (flat, or keyed by method)")
-    p.add_argument("--out", required=True, help="folder for figure7.csv, figure7.json (provenance), figure7.png")
+    p.add_argument("--params", type=path_arg, help="YAML parameter overrides (flat, or keyed by method)")
+    p.add_argument("--out", type=path_arg, required=True,
+                   help="folder for figure7.csv, figure7.json (provenance), figure7.png")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_experiment)
+    p.set_defaults(func=cmd_experiment, declare=lambda args, outputs: declare_folder(args, outputs, FIGURE7_FILES))
 
 def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("train", help="train one agent and save its classifier list")
@@ -236,30 +261,33 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
                    help="training trials (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
-    p.add_argument("--params", help="YAML parameter overrides (on top of the defaults for n)")
+    p.add_argument("--params", type=path_arg, help="YAML parameter overrides (on top of the defaults for n)")
     p.add_argument("--engine", choices=("fast", "reference"), default=None,
                    help="CS-QL engine: fast (default for cs-ql up to 5 blocks) or reference; the same rule file")
-    p.add_argument("--domain", help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
-    p.add_argument("--out", required=True, help="rule file to write: *.npz (compact) or YAML")
+    p.add_argument("--domain", type=path_arg,
+                   help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
+    p.add_argument("--out", type=path_arg, required=True, help="rule file to write: *.npz (compact) or YAML")
+    add_overwrite(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_train)
+    p.set_defaults(func=cmd_train, declare=declare_rule_file)
 
 def _register_show(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("show", help="print Q-classifiers in Figure 6's table form")
-    p.add_argument("rules", help="a rule file from 'csql-sim train'")
+    p.add_argument("rules", type=path_arg, help="a rule file from 'csql-sim train'")
     p.add_argument("--start", help="with --goal: show just the greedy path's classifiers")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_show)
+    p.set_defaults(func=cmd_show, declare=declare_show)
 
 def _register_prune(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("prune", help="remove Q-classifiers below a strength threshold")
-    p.add_argument("rules", help="a rule file from 'csql-sim train'")
+    p.add_argument("rules", type=path_arg, help="a rule file from 'csql-sim train'")
     p.add_argument("--threshold", type=threshold_arg, default=0.1, help="strength threshold in [0, 1] (default 0.1)")
-    p.add_argument("--out", required=True, help="rule file to write")
+    p.add_argument("--out", type=path_arg, required=True, help="rule file to write (not the rule file read)")
+    add_overwrite(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_prune)
+    p.set_defaults(func=cmd_prune, declare=declare_rule_file)
 
 def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("scaling", help="trials until every pair is planned optimally, per n and method")
@@ -271,10 +299,11 @@ def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...])
                    help="cells at once: processes, or CPUs of a local Ray instance (default 1: one after another, "
                    "so that no two timed cells share the cores)")
     add_backend_arguments(p)
-    p.add_argument("--out", required=True, help="folder for scaling.csv, scaling.json (provenance) and scaling.png")
+    p.add_argument("--out", type=path_arg, required=True,
+                   help="folder for scaling.csv, scaling.json (provenance) and scaling.png")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_scaling)
+    p.set_defaults(func=cmd_scaling, declare=lambda args, outputs: declare_folder(args, outputs, SCALING_FILES))
 
 def _register_bench(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("bench", help="time both CS-QL engines and a plain dict-based Q-learner on the same trials")

@@ -1,4 +1,10 @@
-"""Writing a command's result: JSON (``--json [FILE]``) or text, the same way everywhere."""
+"""Writing a command's result: JSON (``--json [FILE]``) or text, the same way everywhere.
+
+Before a command runs, :func:`plan_outputs` declares and checks all its outputs (its
+``--json`` file and whatever its ``declare`` function adds) in one
+:class:`csql_sim.infra.outputs.Outputs`. Every JSON report carries ``"format"`` and
+``"version"`` first (:func:`with_format`).
+"""
 
 from __future__ import annotations
 
@@ -10,15 +16,30 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any
 
-from csql_sim.infra.files import atomic_output, check_output_file, write_or_keep
+from csql_sim.infra.files import OutputError, atomic_output, write_or_keep
+from csql_sim.infra.outputs import Outputs
 from csql_sim.infra.provenance import provenance
 
-NOT_PARAMETERS = ("func", "json", "quiet")  # how a command reports, not what it computes
+NOT_PARAMETERS = ("func", "declare", "json", "quiet", "overwrite")  # how a command reports, not what it computes
+REPORT_VERSION = 1
+"""The version of the JSON reports whose format :func:`with_format` names."""
 
 
 def json_text(doc: Any) -> str:
     """The JSON text of a document (indented, one trailing newline)."""
     return json.dumps(doc, indent=1) + "\n"
+
+
+def report_format(args: argparse.Namespace) -> str:
+    """The format name of a command's JSON report: ``csql-sim <command> report``."""
+    return f"csql-sim {getattr(args, 'command', None) or 'command'} report"
+
+
+def with_format(doc: dict, name: str, version: int = REPORT_VERSION) -> dict:
+    """``doc`` with ``"format": name`` and ``"version"`` first (a doc that names its format is kept)."""
+    if "format" in doc:
+        return doc
+    return {"format": name, "version": version, **doc}
 
 
 def emit(args: argparse.Namespace, doc: Any,
@@ -31,15 +52,18 @@ def emit(args: argparse.Namespace, doc: Any,
     printed; it is only computed when needed.
 
     A JSON object without a ``"provenance"`` entry gets one: the package version and the
-    command's parameters (:func:`command_parameters`).
+    command's parameters (:func:`command_parameters`); one without a ``"format"`` gets
+    ``"format": "csql-sim <command> report"`` and ``"version": 1`` (:func:`with_format`).
 
     Returns:
         The JSON file written, if any.
     """
     target = getattr(args, "json", None)
     if target is not None:
-        if isinstance(doc, dict) and "provenance" not in doc:
-            doc = {**doc, "provenance": provenance(**command_parameters(args))}
+        if isinstance(doc, dict):
+            doc = with_format(doc, report_format(args))
+            if "provenance" not in doc:
+                doc = {**doc, "provenance": provenance(**command_parameters(args))}
         if target == "-":
             sys.stdout.write(json_text(doc))
             return None
@@ -64,18 +88,43 @@ def command_parameters(args: argparse.Namespace) -> dict[str, Any]:
     return {k: v for k, v in vars(args).items() if k not in NOT_PARAMETERS}
 
 
-def check_json_output(args: argparse.Namespace) -> None:
-    """Before any work: a ``--json FILE`` must be writable (one-line OutputError otherwise)."""
+def default_path(args: argparse.Namespace, name: str, value: str) -> bool:
+    """Fill in ``args.<name>`` with its default path when it was not given; True if so.
+
+    Output options with a default path are registered with ``default=None`` so that a
+    path the user named can be told from the default (:meth:`Outputs.file`'s ``default``).
+    """
+    if getattr(args, name, None) is not None:
+        return False
+    setattr(args, name, value)
+    return True
+
+
+def plan_outputs(args: argparse.Namespace) -> Outputs:
+    """Declare every output of the command (its ``declare(args, outputs)`` and ``--json FILE``), check them all.
+
+    Called by :func:`csql_sim.cli.main` before the command runs.
+
+    Raises:
+        OutputError: one line naming the first output that would fail or clobber a file.
+    """
+    outputs = Outputs(overwrite=getattr(args, "overwrite", False))
+    declare = getattr(args, "declare", None)
+    if declare is not None:
+        declare(args, outputs)
     target = getattr(args, "json", None)
     if target not in (None, "-"):
-        check_output_file(target, "JSON report")
+        outputs.file(target, "JSON report", "json", option="--json")
+    outputs.check()
+    return outputs
 
 
 @contextmanager
 def json_stream(args: argparse.Namespace) -> Iterator[IO[str] | None]:
     """A text stream for JSON written piece by piece: stdout, or FILE renamed into place at the end.
 
-    Yields None without ``--json``.
+    Yields None without ``--json``. A failed write of FILE (a full disk, a file-size
+    limit) is a one-line OutputError naming it, and leaves nothing behind.
     """
     target = getattr(args, "json", None)
     if target is None:
@@ -83,6 +132,10 @@ def json_stream(args: argparse.Namespace) -> Iterator[IO[str] | None]:
     elif target == "-":
         yield sys.stdout
     else:
-        with atomic_output(target) as tmp, open(tmp, "w", encoding="utf-8") as fh:
-            yield fh
+        try:
+            with atomic_output(target) as tmp, open(tmp, "w", encoding="utf-8") as fh:
+                yield fh
+        except OSError as exc:
+            raise OutputError(f"cannot write JSON report {target!r} ({exc.strerror or exc}); nothing was written") \
+                from None
         print(f"wrote {target}", file=sys.stderr)

@@ -4,16 +4,29 @@ from __future__ import annotations
 
 import argparse
 
-from csql_sim.cli.args import blocks_arg
+from csql_sim import __version__
+from csql_sim.cli.args import add_overwrite, blocks_arg, path_arg
 from csql_sim.cli.core import read_task
 from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.outputs import PDDL_HEADER, Outputs
+
+
+def declare_pddl(args: argparse.Namespace, outputs: Outputs) -> None:
+    """The folder, ``domain.pddl`` and (with --start) ``problem.pddl`` in it; ``--domain`` is read."""
+    out = outputs.folder(args.out, "PDDL folder")
+    outputs.file(out / "domain.pddl", "PDDL domain", "pddl")
+    if args.start is not None:
+        outputs.file(out / "problem.pddl", "PDDL problem", "pddl")
+    outputs.input(args.domain, "domain rule file")
 
 
 def cmd_pddl(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
     from csql_sim.core.pddl_export import domain_text, problem_text
     from csql_sim.core.r_classifier import r_classifiers
     from csql_sim.core.rulebase import load_r_classifiers
-    from csql_sim.infra.files import check_output_folder, write_or_keep
+    from csql_sim.infra.files import write_or_keep
 
     if (args.start is None) != (args.goal is None):
         raise CsqlError("pddl needs both --start and --goal, or neither")
@@ -23,25 +36,31 @@ def cmd_pddl(args: argparse.Namespace) -> int:
     else:
         n = args.blocks or 3
         rules = r_classifiers(n)
-    out = check_output_folder(args.out, "PDDL folder")
-    outputs = [(out / "domain.pddl", domain_text(rules, n))]
+    out = Path(args.out)
+    outputs = [(out / "domain.pddl", _headed("domain", domain_text(rules, n)))]
     if args.start is not None:
         start, goal = read_task(args.start, args.goal, n)
-        outputs.append((out / "problem.pddl", problem_text(rules, start, goal)))
+        outputs.append((out / "problem.pddl", _headed("problem", problem_text(rules, start, goal))))
     written = write_or_keep(outputs)
     print("wrote " + " and ".join(str(p) for p in written))
     return 0
+
+
+def _headed(what: str, text: str) -> str:
+    """A PDDL file's text after the comment line that marks it as ours (:data:`PDDL_HEADER`)."""
+    return f"{PDDL_HEADER} {what}, written by csql-sim {__version__}\n{text}"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``pddl`` to the subparsers."""
     p = sub.add_parser("pddl", help="write the R-classifiers' world model as PDDL (domain, and a problem)")
     p.add_argument("--blocks", type=blocks_arg, default=None, help="number of blocks (default 3, or the domain's)")
-    p.add_argument("--domain", help="R-classifiers from this rule file (default: Figure 5 / generated)")
+    p.add_argument("--domain", type=path_arg, help="R-classifiers from this rule file (default: Figure 5 / generated)")
     p.add_argument("--start", help="start configuration, e.g. CBA (writes problem.pddl with --goal)")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
-    p.add_argument("--out", required=True, help="folder for domain.pddl and problem.pddl")
-    p.set_defaults(func=cmd_pddl)
+    p.add_argument("--out", type=path_arg, required=True, help="folder for domain.pddl and problem.pddl")
+    add_overwrite(p)
+    p.set_defaults(func=cmd_pddl, declare=declare_pddl)
 
 
 __all__ = ["register"]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import math
 import sys
 from typing import TYPE_CHECKING
@@ -10,20 +11,25 @@ from typing import TYPE_CHECKING
 from csql_sim.cli.args import (
     add_backend_arguments,
     add_json,
+    add_overwrite,
     add_quiet,
     add_renderer_argument,
     add_seed,
     add_workers,
     backend_from_args,
     blocks_arg,
+    path_arg,
     positive_int,
     seed_arg,
     show_progress,
     warn_workers,
 )
 from csql_sim.cli.core import read_task_for_rules
-from csql_sim.cli.output import emit
+from csql_sim.cli.output import default_path, emit
 from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.outputs import Outputs
+
+DEFAULT_VIDEO = "video.mp4"
 
 if TYPE_CHECKING:
     from csql_sim.jobs.evaluate import EvalReport
@@ -42,6 +48,29 @@ def print_episode(result: EpisodeResult) -> None:
     from csql_sim.sim.report import episode_lines
 
     print("\n".join(episode_lines(result)))
+
+
+def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
+    """The video (default ``video.mp4``) and, for an episode, its provenance sidecar ``<video>.json``."""
+    from csql_sim.jobs.render import sidecar_path
+    from csql_sim.sim.video import check_video_options
+
+    default = default_path(args, "out", DEFAULT_VIDEO)
+    check_video_options(args.out, args.width, args.height, args.fps)
+    sidecar = sidecar_path(args.out)
+    outputs.file(args.out, "video file", "video", default=default, sidecar=sidecar)
+    outputs.file(sidecar, "video provenance", "json", default=default)
+    outputs.input(args.rules, "rule file")
+
+
+def declare_evaluate(args: argparse.Namespace, outputs: Outputs) -> None:
+    """``--plot FILE.png`` (with ``--json FILE``, added by the caller); ``--rules`` is read."""
+    if args.plot is not None:
+        if not args.plot.lower().endswith(".png"):
+            raise CsqlError(f"--plot must name a .png file, got {args.plot!r}")
+        outputs.file(args.plot, "plot", "png", option="--plot")
+    outputs.input(args.rules, "rule file")
+    outputs.input(args.domain, "domain file")
 
 
 def cmd_render(args: argparse.Namespace) -> int:
@@ -91,8 +120,11 @@ def evaluate_status(report: EvalReport, min_success: float | None) -> int:
 def render_discovery(args: argparse.Namespace) -> int:
     """``render --discovery``: a short discovery episode, failed attempts captioned as such."""
     from csql_sim.core.message import parse_action_message
+    from csql_sim.infra.files import write_atomic
+    from csql_sim.infra.provenance import provenance
     from csql_sim.jobs.discover import record_discovery
-    from csql_sim.sim.video import check_video_options, write_video
+    from csql_sim.jobs.render import sidecar_path, sidecar_record
+    from csql_sim.sim.video import check_video_options, video_frame_count, write_video
 
     if args.start or args.goal or args.rules:
         raise CsqlError("render --discovery takes no --start, --goal or --rules")
@@ -106,19 +138,22 @@ def render_discovery(args: argparse.Namespace) -> int:
         print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
     path = write_video(recording, args.out, args.width, args.height, args.fps, args.workers,
                        progress=show_progress(args))
-    print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({len(recording.frames)} frames)")
+    frames = video_frame_count(recording, args.fps)
+    record = provenance(command="render --discovery", blocks=args.blocks, seed=args.seed,
+                        transitions=args.transitions, perception=args.perception, perturb=args.perturb,
+                        width=args.width, height=args.height, fps=args.fps)
+    video = {"file": path.name, "frames": frames, "attempts": result.transitions, "failed": result.failed}
+    sidecar = write_atomic(sidecar_path(path), json.dumps(sidecar_record(record, video), indent=1) + "\n")
+    print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({frames} frames) and {sidecar}")
     return 0
 
 
 def cmd_evaluate(args: argparse.Namespace) -> int:
-    from csql_sim.infra.files import check_output_file
     from csql_sim.infra.provenance import provenance
     from csql_sim.jobs.evaluate import evaluate
 
-    if args.plot:
-        if not args.plot.lower().endswith(".png"):
-            raise CsqlError(f"--plot must name a .png file, got {args.plot!r}")
-        check_output_file(args.plot, "plot")
+    if args.problems is not None or args.plans is not None or args.domain is not None:
+        return _evaluate_problems(args)
     warn_workers(args.workers)
     report = evaluate(n=args.blocks, pairs=args.pairs, seeds=args.seeds, perturb=args.perturb,
                       rules=args.rules, perception=args.perception, progress=show_progress(args),
@@ -127,11 +162,30 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     emit(args, {**report.to_dict(), "min_success": args.min_success, "status": status,
                 "provenance": provenance(command="evaluate", **report.config, min_success=args.min_success)},
          report.text)
-    if args.plot:
+    if args.plot is not None:
         from csql_sim.jobs.plots import write_evaluation_png
 
         print(f"wrote {write_evaluation_png(report, args.plot)}", file=sys.stderr)
     return status
+
+
+def _evaluate_problems(args: argparse.Namespace) -> int:
+    """``evaluate --problems DIR``: every problem of a folder on the arm, one after another."""
+    from csql_sim.jobs.execute_batch import evaluate_problems, problems_lines, problems_report
+
+    if args.problems is None:
+        raise CsqlError("--plans and --domain go with --problems DIR")
+    if args.plot is not None:
+        raise CsqlError("--plot draws pairs; it does not apply to --problems")
+    runs = evaluate_problems(args.problems, plans=args.plans, rules=args.rules,
+                             planner="bfs" if args.plans is None and args.rules is None else None,
+                             domain=args.domain, seed=args.seed, perception=args.perception, perturb=args.perturb,
+                             progress=show_progress(args))
+    params = {"problems": args.problems, "plans": args.plans, "rules": args.rules, "domain": args.domain,
+              "seed": args.seed, "perception": args.perception, "perturb": args.perturb}
+    emit(args, problems_report(runs, params), problems_lines(runs))
+    rate = sum(r.reached for r in runs) / len(runs)
+    return 0 if rate >= (args.min_success if args.min_success is not None else 1.0) else 1
 
 
 def camera_noise_arg(text: str) -> tuple[float, float]:
@@ -156,14 +210,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("render", help="execute a plan on the simulated Panda and write a captioned video")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
-    p.add_argument("--rules", help="a rule base from 'csql-sim train' (default: the BFS planner)")
-    p.add_argument("--out", default="video.mp4", help="output .mp4 or .gif (default video.mp4)")
+    p.add_argument("--rules", type=path_arg, help="a rule base from 'csql-sim train' (default: the BFS planner)")
+    p.add_argument("--out", type=path_arg, default=None,
+                   help=f"output .mp4 or .gif (default {DEFAULT_VIDEO}; an existing one is kept unless --overwrite)")
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
     p.add_argument("--height", type=positive_int, default=480, help="frame height (default 480)")
     p.add_argument("--fps", type=positive_int, default=30, help="frames per simulated second (default 30)")
     p.add_argument("--seed", type=seed_arg, default=0, help="episode seed (default 0)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
-    p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
+    p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (default pose)")
     _noise_arg(p)
     add_workers(p, "render processes")
     add_quiet(p)
@@ -172,25 +227,32 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="show a discovery episode instead: random attempts, failed ones captioned as such")
     p.add_argument("--transitions", type=positive_int, default=16, help="attempts in --discovery (default 16)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks in --discovery (default 3)")
-    p.set_defaults(func=cmd_render)
+    add_overwrite(p)
+    p.set_defaults(func=cmd_render, declare=declare_render)
 
     p = sub.add_parser("evaluate", help="run physical episodes over start/goal pairs and report success")
-    p.add_argument("--rules", help="a rule base from 'csql-sim train' (default: the BFS planner)")
+    p.add_argument("--rules", type=path_arg, help="a rule base from 'csql-sim train' (default: the BFS planner)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
     p.add_argument("--pairs", type=pairs_arg, default="all", help="'all' (default) or a sample size K")
     add_seed(p, "seed of the sample of pairs")
     p.add_argument("--seeds", type=positive_int, default=1, help="episodes per pair (default 1)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
-    p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode")
+    p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (default pose)")
     _noise_arg(p)
     p.add_argument("--min-success", type=_rate, metavar="RATE",
                    help="exit 0 when the success rate is at least RATE (default: every episode must succeed)")
-    p.add_argument("--plot", metavar="FILE.png", help="draw outcomes, plan lengths and perturbations to a PNG")
+    p.add_argument("--plot", metavar="FILE.png", type=path_arg,
+                   help="draw outcomes, plan lengths and perturbations to a PNG")
+    p.add_argument("--problems", type=path_arg, metavar="DIR",
+                   help="run every PDDL problem of DIR instead of pairs (with --plans DIR, --rules or BFS)")
+    p.add_argument("--plans", type=path_arg, metavar="DIR",
+                   help="with --problems: the plan files (<problem>.plan, .soln or .pddl.soln)")
+    p.add_argument("--domain", type=path_arg, help="with --problems: their PDDL domain file (optional)")
     add_workers(p, "processes, or CPUs of a local Ray instance")
     add_backend_arguments(p)
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_evaluate)
+    p.set_defaults(func=cmd_evaluate, declare=declare_evaluate)
 
 
 __all__ = ["register"]

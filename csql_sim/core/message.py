@@ -192,8 +192,16 @@ def _fail(message: str, pos: int, expected: str) -> MessageError:
 
 def infer_blocks(message: str) -> int:
     """The number of blocks a state message describes, read from its on and held fields."""
-    if len(message) < 16 or message[0] != "S":
-        raise _fail(message, 0 if not message or message[0] != "S" else len(message), "'S' and 16-19 characters")
+    if not message or message[0] != "S":
+        raise _fail(message, 0, "'S'")
+    lengths: dict[int, list[str]] = {}
+    for n in range(MIN_OK, MAX_BLOCKS + 1):
+        lengths.setdefault(layout(n).length, []).append(str(n))
+    if len(message) not in lengths:
+        sizes = ", ".join(f"{length} ({' or '.join(ns)} blocks)" for length, ns in sorted(lengths.items()))
+        short = "too short" if len(message) < min(lengths) else "of no block count's length"
+        raise MessageError(f"state message {message!r} is {short}: {len(message)} characters; "
+                           f"a state message has {sizes}")
     for width in (1, 2):
         on_start = 1 + width + BLOCK_FIELD
         on = message[on_start : on_start + BLOCK_FIELD]
@@ -240,7 +248,7 @@ def parse_state_message(message: str, n: int | None = None) -> StateMessage:
 
 def _base36(message: str, start: int, text: str) -> int:
     for k, ch in enumerate(text):
-        if ch.upper() not in DIGITS:
+        if not ch.isascii() or ch.upper() not in DIGITS:
             raise _fail(message, start + k, "a base-36 digit")
     return decode_code(text)
 
@@ -352,7 +360,7 @@ def goal_code(goal: int, n: int) -> str:
 
 def is_state_message(text: str) -> bool:
     """A cheap test: does ``text`` look like a state message rather than a configuration?"""
-    return len(text) >= 16 and text[0] == "S" and text[1:2].isalnum() and text[1:2] != ","
+    return len(text) >= 2 and text[0] == "S" and text[1].isalnum()  # no block is called S
 
 
 __all__ = [

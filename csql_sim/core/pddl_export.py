@@ -24,7 +24,7 @@ from pddl.logic.base import And, Not
 from pddl.requirements import Requirements
 
 from csql_sim.core.message import format_state_message, layout, parse_action_message
-from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
+from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier, validate_r_classifier
 from csql_sim.core.world import BLOCK_NAMES, State
 from csql_sim.infra.errors import CsqlError
 
@@ -54,12 +54,13 @@ def _facts_of(message: str, n: int) -> list[Predicate]:
 
 
 def _action(pre: PreconditionRule, post: AddDeleteRule, n: int) -> PddlAction:
+    """One PDDL action; both rules are valid (:func:`build_domain` checked), so every character is a field value."""
     fields = _fields(n)
-    need = [_fact(*_named(fields, p, ch)) for p, ch in enumerate(pre.condition) if p in fields and ch != WILDCARD]
+    need = [_fact(fields[p][0], ch) for p, ch in enumerate(pre.condition) if p in fields and ch != WILDCARD]
     effects = []
     for p, ch in enumerate(post.output):
         if p in fields and ch != WILDCARD:
-            name, values = _named(fields, p, ch)[0], fields[p][1]
+            name, values = fields[p]
             effects.append(_fact(name, ch))
             effects += [Not(_fact(name, v)) for v in values if v != ch]
     act = parse_action_message(pre.action, n)
@@ -67,15 +68,15 @@ def _action(pre: PreconditionRule, post: AddDeleteRule, n: int) -> PddlAction:
     return PddlAction(label, [], precondition=And(*need), effect=And(*effects))
 
 
-def _named(fields: dict[int, tuple[str, str]], p: int, ch: str) -> tuple[str, str]:
-    name, values = fields[p]
-    if ch not in values:
-        raise PddlError(f"rule character {ch!r} at position {p} is not a value of {name}")
-    return name, ch
-
-
 def build_domain(rules: list[RClassifier], n: int) -> Domain:
-    """The STRIPS domain of ``rules`` (R-classifiers for n blocks)."""
+    """The STRIPS domain of ``rules`` (R-classifiers for n blocks).
+
+    Raises:
+        RuleError: for a rule that does not fit the n-block messages (the check every reader makes).
+        PddlError: when no action has both of its rules.
+    """
+    for rule in rules:
+        validate_r_classifier(rule, n)
     w = layout(n).action_width
     pre = {r.action[1 : 1 + w]: r for r in rules if isinstance(r, PreconditionRule)}
     post = {r.condition[1 : 1 + w]: r for r in rules if isinstance(r, AddDeleteRule)}

@@ -21,6 +21,10 @@ For n=3 the 36 rules are data, ``assets/rules/blocks3.yaml`` (installed as
 ``csql_sim.assets``), string for string the paper's table as restored in
 docs/encoding.md; for other n they are generated from the four STRIPS operators by
 :func:`generate_rules` (which also reproduces the n=3 table).
+
+:func:`validate_r_classifier` is the one check of a rule against the n-block message
+grammar; both rule-file codecs, :class:`~csql_sim.core.world_model.WorldModel` and the
+PDDL export make it, so every reader refuses the same rules.
 """
 
 from __future__ import annotations
@@ -33,8 +37,26 @@ from typing import ClassVar
 
 import yaml
 
-from csql_sim.core.message import BLOCK_FIELD, action_code, format_action_message, layout
-from csql_sim.core.world import BLOCK_NAMES, TABLE, Action, ActionKind, all_actions, check_n, preconditions
+from csql_sim.core.message import (
+    BLOCK_FIELD,
+    DIGITS,
+    MessageError,
+    action_code,
+    decode_code,
+    format_action_message,
+    layout,
+    parse_action_message,
+)
+from csql_sim.core.world import (
+    BLOCK_NAMES,
+    TABLE,
+    Action,
+    ActionKind,
+    all_actions,
+    all_states,
+    check_n,
+    preconditions,
+)
 from csql_sim.infra.errors import CsqlError
 
 ASSET = "blocks3.yaml"
@@ -107,6 +129,171 @@ def parse_r_classifier(condition: str, posted: str) -> RClassifier:
     if posted.startswith(STATE_TAG):
         return AddDeleteRule(condition, posted)
     raise CsqlError(f"R-classifier output {posted!r} is neither an action message (A...) nor a state message (S...)")
+
+
+class RuleError(CsqlError):
+    """An R-classifier that does not fit the message grammar of its number of blocks."""
+
+
+def validate_r_classifier(rule: RClassifier, n: int, owner: str = "rules") -> None:
+    """Refuse an R-classifier that no n-block world can hold: the one check every reader makes.
+
+    Both rule-file codecs (through :func:`r_classifier_problem`), :class:`WorldModel
+    <csql_sim.core.world_model.WorldModel>` and the PDDL export call it. See
+    :func:`r_classifier_problem` for what is checked.
+
+    Raises:
+        RuleError: one line naming the string, the position and what is wrong.
+    """
+    problem = r_classifier_problem(rule.condition, rule.action, n, owner)
+    if problem:
+        raise RuleError(problem)
+
+
+def r_classifier_problem(condition: object, posted: object, n: int, owner: str = "rules") -> str | None:
+    """Why ``(condition, posted)`` is no R-classifier of n blocks; None if it is one.
+
+    * Both strings have the n-block message length and only characters of the message
+      grammar at each position (no other letter, no block beyond n, no block on itself;
+      ``#`` wherever a state-message pattern has a field).
+    * A precondition rule posts a complete action message (no ``#``).
+    * An add-delete rule's condition names one action code in its action slot; its output
+      resets the slot to ``0`` and fixes the moved block's on field and the hand only as
+      that action does.
+    * A condition or output describes a possible state: no two blocks held, the hand and
+      the on fields agree, a held or covered block is not clear, one block on each block,
+      no cycle. Codes in the action slot and the goal field are within the n-block world.
+
+    ``owner`` names what states n in the messages ("file": "but the file is for 2 blocks").
+    """
+    width = layout(n).length
+    for name, text in (("condition", condition), ("action", posted)):
+        if not isinstance(text, str) or len(text) != width:
+            return f"{name} must be a {width}-character string, got {text!r}"
+    return _problem(condition, posted, n, owner)
+
+
+@functools.lru_cache(maxsize=8192)
+def _problem(condition: str, posted: str, n: int, owner: str) -> str | None:
+    """:func:`r_classifier_problem` for strings of the right length (memoized: rules repeat)."""
+    problem = _pattern_problem(condition, n, owner)
+    if problem:
+        return f"condition {condition!r}: {problem}"
+    if posted.startswith(ACTION_TAG):
+        problem = _foreign_block(posted, n, owner)
+        if problem is None:
+            try:
+                parse_action_message(posted, n)
+            except MessageError as exc:
+                problem = f"not a {n}-block action message ({exc})"
+        return f"action {posted!r}: {problem}" if problem else None
+    if not posted.startswith(STATE_TAG):
+        return f"R-classifier output {posted!r} is neither an action message (A...) nor a state message (S...)"
+    problem = _pattern_problem(posted, n, owner)
+    if problem:
+        return f"output {posted!r}: {problem}"
+    return _add_delete_problem(condition, posted, n)
+
+
+@functools.cache
+def _pattern_chars(n: int) -> tuple[str, ...]:
+    """The characters a state-message pattern of n blocks may hold, position by position (``#`` included)."""
+    lay = layout(n)
+    names = BLOCK_NAMES[:n].lower()
+    chars = ["S"] + [DIGITS + WILDCARD] * lay.action_width
+    chars += ["01#" if i < n else "0#" for i in range(BLOCK_FIELD)]
+    chars += ["t0" + names.replace(names[i], "") + WILDCARD if i < n else "0#" for i in range(BLOCK_FIELD)]
+    return tuple([*chars, "0" + names + WILDCARD] + [DIGITS + WILDCARD] * lay.goal_width)
+
+
+def _foreign_block(text: str, n: int, owner: str) -> str | None:
+    """The first lower-case block letter beyond the n blocks, as a problem (None if there is none)."""
+    for pos, ch in enumerate(text):
+        if ch in BLOCK_NAMES.lower()[n:]:
+            return f"position {pos} names block {ch.upper()}, but the {owner} is for {n} blocks"
+    return None
+
+
+def _pattern_problem(text: str, n: int, owner: str) -> str | None:
+    """Why ``text`` is no state-message pattern of n blocks (None if it is one)."""
+    lay = layout(n)
+    problem = _foreign_block(text, n, owner)
+    if problem:
+        return problem
+    for pos, (ch, allowed) in enumerate(zip(text, _pattern_chars(n), strict=True)):
+        if ch in allowed:
+            continue
+        if lay.on_start <= pos < lay.on_start + n and ch == BLOCK_NAMES[pos - lay.on_start].lower():
+            return f"position {pos} puts block {ch.upper()} on itself"
+        if not ch.isascii() or not ch.isprintable():
+            return f"position {pos} is {ascii(ch)}, not a message character"
+        shown = "a base-36 digit (0-9, A-Z) or #" if allowed.startswith(DIGITS) else "one of " + allowed
+        return f"position {pos} is {ch!r}, expected {shown}"
+    code = lay.action_slot(text)
+    if WILDCARD not in code and decode_code(code) > len(all_actions(n)):
+        return f"action code {code} is beyond the {len(all_actions(n))} actions of {n} blocks"
+    goal, states = text[lay.goal_start:], len(all_states(n))
+    if WILDCARD not in goal and decode_code(goal) >= states:
+        return f"goal code {goal} is beyond the {states} states of {n} blocks"
+    return _impossible(text, n)
+
+
+def _impossible(text: str, n: int) -> str | None:
+    """Why the fixed fields of a state pattern describe no state (None if some state fits them)."""
+    lay = layout(n)
+    names = BLOCK_NAMES[:n].lower()
+    clear = {i: text[lay.clear_start + i] for i in range(n)}
+    on = {i: text[lay.on_start + i] for i in range(n) if text[lay.on_start + i] != WILDCARD}
+    hand = text[lay.held_pos]
+    holders = [BLOCK_NAMES[i] for i, ch in on.items() if ch == "0"]
+    if len(holders) > 1:
+        return f"blocks {' and '.join(holders)} are both held (on field 0)"
+    if holders and hand not in (WILDCARD, holders[0].lower()):
+        return f"block {holders[0]} is held (on field 0), but the hand field is {hand!r}"
+    held = {BLOCK_NAMES.index(b) for b in holders} | ({names.index(hand)} if hand in names else set())
+    below: dict[int, int] = {}
+    for i, ch in on.items():
+        if i in held and ch != "0":
+            return f"block {BLOCK_NAMES[i]} is held but stands on {ch!r}"
+        if ch in names:
+            j = names.index(ch)
+            why = ("is held" if j in held else "is marked clear" if clear[j] == "1"
+                   else f"already holds {BLOCK_NAMES[below[j]]}" if j in below else None)
+            if why:
+                return f"block {BLOCK_NAMES[i]} is on {BLOCK_NAMES[j]}, which {why}"
+            below[j] = i
+    if any(clear[i] == "1" for i in held):
+        return "a held block is marked clear"
+    for i in on:
+        seen, j = {i}, on[i]
+        while j in names and (k := names.index(j)) in on:
+            if k in seen:
+                return f"the blocks form a cycle through {BLOCK_NAMES[i]}"
+            seen.add(k)
+            j = on[k]
+    return None
+
+
+def _add_delete_problem(condition: str, output: str, n: int) -> str | None:
+    """Why an add-delete rule's condition and output do not describe one action (None if they do)."""
+    lay = layout(n)
+    count = len(all_actions(n))
+    code = lay.action_slot(condition)
+    if WILDCARD in code or decode_code(code) == 0:
+        return f"condition {condition!r}: its action slot must hold one action code 1..{count}, got {code!r}"
+    if lay.action_slot(output) != "0" * lay.action_width:
+        return f"output {output!r}: its action slot must be reset to {'0' * lay.action_width}"
+    action = all_actions(n)[decode_code(code) - 1]
+    name = BLOCK_NAMES[action.block].lower()
+    if action.is_pick:
+        hand, on = name, "0"
+    else:
+        hand, on = "0", "t" if action.target is None else BLOCK_NAMES[action.target].lower()
+    for pos, want, what in ((lay.held_pos, hand, "hand"), (lay.on_start + action.block, on, "on field")):
+        if output[pos] not in (WILDCARD, want):
+            return (f"output {output!r}: after {action.name()} the {what} (position {pos}) must be {want!r} "
+                    f"or #, not {output[pos]!r}")
+    return None
 
 
 def _blank(n: int) -> list[str]:

@@ -13,7 +13,10 @@ The file is a zip archive written with ``numpy.savez_compressed`` (CRC-checked m
 and read with ``allow_pickle=False``. A file cut anywhere is refused: the zip's central
 directory is at its end, every member is CRC-checked, and ``count`` must equal the
 length of every array. The same classifier list written as YAML and as npz reads back
-to the same classifiers (the npz keeps the full float64 values).
+to the same classifiers (the npz keeps the full float64 values). Reading checks what the
+YAML reader checks (messages, R-classifier patterns, ``meta`` as JSON data), every byte
+of a message is printable ASCII, and the header is at most :data:`MAX_HEADER_CHARS`
+characters nested at most 32 levels deep.
 """
 
 from __future__ import annotations
@@ -21,6 +24,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import re
 import zipfile
 from pathlib import Path
 
@@ -30,10 +34,10 @@ from csql_sim.core.message import layout
 from csql_sim.core.message_index import known_action, known_state
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import parse_r_classifier
-from csql_sim.core.rulebase_yaml import RuleBase, check_strings
+from csql_sim.core.rulebase_yaml import RuleBase, check_meta, check_strings
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import InputFileError, read_bytes_file, write_atomic
+from csql_sim.infra.files import MAX_YAML_DEPTH, InputFileError, read_bytes_file, write_atomic
 
 FORMAT = "csql-sim rule base (npz)"
 VERSION = 1
@@ -43,6 +47,10 @@ MAX_FILE_BYTES = 256 * 1024 * 1024
 MAX_EXPANDED_BYTES = 2 * 1024 * 1024 * 1024
 """Largest total of its arrays once decompressed (5 blocks: about 125 MB)."""
 ARRAYS = ("header", "kind", "condition", "action", *FLOATS)
+MAX_HEADER_CHARS = 1024 * 1024
+"""Longest JSON header read (a trained file's is about 1 kB); it may nest at most
+:data:`~csql_sim.infra.files.MAX_YAML_DEPTH` levels, as YAML rule files."""
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 
 
 def to_bytes(rulebase: RuleBase) -> bytes:
@@ -105,6 +113,7 @@ def read_arrays(path: str | os.PathLike, source: str, error: type[Exception]) ->
     for name in ("condition", "action"):
         if arrays[name].dtype != np.dtype(f"S{width}"):
             raise error(f"{source}: {name}s must be {width}-character strings, got {arrays[name].dtype}")
+        _check_bytes(arrays[name], name, width, source, error)
     if arrays["kind"].dtype != np.dtype("S1") or not np.isin(arrays["kind"], (b"R", b"Q")).all():
         raise error(f"{source}: every kind must be R or Q")
     for name in FLOATS:
@@ -137,22 +146,50 @@ def _check_messages(n: int, arrays: dict[str, np.ndarray], source: str, error: t
             raise error(f"{source}: classifier {k + 1}: {problem}")
 
 
+def _check_bytes(strings: np.ndarray, name: str, width: int, source: str, error: type[Exception]) -> None:
+    """Every byte of every message is a printable ASCII character (no NUL padding: all are ``width`` long)."""
+    codes = np.ascontiguousarray(strings).view(np.uint8).reshape(len(strings), width)
+    bad = (codes < 0x21) | (codes > 0x7E)
+    if bad.any():
+        k, pos = (int(i) for i in np.argwhere(bad)[0])
+        raise error(f"{source}: classifier {k + 1}: {name} holds the byte 0x{codes[k, pos]:02x} at position {pos}, "
+                    f"not a message character")
+
+
+def _json_depth(text: str) -> int:
+    """How deep the lists and objects of a JSON text nest (brackets inside strings do not count)."""
+    marks = np.frombuffer(re.sub(r"[^\[\]{}]", "", _JSON_STRING.sub("", text)).encode("ascii"), np.uint8)
+    if not len(marks):
+        return 0
+    return int(np.cumsum(np.where((marks == ord("[")) | (marks == ord("{")), 1, -1)).max())
+
+
 def _header(raw: np.ndarray, source: str, error: type[Exception]) -> dict:
+    if raw.ndim != 0 or raw.dtype.kind != "U":
+        raise error(f"{source}: the npz header is not JSON text")
+    if raw.dtype.itemsize // 4 > MAX_HEADER_CHARS:
+        raise error(f"{source}: the npz header is {raw.dtype.itemsize // 4:,} characters, above the "
+                    f"{MAX_HEADER_CHARS:,}-character limit")
+    text = str(raw[()])
+    if _json_depth(text) > MAX_YAML_DEPTH:
+        raise error(f"{source}: the npz header nests deeper than {MAX_YAML_DEPTH} levels")
     try:
-        header = json.loads(str(raw[()]))
-    except (ValueError, TypeError, IndexError):
+        header = json.loads(text)
+    except (ValueError, TypeError, RecursionError):
         raise error(f"{source}: the npz header is not JSON") from None
     if not isinstance(header, dict) or header.get("format") != FORMAT:
         raise error(f"{source}: not a csql-sim npz rule base (missing format {FORMAT!r})")
     if header.get("version") != VERSION:
         raise error(f"{source}: unsupported npz rule-base version {header.get('version')!r} (expected {VERSION})")
     n, count = header.get("blocks"), header.get("count")
-    if not isinstance(n, int) or not MIN_BLOCKS <= n <= MAX_BLOCKS:
+    if type(n) is not int or not MIN_BLOCKS <= n <= MAX_BLOCKS:
         raise error(f"{source}: 'blocks' must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {n!r}")
-    if not isinstance(count, int) or count < 0:
+    if type(count) is not int or count < 0:
         raise error(f"{source}: 'count' must be a non-negative integer, got {count!r}")
-    if not isinstance(header.get("meta", {}), dict):
-        raise error(f"{source}: 'meta' must be a mapping")
+    try:
+        check_meta(header.get("meta", {}), source)
+    except CsqlError as exc:
+        raise error(str(exc)) from None
     return header
 
 

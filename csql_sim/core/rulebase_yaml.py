@@ -23,7 +23,10 @@ classifiers: a file cut anywhere, even at a line boundary, is refused. Version 1
 
 Reading is guarded (:mod:`csql_sim.infra.files`): regular files only, at most
 :data:`MAX_FILE_BYTES`, no YAML aliases, bounded nesting. Every condition and action is
-checked against the stated number of blocks, and every number must be finite.
+checked against the stated number of blocks (Q-classifiers: complete messages;
+R-classifiers: :func:`csql_sim.core.r_classifier.validate_r_classifier`), only printable
+ASCII; every number must be a finite float64; ``meta`` must be plain JSON data
+(:func:`check_meta`: no dates, ``!!binary``, ``!!set``, non-text keys, NaN or infinity).
 """
 
 from __future__ import annotations
@@ -39,10 +42,10 @@ import yaml
 from csql_sim.core.classifier_list import Classifier
 from csql_sim.core.message import MessageError, layout, parse_action_message, parse_state_message
 from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.r_classifier import parse_r_classifier
-from csql_sim.core.world import BLOCK_NAMES, MAX_BLOCKS, MIN_BLOCKS, all_actions
+from csql_sim.core.r_classifier import parse_r_classifier, r_classifier_problem
+from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import InputFileError, load_yaml, read_text_file
+from csql_sim.infra.files import MAX_YAML_DEPTH, InputFileError, load_yaml, read_text_file
 
 FORMAT = "csql-sim rule base"
 VERSION = 2
@@ -109,6 +112,8 @@ def _yaml(text: str, source: str, first_line: int = 0) -> object:
     except InputFileError as exc:
         message = re.sub(r" at line (\d+)", lambda m: f" at line {int(m.group(1)) + first_line}", str(exc))
         raise RuleBaseError(message) from None
+    except (ValueError, OverflowError) as exc:  # a value PyYAML cannot build: an integer of 5,000 digits, a bad date
+        raise RuleBaseError(f"{source}: a YAML value cannot be read ({exc.__class__.__name__})") from None
 
 
 def _split_header(text: str) -> tuple[str, list[str], int] | None:
@@ -178,34 +183,54 @@ def loads(text: str, source: str = "<string>", blocks: int | None = None, progre
         raise RuleBaseError(f"{source}: 'count' (the number of classifiers) must be an integer, got {count!r}")
     if count != len(rows):
         raise RuleBaseError(f"{source}: holds {len(rows)} classifiers but its header says {count} (cut or edited?)")
-    meta = doc.get("meta") or {}
-    if not isinstance(meta, dict):
-        raise RuleBaseError(f"{source}: 'meta' must be a mapping")
+    meta = check_meta(doc.get("meta") or {}, source)
     return RuleBase(blocks=n, classifiers=list(_classifiers(rows, n, source)), meta=meta)
 
 
-def _pattern_problem(text: str, n: int) -> str | None:
-    """Why an R-classifier's condition or output cannot be an n-block pattern (None if it can)."""
-    lay = layout(n)
-    names = BLOCK_NAMES.lower()
-    for pos, ch in enumerate(text):
-        if ch in names and ch not in names[:n]:
-            return f"position {pos} names block {ch.upper()}, but the file is for {n} blocks"
-    if text[:1] in ("S", "A"):
-        code = text[1 : 1 + lay.action_width]
-        if "#" not in code and code.isalnum() and int(code, 36) > len(all_actions(n)):
-            return f"action code {code} is beyond the {len(all_actions(n))} actions of {n} blocks"
-    if text[:1] == "S":
-        for start in (lay.clear_start, lay.on_start):
-            for i in range(n, len(BLOCK_NAMES)):
-                ch = text[start + i]
-                if ch not in "0#":
-                    return f"position {start + i} is {ch!r}, but block {BLOCK_NAMES[i]} is not in the world"
-    return None
+JSON_DATA = "text, a finite number, true/false, null, a list or a mapping with text keys"
+
+
+def check_meta(meta: object, source: str) -> dict:
+    """``meta`` if it is a mapping of plain JSON data (:data:`JSON_DATA`); else a RuleBaseError naming the key.
+
+    Both codecs call it when reading, so ``show --json`` can print any meta it loaded and
+    ``prune`` copies nothing it could not write: a YAML date, ``!!binary``, ``!!set``, a
+    non-text key, NaN or infinity is refused.
+    """
+    if not isinstance(meta, dict):
+        raise RuleBaseError(f"{source}: 'meta' must be a mapping")
+    problem = _json_problem(meta, "meta", 0)
+    if problem:
+        raise RuleBaseError(f"{source}: {problem}")
+    return meta
+
+
+def _json_problem(value: object, path: str, depth: int) -> str | None:
+    """Why ``value`` (at ``path`` inside meta) is not plain JSON data; None if it is."""
+    if depth > MAX_YAML_DEPTH:
+        return f"{path} is nested deeper than {MAX_YAML_DEPTH} levels"
+    if isinstance(value, float) and not math.isfinite(value):
+        return f"{path} must be finite, got {value!r}"
+    if value is None or type(value) in (str, int, float, bool):
+        return None
+    if isinstance(value, list):
+        items = ((f"{path}[{k}]", item) for k, item in enumerate(value))
+    elif isinstance(value, dict):
+        key = next((k for k in value if type(k) is not str), None)
+        if key is not None:
+            return f"{path} has the key {key!r}, not text"
+        items = ((f"{path}.{k}", item) for k, item in value.items())
+    else:
+        return f"{path} is a {type(value).__name__}, not JSON data ({JSON_DATA})"
+    return next((p for where, item in items if (p := _json_problem(item, where, depth + 1))), None)
 
 
 def check_strings(kind: str, cond: str, act: str, n: int, seen: dict[str, bool]) -> str | None:
     """Why a classifier's condition or action does not fit n blocks (None if they fit)."""
+    for name, value in (("condition", cond), ("action", act)):
+        if not (value.isascii() and value.isprintable()):
+            pos = next(p for p, ch in enumerate(value) if not (ch.isascii() and ch.isprintable()))
+            return f"{name} {value!r}: position {pos} is {ascii(value[pos])}, not a message character"
     try:
         if kind == "Q":
             if cond not in seen:
@@ -217,11 +242,7 @@ def check_strings(kind: str, cond: str, act: str, n: int, seen: dict[str, bool])
             return None
     except MessageError as exc:
         return f"not a {n}-block message ({exc})"
-    for name, value in (("condition", cond), ("action", act)):
-        problem = _pattern_problem(value, n)
-        if problem:
-            return f"{name} {value!r}: {problem}"
-    return None
+    return r_classifier_problem(cond, act, n, owner="file")
 
 
 def _classifiers(rows: list, n: int, source: str) -> Iterable[Classifier]:
@@ -254,11 +275,16 @@ def _classifiers(rows: list, n: int, source: str) -> Iterable[Classifier]:
 
 
 def _number(value: object, name: str, where: str) -> float:
-    """A finite number (age and error also non-negative)."""
+    """A finite float64 (age and error also non-negative); an integer too large for a float is refused."""
     if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise RuleBaseError(f"{where}: {name} must be a number, got {value!r}")
-    if not math.isfinite(value):
+    try:
+        number = float(value)
+    except OverflowError:
+        raise RuleBaseError(f"{where}: {name} must be a finite float64, got an integer of "
+                            f"{len(str(abs(value)))} digits") from None
+    if not math.isfinite(number):
         raise RuleBaseError(f"{where}: {name} must be finite, got {value!r}")
-    if name in ("age", "error") and value < 0:
+    if name in ("age", "error") and number < 0:
         raise RuleBaseError(f"{where}: {name} must be >= 0, got {value!r}")
-    return float(value)
+    return number

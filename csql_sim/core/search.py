@@ -337,6 +337,31 @@ def _all_pairs(count: int) -> Iterator[tuple[int, int]]:
                 yield start, goal
 
 
+@functools.lru_cache(maxsize=2)
+def distance_matrix(n: int) -> np.ndarray:
+    """``D[g, s]``: the optimal plan length from state ``s`` to goal ``g`` (all goals at once)."""
+    table = true_table(n)
+    return np.array([distances_to(g, table) for g in range(table.state_count)], dtype=np.int16)
+
+
+def count_optimal_greedy(best: np.ndarray, n: int) -> int:
+    """The (state, goal) pairs where a greedy table's action lowers the distance by one, vectorized.
+
+    ``best[state * S + goal]`` is the table. A greedy policy plans a pair optimally when
+    its action lowers the distance to the goal by one in every state on the way, so it
+    plans every ordered pair optimally exactly when this count is ``S * (S - 1)`` (the
+    scaling study's stopping test; for a partial count, :func:`check_pairs` rolls out).
+    """
+    table = true_table(n)
+    count = table.state_count
+    dist = distance_matrix(n)
+    act = best.reshape(count, count)  # [state, goal]
+    states, goals = np.arange(count)[:, None], np.arange(count)[None, :]
+    nxt = np.where(act >= 0, table.next_state[states, np.maximum(act, 0)], -1)
+    ok = (nxt >= 0) & (dist[goals, np.maximum(nxt, 0)] == dist[goals, states] - 1)
+    return int(ok.sum())  # the diagonal never counts: its distance less one is -1
+
+
 def check_all_pairs(policy: Policy | None, n: int, world_model: WorldModel | None = None,
                     progress: bool = False) -> list[PairPlan]:
     """:func:`check_pairs` over every ordered pair, as a list (462 for n = 3)."""

@@ -30,7 +30,14 @@ from csql_sim.core.message import (
     layout,
     parse_state_message,
 )
-from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier, r_classifiers
+from csql_sim.core.r_classifier import (
+    WILDCARD,
+    AddDeleteRule,
+    PreconditionRule,
+    RClassifier,
+    r_classifiers,
+    validate_r_classifier,
+)
 from csql_sim.core.transition_table import ILLEGAL, TransitionTable
 from csql_sim.core.world import Action, BlocksWorld, State, check_n
 from csql_sim.infra.errors import CsqlError
@@ -44,8 +51,13 @@ class WorldModel:
     """Legal actions and next states of the n-block world, as the R-classifiers say.
 
     Args:
-        rules: R-classifiers (other classifiers are ignored by type).
+        rules: R-classifiers (other classifiers are ignored by type); each must fit the
+            n-block message grammar (:func:`~csql_sim.core.r_classifier.validate_r_classifier`).
         n: number of blocks the messages are laid out for.
+
+    Raises:
+        RuleError: for a rule that no n-block world can hold (a foreign letter, ``#`` in an
+            action message, an output that puts a block on itself, ...).
 
     Attributes:
         n: number of blocks.
@@ -59,6 +71,8 @@ class WorldModel:
         rules = tuple(rules)
         self.preconditions = tuple(r for r in rules if isinstance(r, PreconditionRule))
         self.add_deletes = tuple(r for r in rules if isinstance(r, AddDeleteRule))
+        for rule in (*self.preconditions, *self.add_deletes):
+            validate_r_classifier(rule, n, owner="world model")
         lay = layout(n)
         self._width = lay.action_width
         self._goal_at = lay.goal_start

@@ -43,6 +43,13 @@ moved (a missed grasp, a cube that slid off) says the action could start and is 
 for neither side (:attr:`Evidence.motion_failures`). A state counts as a failure state
 when at least ``min_share`` of the successes and refusals in it were refusals. A
 knocked-over tower thus stays a minority that creates no rule and corrupts none.
+
+Disturbed transitions (:func:`disturbance`) count for neither side either: an outcome that
+perception shows the attempted action cannot have caused (it was refused, yet the scene
+changed; a cube other than the one the action message names changed its support; a
+success that left the named cube elsewhere than the message's own hand or place) is
+not evidence about the action. The test reads only the messages and the primitive's
+status, never the simulator's perturbation schedule, so a replayed log is judged alike.
 """
 
 from __future__ import annotations
@@ -51,7 +58,7 @@ import itertools
 from collections import Counter, defaultdict
 from dataclasses import dataclass
 
-from csql_sim.core.message import action_messages, layout, parse_action_message
+from csql_sim.core.message import BLOCK_FIELD, PICK_FLAG, MessageLayout, action_messages, layout, parse_action_message
 from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
 
 
@@ -123,11 +130,16 @@ class Evidence:
         self._reference: str | None = None
         self.count = 0
         self.motion_failures = 0
+        self.disturbed = 0
 
-    def add(self, t: Experience) -> None:
-        """Record one transition."""
+    def add(self, t: Experience) -> str:
+        """Record one transition; returns why it is disturbed (then it counts for neither side), else ""."""
         self.count += 1
         self.pairs.add((t.before, t.action))
+        reason = disturbance(t, self.layout)
+        if reason:
+            self.disturbed += 1
+            return reason
         if t.ok or t.is_refusal:
             self.outcomes[t.action][t.before][0 if t.ok else 1] += 1
         else:
@@ -137,6 +149,7 @@ class Evidence:
             self._note_variation(message)
         if t.ok:
             self.effects[t.action][(posted, t.after)] += 1
+        return ""
 
     def posted(self, before: str, action: str) -> str:
         """``before`` with the action's code in its action slot (what the add-delete rules read)."""
@@ -150,6 +163,40 @@ class Evidence:
         for p, (a, b) in enumerate(zip(self._reference, message, strict=True)):
             if a != b:
                 self.varying.add(p)
+
+
+def disturbance(t: Experience, lay: MessageLayout) -> str:
+    """Why perception shows an outcome the attempted action cannot have caused, else "".
+
+    The action message names the cube it moves, the motion (pick or put) and the place
+    it takes the cube from or puts it onto. What the action can cause follows from that
+    and the primitive's status alone:
+
+    * a refusal stops the arm before it moves: the scene after must be the scene before;
+    * no other cube changes its support (a cube that moved without being named was
+      pushed, by a nudge or by the arm's own elbow);
+    * a success leaves the named cube where the message says: held after a pick, on the
+      named place with an empty hand after a put.
+
+    A failure after the arm moved (a missed grasp, a cube that slid off) is already no
+    evidence either way and is not judged here.
+    """
+    if t.is_refusal:
+        return "" if t.after == t.before else "the scene changed although the action was refused"
+    if not t.ok:
+        return ""
+    w, on, held = lay.action_width, lay.on_start, lay.held_pos
+    flag = 1 + w + BLOCK_FIELD  # the action message: A, code, six zeros, motion flag, cube, place
+    moved, place = t.action[flag + 4], t.action[flag + 5]
+    index = ord(moved) - ord("a")
+    for i in range(BLOCK_FIELD):
+        if i != index and t.before[on + i] != t.after[on + i]:
+            return f"{'ABCDEF'[i]} changed its support, the action moves {moved.upper()}"
+    if t.action[flag : flag + 4] == PICK_FLAG:
+        return "" if t.after[held] == moved else f"{moved.upper()} is not held after a successful pick"
+    if t.after[on + index] != place or t.after[held] != "0":
+        return f"{moved.upper()} is not on {place} after a successful put"
+    return ""
 
 
 def _blank(length: int) -> list[str]:

@@ -8,7 +8,14 @@ through :func:`read_text_file` (regular files only, size-capped) and YAML throug
 :func:`load_yaml` (no aliases, bounded nesting).
 
 Device nodes, pipes and sockets are never outputs: ``--out /dev/null`` is refused with a
-one-line error (exit 2) instead of being replaced by a regular file.
+one-line error (exit 2) instead of being replaced by a regular file. An output that is a
+symbolic link is written through: the file it points to is replaced, the link is kept.
+
+Temporary files are named ``.<name>.csql-sim-<pid>-<random>.tmp<suffix>`` beside their
+target. They are removed when the write fails or the process is interrupted (the CLI
+turns SIGTERM into an exception, so ``finally`` blocks run); a process killed outright
+(SIGKILL) leaves its temporary file, which the next write of the same output removes once
+the process that made it is gone (:func:`remove_stale_temporaries`).
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ import errno
 import os
 import stat
 import tempfile
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -25,6 +33,10 @@ import yaml
 
 from csql_sim.infra.errors import CsqlError
 
+RUN_STARTED = time.time()
+"""When this process imported the module: temporary files older than this may be stale."""
+TEMP_TAG = "csql-sim-"
+"""The mark of our temporary files: ``.<name>.csql-sim-<pid>-<random>.tmp<suffix>``."""
 MAX_YAML_DEPTH = 32
 """The deepest nesting of lists and mappings a YAML input may have (rule files use 3)."""
 
@@ -117,31 +129,95 @@ def _refuse_special(target: Path) -> None:
         raise OutputError(f"{str(target)!r} is a device, pipe or socket, not a regular file; refusing to replace it")
 
 
+def write_target(path: str | os.PathLike) -> Path:
+    """The file a write of ``path`` replaces: ``path`` itself, or the file a symbolic link points to."""
+    target = Path(path)
+    return Path(os.path.realpath(target)) if target.is_symlink() else target
+
+
+def _temp_owner(entry: str, prefix: str, suffix: str) -> int | None:
+    """The pid in the name of one of our temporary files of an output, or None for any other name."""
+    if not (entry.startswith(prefix) and entry.endswith(suffix)):
+        return None
+    pid = entry[len(prefix):].split("-", 1)[0]
+    return int(pid) if pid.isdigit() else None
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process: alive
+        return True
+    return True
+
+
+def remove_stale_temporaries(path: str | os.PathLike) -> list[Path]:
+    """Remove the temporary files a killed earlier write of ``path`` left beside it.
+
+    Only files named as :func:`atomic_output` names them for this very output, older than
+    this process and made by a process that is gone, are removed; errors are ignored.
+
+    Returns:
+        The files removed.
+    """
+    target = Path(path)
+    prefix, suffix = f".{target.name}.{TEMP_TAG}", f".tmp{target.suffix}"
+    removed = []
+    try:
+        entries = list(os.scandir(target.parent))
+    except OSError:
+        return removed
+    for entry in entries:
+        pid = _temp_owner(entry.name, prefix, suffix)
+        if pid is None or _alive(pid):
+            continue
+        try:
+            if entry.is_file(follow_symlinks=False) and entry.stat(follow_symlinks=False).st_mtime < RUN_STARTED:
+                os.unlink(entry.path)
+                removed.append(Path(entry.path))
+        except OSError:
+            continue
+    return removed
+
+
+def _publish(tmp: Path, target: Path) -> None:
+    """Sync ``tmp``, give it an ordinary new file's permissions and rename it onto ``target``."""
+    with open(tmp, "rb+") as fh:
+        os.fsync(fh.fileno())
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
+    os.replace(tmp, target)
+
+
 @contextmanager
 def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; on success it is renamed onto ``path``.
 
     The caller writes the temporary file by any means (an encoder, a plotting library);
     it keeps the target's suffix, so writers that pick a format by suffix still work.
-    If the block raises, the temporary file is removed and ``path`` is left as it was.
-    On success the file is synced to disk and gets the permissions an ordinary new file
-    would (0666 less the umask), not mkstemp's 0600, before the rename. A path that is a
-    device, pipe or socket is refused (OutputError) rather than replaced by a regular file.
+    If the block raises (SIGTERM included, see :mod:`csql_sim.cli`), the temporary file is
+    removed and ``path`` is left as it was. On success the file is synced to disk and gets
+    the permissions an ordinary new file would (0666 less the umask), not mkstemp's 0600,
+    before the rename. A path that is a device, pipe or socket is refused (OutputError)
+    rather than replaced by a regular file; a symbolic link is written through
+    (:func:`write_target`). Stale temporary files of the same output are removed first.
     """
-    target = Path(path)
+    target = write_target(path)
     _refuse_special(target)
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=f".tmp{target.suffix}", dir=target.parent)
+    remove_stale_temporaries(target)
+    fd, name = tempfile.mkstemp(prefix=f".{target.name}.{TEMP_TAG}{os.getpid()}-", suffix=f".tmp{target.suffix}",
+                                dir=target.parent)
     os.close(fd)
     tmp = Path(name)
     try:
         yield tmp
-        with open(tmp, "rb+") as fh:
-            os.fsync(fh.fileno())
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        os.replace(tmp, target)
+        _publish(tmp, target)
     except BaseException:
         tmp.unlink(missing_ok=True)
         raise
@@ -155,12 +231,24 @@ def write_atomic(path: str | os.PathLike, data: str | bytes) -> Path:
 
 
 def _keep(name: str, data: str | bytes) -> str | None:
-    """Save ``data`` in the system's temporary folder; its path, or None if that fails too."""
+    """Save ``data`` in the system's temporary folder; its path, or None if that fails too.
+
+    A copy that cannot be written whole (a full disk, a file-size limit) is removed: what
+    is kept is complete or does not exist.
+    """
+    kept = None
     try:
         fd, kept = tempfile.mkstemp(prefix="csql-sim-", suffix=f"-{name}")
         with os.fdopen(fd, "wb") as fh:
             fh.write(data.encode("utf-8") if isinstance(data, str) else data)
+            fh.flush()
+            os.fsync(fh.fileno())
     except OSError:
+        if kept is not None:
+            try:
+                os.unlink(kept)
+            except OSError:
+                pass
         return None
     return kept
 
@@ -168,23 +256,33 @@ def _keep(name: str, data: str | bytes) -> str | None:
 def write_or_keep(outputs: list[tuple[str | os.PathLike, str | bytes]]) -> list[Path]:
     """Write every ``(path, data)`` atomically; whatever fails is kept in the temporary folder.
 
+    A failed write leaves its target as it was and no temporary file beside it; a copy
+    kept in the temporary folder is complete, or is not there at all.
+
     Returns:
         The paths written.
 
     Raises:
         OutputError: one line naming the first failed path, why, and where each failed
-            output was kept instead.
+            output was kept instead (or that no copy could be kept).
     """
-    written, kept, first = [], [], None
+    written, kept, lost, first = [], [], [], None
     for path, data in outputs:
         try:
             written.append(write_atomic(path, data))
         except (OSError, OutputError) as exc:
             first = first or (os.fspath(path), _reason(exc) if isinstance(exc, OSError) else str(exc))
-            kept.append(_keep(Path(path).name, data) or f"(could not keep {Path(path).name})")
-    if first is not None:
-        raise OutputError(f"cannot write {first[0]!r} ({first[1]}); the results are kept in {', '.join(kept)}")
-    return written
+            copy = _keep(Path(path).name, data)
+            if copy is None:
+                lost.append(Path(path).name)
+            else:
+                kept.append(copy)
+    if first is None:
+        return written
+    where = [f"the results are kept in {', '.join(kept)}"] if kept else []
+    if lost:
+        where.append(f"no copy of {', '.join(lost)} could be kept either")
+    raise OutputError(f"cannot write {first[0]!r} ({first[1]}); {'; '.join(where)}")
 
 
 def read_text_file(path: str | os.PathLike, max_bytes: int, what: str = "file") -> str:

@@ -117,8 +117,10 @@ class EvalReport:
         return self.successes / self.episodes if self.episodes else 0.0
 
     def to_dict(self) -> dict:
-        """The JSON document of ``--json``."""
+        """The JSON document of ``--json`` (format ``csql-sim evaluation report``, version 1)."""
         return {
+            "format": "csql-sim evaluation report",
+            "version": 1,
             "config": self.config,
             "episodes": self.episodes,
             "successes": self.successes,

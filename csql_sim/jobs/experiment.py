@@ -80,25 +80,26 @@ class ExperimentResult:
     workers: int = 1
 
     @property
-    def test_task(self) -> str:
+    def test_task_name(self) -> str:
         """The test task as ``start -> goal`` in the configuration notation."""
         return f"{self.test_start} -> {self.test_goal}"
 
     def provenance(self) -> dict:
         """Package version and every parameter in force (learner parameters with overrides applied)."""
         return provenance(methods=[r.method for r in self.methods], cycles=self.cycles, trials=self.trials,
-                          seed=self.seed, blocks=self.n, workers=self.workers, test_task=self.test_task,
+                          seed=self.seed, blocks=self.n, workers=self.workers, test_task=self.test_task_name,
                           learner_params=self.params)
 
     def to_dict(self) -> dict:
-        """The JSON report: test task, per-method summary and provenance."""
+        """The JSON report (format ``csql-sim experiment report``, version 1): task, summary, provenance."""
         methods = []
         for r in self.methods:
             mean = r.steps.mean(axis=0)
             methods.append({"method": r.method, "initial_steps": float(mean[0]),
                             "first_optimal_trial": r.first_optimal(self.optimal), "final_steps": float(mean[-1]),
                             "min_steps": float(mean.min()), "final_value": float(r.values.mean(axis=0)[-1])})
-        return {"blocks": self.n, "test_task": {"start": self.test_start, "goal": self.test_goal,
+        return {"format": "csql-sim experiment report", "version": 1,
+                "blocks": self.n, "test_task": {"start": self.test_start, "goal": self.test_goal,
                                                 "optimal_length": self.optimal},
                 "cycles": self.cycles, "trials": self.trials, "seed": self.seed, "methods": methods,
                 "provenance": self.provenance()}
@@ -162,7 +163,7 @@ def run_experiment(
     """Run ``cycles`` cycles of each method, in parallel processes when ``workers`` > 1, or on Ray.
 
     Args:
-        methods: learner names (see :data:`csql_sim.learners.METHODS`).
+        methods: learner names (see :data:`csql_sim.learners.training.METHODS`).
         cycles: independent agents per method.
         trials: training trials per cycle.
         seed: root of the per-cycle seed sequences (cycle c of every method gets the same).
@@ -238,7 +239,7 @@ def figure7(result: ExperimentResult) -> Figure:
     ax_steps.set_yscale("log")
     ax_steps.set_xlabel("trial")
     ax_steps.set_ylabel("steps in the test task")
-    ax_steps.set_title(f"(a) steps to perform the test task {result.test_task}")
+    ax_steps.set_title(f"(a) steps to perform the test task {result.test_task_name}")
     ax_value.set_xlabel("trial")
     ax_value.set_ylabel("average Q-value / strength per step")
     ax_value.set_title("(b) average value per step in the test task")
@@ -284,7 +285,7 @@ def write_figure7(folder: str | os.PathLike, result: ExperimentResult) -> list[P
 
 def summary_lines(result: ExperimentResult) -> list[str]:
     """Per method: initial test-task steps, first trial at the optimum, final steps."""
-    lines = [f"test task {result.test_task} ({result.n} blocks), optimum: {result.optimal} steps; "
+    lines = [f"test task {result.test_task_name} ({result.n} blocks), optimum: {result.optimal} steps; "
              f"{result.cycles} cycles x {result.trials} trials"]
     for r in result.methods:
         mean = r.steps.mean(axis=0)

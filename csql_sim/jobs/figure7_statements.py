@@ -58,6 +58,7 @@ class Statement:
         text: the statement, in the paper's words where possible.
         holds: whether the measurement satisfies it under the tolerances above.
         measured: the numbers it was judged on.
+        paper: the paper's number and the range accepted as "near" / "about" it.
 
     """
 
@@ -65,6 +66,7 @@ class Statement:
     text: str
     holds: bool
     measured: str
+    paper: str = ""
 
 
 def first_reach(r: MethodResult, optimal: int) -> int | None:
@@ -102,7 +104,8 @@ def _starts_near(rs: list[MethodResult], target: int, subject: str) -> Statement
         f"start-{target}",
         f"{subject} near {target} steps",
         all(_near(s, target, NEAR_STEPS) for s in starts),
-        ", ".join(f"{r.method} {s:.0f}" for r, s in zip(rs, starts, strict=True)),
+        ", ".join(f"{r.method} {s:.0f}" for r, s in zip(rs, starts, strict=True)) + " steps at trial 0",
+        f"about {target} (accepted {target * (1 - NEAR_STEPS):.0f}-{target * (1 + NEAR_STEPS):.0f})",
     )
 
 
@@ -112,8 +115,19 @@ def _reach_by(rs: list[MethodResult], optimal: int, target: int, subject: str) -
         f"optimal-by-{target}",
         f"{subject} the optimal {optimal} steps by about trial {target}",
         all(f is not None and abs(f - target) <= ABOUT_TRIALS for f in firsts),
-        ", ".join(f"{r.method} {'never' if f is None else f'trial {f}'}" for r, f in zip(rs, firsts, strict=True)),
+        "first at the optimum: " + ", ".join(
+            f"{r.method} {_when(f, target)}" for r, f in zip(rs, firsts, strict=True)),
+        f"about trial {target} (accepted {target - ABOUT_TRIALS}-{target + ABOUT_TRIALS})",
     )
+
+
+def _when(first: int | None, target: int) -> str:
+    """A first trial at the optimum, and how it compares with the paper's."""
+    if first is None:
+        return "never"
+    if abs(first - target) <= ABOUT_TRIALS:
+        return f"trial {first}"
+    return f"trial {first} ({'earlier' if first < target else 'later'} than the paper)"
 
 
 def _rises_faster(fast: list[MethodResult], slow: list[MethodResult], name: str, text: str) -> Statement:
@@ -124,17 +138,20 @@ def _rises_faster(fast: list[MethodResult], slow: list[MethodResult], name: str,
         f"{text} (mean value per step, trials 50-{RISE_UNTIL})",
         all(lead[r.method] > top for r in fast),
         ", ".join(f"{m} {v:.3f}" for m, v in lead.items()),
+        "faster (accepted: every faster method's mean above every slower one's)",
     )
 
 
 def _rw_degrades(rw: MethodResult, optimal: int) -> Statement:
     first, end = first_reach(rw, optimal), end_steps(rw)
-    best = float(rw.steps.mean(axis=0).min())
+    best, last = float(rw.steps.mean(axis=0).min()), float(rw.steps.mean(axis=0)[-1])
     return Statement(
         "rw-degrades-to-75",
         f"CS-BB-RW reaches {optimal} steps, then degrades to about 75",
         first is not None and _near(end, 75, ABOUT_STEPS),
-        f"best mean {best:.2f}, first at {optimal}: {'never' if first is None else f'trial {first}'}, end {end:.1f}",
+        f"first at {optimal}: {'never' if first is None else f'trial {first}'} (best mean {best:.2f}); end level "
+        f"(mean of the last {END_POINTS} test points) {end:.1f}, at the last point {last:.1f}",
+        f"about 75 (accepted {75 * (1 - ABOUT_STEPS):.0f}-{75 * (1 + ABOUT_STEPS):.0f}) for the end level",
     )
 
 
@@ -144,7 +161,8 @@ def _bz_stays(bz: MethodResult, optimal: int) -> Statement:
         "bz-stays-optimal",
         "CS-BB-BZ does not degrade: it stays at the optimum",
         first_reach(bz, optimal) is not None and end <= optimal + REACH_TOLERANCE + 1e-9,
-        f"end {end:.2f}",
+        f"end level (mean of the last {END_POINTS} test points) {end:.2f}",
+        f"stays at {optimal}",
     )
 
 
@@ -155,7 +173,8 @@ def _rw_value_falls(rw: MethodResult) -> Statement:
         "rw-value-falls",
         "CS-BB-RW's strength per step then falls to intermediate levels",
         end <= peak - FALL_MIN and end >= peak / 2,
-        f"peak {peak:.3f} at trial {rw.trials[int(curve.argmax())]}, end {end:.3f}",
+        f"peak {peak:.3f} at trial {rw.trials[int(curve.argmax())]}, end level {end:.3f}",
+        f"a fall of at least {FALL_MIN} from the peak, to no less than half of it",
     )
 
 
@@ -187,5 +206,6 @@ def evaluate(result: ExperimentResult) -> list[Statement]:
 
 
 def statement_lines(statements: list[Statement]) -> list[str]:
-    """One line per statement: holds / does not hold, the statement, the numbers."""
-    return [f"{'holds        ' if s.holds else 'does not hold'}  {s.text}: {s.measured}" for s in statements]
+    """One line per statement: holds / does not hold, the statement, what the paper says, what was measured."""
+    return [f"{'holds        ' if s.holds else 'does not hold'}  {s.text}: paper {s.paper}; measured {s.measured}"
+            for s in statements]

@@ -10,8 +10,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from csql_sim import __version__
 from csql_sim.core.world import BlocksWorld
 from csql_sim.infra.files import write_or_keep
+from csql_sim.infra.outputs import PNG_TAG
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -34,9 +36,16 @@ def new_figure(width: float, height: float) -> Figure:
 
 
 def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
-    """``fig`` as PNG bytes."""
+    """``fig`` as PNG bytes, tagged as ours: a ``Software`` text chunk naming csql-sim.
+
+    The tag (:data:`csql_sim.infra.outputs.PNG_TAG`) lets a later run replace the picture
+    without ``--overwrite`` (:func:`csql_sim.infra.outputs.is_ours`).
+    """
+    import matplotlib
+
     buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=dpi)
+    software = f"{PNG_TAG.decode()} {__version__} (matplotlib {matplotlib.__version__})"
+    fig.savefig(buffer, format="png", dpi=dpi, metadata={"Software": software})
     return buffer.getvalue()
 
 
@@ -100,6 +109,7 @@ def _draw_lengths(ax: Axes, runs: list[EpisodeSummary]) -> None:
         ax.legend(fontsize=7, loc="upper left")
     ax.set_xlabel("optimal plan length (BFS)")
     ax.set_ylabel("executed actions")
+    _integer_ticks(ax)
     ax.set_title(f"executed vs optimal length ({failed} failed, not shown)")
     ax.grid(alpha=0.3)
 
@@ -128,8 +138,17 @@ def _draw_perturbations(ax: Axes, runs: list[EpisodeSummary]) -> None:
         bottom += counts
     ax.set_xlabel("during action k of the episode")
     ax.set_ylabel("perturbation events")
+    _integer_ticks(ax)
     ax.legend(fontsize=7)
     ax.grid(alpha=0.3, axis="y")
+
+
+def _integer_ticks(ax: Axes) -> None:
+    """Counts on both axes: whole-number ticks only."""
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.yaxis.set_major_locator(MaxNLocator(integer=True))
 
 
 def write_evaluation_png(report: EvalReport, path: str | os.PathLike) -> Path:

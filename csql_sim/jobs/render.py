@@ -8,12 +8,15 @@ from pathlib import Path
 
 from csql_sim.core.policy import Policy
 from csql_sim.core.world import State
-from csql_sim.infra.files import write_atomic
+from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.sim.executor import EpisodeResult, run_physical_episode
 from csql_sim.sim.renderer import resolve_renderer
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 from csql_sim.sim.video import check_video_options, video_frame_count, write_video
+
+SIDECAR_FORMAT = "csql-sim video provenance"
+SIDECAR_VERSION = 1
 
 
 def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Policy | None = None,
@@ -23,6 +26,9 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
                    camera_noise: CameraNoise = NO_NOISE,
                    renderer: str = "auto") -> tuple[EpisodeResult, Path]:
     """Run one recorded episode, write its video and the video's provenance sidecar (``<video>.json``).
+
+    The sidecar (:func:`sidecar_record`) is written after the video; a failed write of it is
+    a one-line OutputError (its text kept in the temporary folder).
 
     Args:
         start: the start configuration.
@@ -62,10 +68,23 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
                         camera_noise=[camera_noise.depth, camera_noise.colour],
                         renderer=renderer,
                         **(provenance_extra or {}))
-    record["video"] = {"file": path.name, "frames": video_frame_count(result.recording, fps),
-                       "actions": result.length, "success": result.success, "reason": result.reason}
-    write_atomic(sidecar_path(path), json.dumps(record, indent=1) + "\n")
+    video = {"file": path.name, "frames": video_frame_count(result.recording, fps),
+             "actions": result.length, "success": result.success, "reason": result.reason}
+    write_or_keep([(sidecar_path(path), json.dumps(sidecar_record(record, video), indent=1) + "\n")])
     return result, path
+
+
+def sidecar_record(record: dict, video: dict) -> dict:
+    """The sidecar's JSON: ``format`` and ``version`` (of the sidecar) first, then the provenance record.
+
+    The provenance record's own ``version`` (the package's) is ``package_version`` here::
+
+        {"format": "csql-sim video provenance", "version": 1, "package": "csql-sim",
+         "package_version": "...", "python": "...", "parameters": {...}, "video": {...}}
+    """
+    rest = {k: v for k, v in record.items() if k != "version"}
+    return {"format": SIDECAR_FORMAT, "version": SIDECAR_VERSION, **rest,
+            "package_version": record.get("version"), "video": video}
 
 
 def sidecar_path(video: str | os.PathLike) -> Path:

@@ -11,24 +11,24 @@ empty when ``max_trials`` is reached first.
 from __future__ import annotations
 
 import csv
-import functools
 import io
 import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from csql_sim.core.search import true_distances
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.search import count_optimal_greedy
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import write_atomic
+from csql_sim.infra.files import write_or_keep
 from csql_sim.learners.learner import Learner
 from csql_sim.learners.params import default_params
 from csql_sim.learners.training import make_learner
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 COLUMNS = ("method", "blocks", "trials_to_all_optimal", "steps", "wall_seconds")
 CHECKS = 100
@@ -47,26 +47,9 @@ class ScalingRow:
     pairs: int
 
 
-@functools.cache
-def distance_matrix(n: int) -> np.ndarray:
-    """``D[g, s]``: optimal plan length from state ``s`` to goal ``g``."""
-    count = len(BlocksWorld.of(n).states)
-    return np.array([true_distances(n, g) for g in range(count)], dtype=np.int16)
-
-
 def optimal_pairs(learner: Learner) -> int:
     """How many ordered pairs the learner's greedy policy (:meth:`Learner.greedy_table`) plans optimally."""
-    n = learner.n
-    world = BlocksWorld.of(n)
-    count = len(world.states)
-    dist = distance_matrix(n)
-    best = learner.greedy_table().best.reshape(count, count)  # [state, goal]
-    table = np.array(world.next_state, dtype=np.int64)  # [state, action]
-    states = np.arange(count)[:, None]
-    nxt = np.where(best >= 0, table[states, np.maximum(best, 0)], -1)
-    goals = np.arange(count)[None, :]
-    ok = (nxt >= 0) & (dist[goals, np.maximum(nxt, 0)] == dist[goals, states] - 1)
-    return int(ok.sum())  # the diagonal never counts: its distance less one is -1
+    return count_optimal_greedy(learner.greedy_table().best, learner.n)
 
 
 class _Reached(Exception):
@@ -153,14 +136,11 @@ def csv_text(rows: Sequence[ScalingRow]) -> str:
     return out.getvalue()
 
 
-def write_png(path: str | os.PathLike, rows: Sequence[ScalingRow], max_trials: int) -> Path:
+def figure(rows: Sequence[ScalingRow], max_trials: int) -> Figure:
     """Trials to all-optimal against n per method, log scale; capped cells drawn hollow at the cap."""
-    import matplotlib
+    from csql_sim.jobs.plots import new_figure
 
-    matplotlib.use("Agg")
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(6, 4.2))
+    fig = new_figure(6, 4.2)
     ax = fig.subplots()
     for method in dict.fromkeys(r.method for r in rows):
         mine = [r for r in rows if r.method == method]
@@ -172,24 +152,38 @@ def write_png(path: str | os.PathLike, rows: Sequence[ScalingRow], max_trials: i
     ax.set_yscale("log")
     ax.set_xlabel("blocks n")
     ax.set_ylabel("trials until every pair is planned optimally")
-    ax.set_title(f"hollow: not reached within {max_trials} trials")
+    if any(r.trials is None for r in rows):
+        ax.set_title(f"hollow: not reached within {max_trials} trials")
+    else:
+        ax.set_title(f"every cell reached all pairs optimal (cap {max_trials} trials)")
     ax.set_xticks(sorted({r.blocks for r in rows}))
     ax.legend()
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.tmp")
-    try:
-        fig.savefig(tmp, format="png", dpi=110)
-        os.replace(tmp, target)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
-    return target
+    return fig
 
 
-def write_outputs(folder: str | os.PathLike, rows: Sequence[ScalingRow], max_trials: int) -> tuple[Path, Path]:
-    """Write ``scaling.csv`` and ``scaling.png`` into ``folder`` (each atomically)."""
-    csv_path = write_atomic(Path(folder) / "scaling.csv", csv_text(rows))
-    return csv_path, write_png(Path(folder) / "scaling.png", rows, max_trials)
+def png_bytes(rows: Sequence[ScalingRow], max_trials: int) -> bytes:
+    """:func:`figure` as PNG bytes (tagged as csql-sim's, :func:`csql_sim.jobs.plots.png_bytes`)."""
+    from csql_sim.jobs.plots import png_bytes as figure_bytes
+
+    return figure_bytes(figure(rows, max_trials))
+
+
+def write_png(path: str | os.PathLike, rows: Sequence[ScalingRow], max_trials: int) -> Path:
+    """Write :func:`png_bytes` atomically (kept in the temporary folder if that fails)."""
+    return write_or_keep([(path, png_bytes(rows, max_trials))])[0]
+
+
+def write_outputs(folder: str | os.PathLike, rows: Sequence[ScalingRow], max_trials: int,
+                  sidecar: str | None = None) -> list[Path]:
+    """Write ``scaling.csv``, ``scaling.png`` and (given its text) ``scaling.json`` into ``folder``.
+
+    Each file is written atomically; whatever cannot be written is kept whole in the
+    temporary folder and named in a one-line OutputError.
+    """
+    outputs: list[tuple[str | os.PathLike, str | bytes]] = [
+        (Path(folder) / "scaling.csv", csv_text(rows)), (Path(folder) / "scaling.png", png_bytes(rows, max_trials))]
+    if sidecar is not None:
+        outputs.append((Path(folder) / "scaling.json", sidecar))
+    return write_or_keep(outputs)

@@ -185,7 +185,7 @@ class CSQL(ClassifierSystemLearner):
         if not self.params.sweep:
             return 0
         steps = self.plan(on_pass)
-        run_trial(self, *self.test_task(), 0.0)
+        run_trial(self, *self.test_indices(), 0.0)
         return steps
 
     def plan(self, on_pass: Callable[[], None] | None = None) -> int:

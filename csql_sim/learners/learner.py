@@ -137,7 +137,7 @@ class Learner(ABC):
         self.params = params
         self.world = BlocksWorld.of(n)
 
-    def test_task(self) -> tuple[int, int]:
+    def test_indices(self) -> tuple[int, int]:
         """The test task's (start, goal) state indices (:func:`csql_sim.core.task.test_task`)."""
         task = test_task(self.n)
         return self.world.state_index(task.start), self.world.state_index(task.goal)

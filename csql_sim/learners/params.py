@@ -5,7 +5,8 @@ schedule is per trial: ``T_k = max(T_min, T0 * decay**k)`` for training trial ``
 
 Every parameter has a range, written next to its default in the class docstring and
 checked when the dataclass is built (from code, a dict or a ``--params`` file): a value
-outside it, NaN or infinity is a one-line :class:`ParamsError`.
+outside it, NaN or infinity, a number too large for a float64 or an integer parameter
+beyond int64 (:data:`MAX_INT`) is a one-line :class:`ParamsError`.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import sys
 from dataclasses import dataclass, fields
 from typing import ClassVar
 
@@ -21,6 +23,7 @@ from csql_sim.infra.files import InputFileError, load_yaml, read_text_file
 
 MAX_FILE_BYTES = 1024 * 1024
 """Largest parameter file read."""
+MAX_INT = 2**63 - 1  # largest integer parameter (the fast engine's kernels hold them as int64)
 
 
 class ParamsError(CsqlError):
@@ -44,8 +47,8 @@ class Bounds:
         return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
 
     def contains(self, value: float) -> bool:
-        """Whether ``value`` is finite and inside the interval."""
-        if not math.isfinite(value):
+        """Whether ``value`` is finite and inside the interval (an integer too large for a float is not)."""
+        if not isinstance(value, float | int) or abs(value) > sys.float_info.max or not math.isfinite(value):
             return False
         above = value > self.low if self.low_open else value >= self.low
         below = value < self.high if self.high_open else value <= self.high
@@ -71,8 +74,8 @@ class CommonParams:
         t_min: floor of T (near-greedy; keeps exp() finite). Range > 0; default 0.0005.
         step_cap: a trial ends unreached after this many steps. Random walks need 168
             (legal actions) and 1584 (all 18) steps on the test task, so the cap only
-            trims the rare very long walks of the first trials. Range >= 1 (an integer);
-            default 10000.
+            trims the rare very long walks of the first trials. Range >= 1 (an integer, at
+            most :data:`MAX_INT`); default 10000.
         age_unit: steps per unit of age. Figure 6's ages (~3.2 after 2500 trials of about
             13 steps) read as 10,000 steps per unit. Range > 0; default 10000.
 
@@ -95,8 +98,10 @@ class CommonParams:
             bounds = self.bounds(f.name)
             if bounds is None or isinstance(value, bool):
                 continue
+            if isinstance(value, int) and f.type == "int" and value > MAX_INT:
+                raise ParamsError(f"{f.name} must be at most {MAX_INT} (int64), got {_shown(value)}")
             if isinstance(value, (int, float)) and not bounds.contains(value):
-                raise ParamsError(f"{f.name} must be {_describe(bounds)}, got {value!r}")
+                raise ParamsError(f"{f.name} must be {_describe(bounds)}, got {_shown(value)}")
 
     @classmethod
     def bounds(cls, name: str) -> Bounds | None:
@@ -246,6 +251,12 @@ class BucketBrigadeParams(CommonParams):
             raise ParamsError(f"s0 must be at most payoff ({self.payoff:g}), got {self.s0!r}")
 
 
+def _shown(value: object) -> str:
+    """``repr(value)``, or the number of digits of an integer of more than 20."""
+    big = isinstance(value, int) and abs(value) >= 10**20
+    return f"an integer of {len(str(abs(value)))} digits" if big else repr(value)
+
+
 def _describe(bounds: Bounds) -> str:
     text = str(bounds)
     if text == "finite":
@@ -325,7 +336,10 @@ def with_overrides(params: CommonParams, overrides: dict, source: str = "paramet
             ok = isinstance(value, int) and not isinstance(value, bool)
         else:
             ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-            value = float(value) if ok else value
+            try:
+                value = float(value) if ok else value
+            except OverflowError:
+                raise ParamsError(f"{source}: {key} must be a finite float64, got {_shown(value)}") from None
         if not ok:
             raise ParamsError(f"{source}: {key} must be {type(current).__name__}, got {value!r}")
         clean[key] = value
@@ -346,6 +360,8 @@ def load_params(path: str | os.PathLike, method: str, n: int = 3) -> CommonParam
         doc = load_yaml(read_text_file(p, MAX_FILE_BYTES, "parameter file"), p)
     except InputFileError as exc:
         raise ParamsError(str(exc)) from None
+    except (ValueError, OverflowError) as exc:  # a value PyYAML cannot build: an integer of 5,000 digits
+        raise ParamsError(f"{p}: a YAML value cannot be read ({exc.__class__.__name__})") from None
     if doc is None:
         doc = {}
     if not isinstance(doc, dict):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numbers
+
 from csql_sim.core.message import format_action_message, format_state_message
 from csql_sim.core.notation import parse_state_arg
 from csql_sim.core.policy import QPolicy
@@ -19,7 +21,13 @@ def prune(rulebase: RuleBase, threshold: float = 0.1) -> RuleBase:
     """A copy of ``rulebase`` without the Q-classifiers whose strength is below ``threshold``.
 
     R-classifiers are always kept.
+
+    Raises:
+        CsqlError: unless ``threshold`` is a number in [0, 1] (as ``prune --threshold``; NaN is refused).
     """
+    if isinstance(threshold, bool) or not isinstance(threshold, numbers.Real) or not 0.0 <= threshold <= 1.0:
+        raise CsqlError(f"threshold must be a number in [0, 1], got {threshold!r}")
+    threshold = float(threshold)  # meta holds a plain float (a numpy scalar could not be written)
     kept = [c for c in rulebase.classifiers if not isinstance(c, QClassifier) or c.strength >= threshold]
     meta = dict(rulebase.meta)
     meta["pruned_at"] = threshold

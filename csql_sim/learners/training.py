@@ -17,7 +17,8 @@ import numpy as np
 
 from csql_sim.core.r_classifier import RClassifier
 from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.world import check_n
+from csql_sim.core.world import BlocksWorld, check_n
+from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.provenance import provenance
 from csql_sim.learners.bucket_brigade import BucketBrigade, BucketBrigadeRoulette
 from csql_sim.learners.cs_ql import CSQL, ClassifierSystemLearner
@@ -74,7 +75,18 @@ def make_learner(
         return cls(n, resolved, generator)
     if not issubclass(cls, ClassifierSystemLearner):
         raise ParamsError(f"{method} has no domain knowledge; R-classifiers apply to the classifier-system methods")
+    _check_domain(rules, n)
     return cls(n, resolved, generator, rules)
+
+
+def _check_domain(rules: tuple[RClassifier, ...], n: int) -> None:
+    """Refuse R-classifiers under which some state has no legal action (a trial could not go on)."""
+    table = WorldModel(rules, n).table  # raises WorldModelError for predictions that are no state
+    stuck = [s for s, legal in enumerate(table.legal) if not legal]
+    if stuck:
+        state = BlocksWorld.of(n).states[stuck[0]]
+        raise ParamsError(f"the R-classifiers give no legal action in {len(stuck)} states, e.g. {state.notation()}: "
+                          "they need a precondition and an add-delete rule for the actions there")
 
 
 def train_learner(

@@ -153,7 +153,7 @@ def run_training(learner: StepLearner, trials: int, test_every: int = TEST_EVERY
     the last one when ``trials`` is a multiple); it learns like any trial, at the
     temperature of the training trial it precedes.
     """
-    test_start, test_goal = learner.test_task()
+    test_start, test_goal = learner.test_indices()
     count = len(learner.world.states)
     marks, steps, values = [], [], []
     for k in range(trials + 1):

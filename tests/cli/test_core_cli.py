@@ -143,3 +143,24 @@ def test_plan_pairs_sample_is_seeded_and_bounded(capsys):
     assert [(p["start"], p["goal"]) for p in again["plans"]] == [(p["start"], p["goal"]) for p in doc["plans"]]
     code, out, err = run(capsys, "plan", "--pairs", "463")
     assert code == 2 and out == "" and "more than the 462 start/goal pairs" in err
+
+
+def test_plan_pairs_without_rules_says_it_checks_bfs_against_itself(capsys):
+    assert main(["plan", "--pairs", "5", "--blocks", "3"]) == 0
+    out = capsys.readouterr().out
+    assert "pairs: 5" in out and "BFS planner checked against BFS" in out and "--rules" in out
+
+
+def test_plan_out_writes_an_ipc_plan_that_execute_reads(tmp_path, capsys):
+    """plan --plan-out round-trips: the IPC file passes execute's symbolic check and reaches the goal on the arm."""
+    from pathlib import Path
+
+
+    problem = Path(__file__).resolve().parents[1] / "data" / "problems" / "blocks3-01.pddl"
+    plan = tmp_path / "p.plan"
+    assert main(["plan", "--start", "CAB", "--goal", "CA,B", "--plan-out", str(plan)]) == 0
+    assert plan.read_text().startswith("; csql-sim plan CAB -> B,CA")
+    capsys.readouterr()
+    assert main(["execute", "--problem", str(problem), "--plan", str(plan), "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    assert report["reached"] is True and len(report["steps"]) == 2

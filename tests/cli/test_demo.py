@@ -1,6 +1,7 @@
 """The main job end to end, at a small frame size: learn, prune, Figure 6, arm, video."""
 
 import imageio.v2 as imageio
+import pytest
 
 from csql_sim.cli import main
 from csql_sim.core.classifier_list import ClassifierList
@@ -36,3 +37,19 @@ def test_demo_takes_blocks(tmp_path, capsys):
     assert code == 0 and "2 blocks" in out and "(AB -> BA)" in out
     assert load(tmp_path / "pruned.yaml").blocks == 2
     assert (tmp_path / "test_task.mp4.json").exists()
+
+
+@pytest.mark.parametrize(("blocks", "trials"), [(3, 2500), (4, 20000)])
+def test_demo_trains_with_the_trials_train_uses_for_n(tmp_path, monkeypatch, blocks, trials):
+    """demo --blocks N uses train's per-n default (it trained 2,500 trials at any n)."""
+    import csql_sim.learners.training as training
+
+    seen = {}
+
+    def stop(*args, **kwargs):
+        seen["trials"] = kwargs["trials"]
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(training, "train", stop)
+    assert main(["demo", "--blocks", str(blocks), "--out", str(tmp_path / "out"), "--quiet"]) == 130
+    assert seen["trials"] == trials

@@ -92,3 +92,19 @@ def test_malformed_action_message():
 def test_state_arg_accepts_both_forms():
     assert parse_state_arg("S0100000bct0000C") == parse_config("CBA")
     assert parse_state_arg("cba") == parse_config("CBA")
+
+
+@pytest.mark.parametrize("text", ["S0111000ttt", "S0", "S0111000ttt0000"])
+def test_a_truncated_message_says_how_long_it_must_be(text):
+    """Not "unknown block 'S'": the message is named as too short, with the lengths it may have."""
+    with pytest.raises(MessageError) as refused:
+        parse_state_arg(text)
+    said = str(refused.value)
+    assert f"{text!r} is too short: {len(text)} characters" in said
+    assert all(f"{layout(n).length} (" in said for n in range(2, 7))
+
+
+def test_a_non_ascii_letter_that_uppercases_to_a_digit_is_refused():
+    """'ı'.upper() == 'I' (code 18); the message alphabet is ASCII only."""
+    with pytest.raises(MessageError):
+        parse_state_message("S0111000ttt0000\u0131", 3)

@@ -1,10 +1,17 @@
 import pytest
 
-from csql_sim.core.message import format_action_message, format_state_message
+from csql_sim.core.message import format_action_message, format_state_message, layout
 from csql_sim.core.notation import parse_action_name, parse_config
 from csql_sim.core.r_classifier import generate_rules, load_paper_rules
 from csql_sim.discovery.explore import exhaustive_transitions
-from csql_sim.discovery.induction import Evidence, Experience, Reliability, induce_action, induce_rules
+from csql_sim.discovery.induction import (
+    Evidence,
+    Experience,
+    Reliability,
+    disturbance,
+    induce_action,
+    induce_rules,
+)
 
 
 def strings(rules):
@@ -61,10 +68,11 @@ def test_a_legal_state_with_a_missed_grasp_stays_a_success_state():
 
 
 def test_inconsistent_evidence_makes_no_precondition():
-    # pickup(A) reported failing in every state where it is legal, succeeding nowhere else
-    bad = [t for t in exhaustive_transitions(3) if t.action == "A70000001000at00"]
-    flipped = [Experience(t.before, t.action, t.after, not t.ok) for t in bad]
-    rules = induce_rules(flipped, 3)
+    # pickup(A) refused (nothing changing) as often as it succeeded in every state where it is legal
+    legal = [t for t in exhaustive_transitions(3) if t.action == "A70000001000at00" and t.ok]
+    refused = [Experience(t.before, t.action, t.before, False) for t in legal]
+    rules = induce_rules(legal + refused, 3)
+    assert any(r.condition == "S7##############" for r in rules)  # the effect is consistent ...
     assert all(r.action != "A70000001000at00" for r in rules)
 
 
@@ -82,7 +90,7 @@ def test_two_blocks_give_equivalent_shorter_conditions(n):
 
 def test_failures_after_moving_are_not_negative_evidence():
     # pickup(A) legal in "A,B,C" but the grasp missed there again and again (a cube askew)
-    missed = [Experience(t.before, t.action, t.after, False, "grasp of A missed", refused=False)
+    missed = [Experience(t.before, t.action, t.before, False, "grasp of A missed", refused=False)
               for t in exhaustive_transitions(3, repeats=1)
               if t.ok and t.action == "A70000001000at00" and t.before == "S0111000ttt00000"] * 20
     assert missed
@@ -90,3 +98,28 @@ def test_failures_after_moving_are_not_negative_evidence():
     as_refusals = [Experience(t.before, t.action, t.after, False, t.reason) for t in missed]
     rules = induce_rules(exhaustive_transitions(3) + as_refusals, 3)
     assert "A70000001000at00" not in {r.action for r in rules if r.action.startswith("A")}
+
+
+def _judge(before, action, after, ok, refused=None):
+    t = _transition(before, action, after, ok)
+    return disturbance(Experience(t.before, t.action, t.after, ok, "", refused), layout(3))
+
+
+def test_outcomes_the_action_did_not_cause_are_disturbed():
+    assert _judge("A,B,C", "pickup(A)", "B,C+A", True) == ""  # what pickup(A) does
+    assert _judge("AB,C", "pickup(C)", "AB,C", False) == ""  # refused, nothing changed
+    assert _judge("CBA", "unstack(C,B)", "A,B+C", True)  # B fell off A: B is not the moved cube
+    assert _judge("AB,C", "pickup(B)", "A,B,C", False)  # refused, yet A came off B
+    assert _judge("A,B+C", "stack(C,B)", "A,B,C", True)  # a successful stack left C on the table
+    assert _judge("AB,C", "unstack(A,B)", "A,B,C", True)  # a successful pick and an empty hand
+    assert _judge("AB,C", "unstack(A,B)", "A,B,C", False, refused=False) == ""  # a failed motion: not judged
+
+
+def test_disturbed_transitions_count_for_neither_side():
+    knocked = [_transition("CBA", "unstack(C,B)", "A,B+C", True)] * 5  # the arm knocked B off A each time
+    ev = Evidence(3)
+    for t in knocked:
+        assert ev.add(t)
+    assert ev.disturbed == 5 and not ev.effects and not ev.outcomes
+    rules = induce_rules(exhaustive_transitions(3, repeats=1) + knocked * 3 + exhaustive_transitions(3, repeats=2), 3)
+    assert strings(rules) == strings(load_paper_rules())

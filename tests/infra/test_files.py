@@ -91,3 +91,166 @@ def test_read_text_file_refuses_fifos_without_blocking(tmp_path):
     (tmp_path / "latin1.yaml").write_bytes(b"caf\xe9")
     with pytest.raises(InputFileError, match="not UTF-8 text"):
         read_text_file(tmp_path / "latin1.yaml", 100)
+
+
+# ------------------------------------------------------------------ the output policy (csql_sim.infra.outputs)
+def _ours(tmp_path):
+    """One file of each kind the tool writes and recognises, by its own header."""
+    from csql_sim.core.r_classifier import r_classifiers
+    from csql_sim.core.rulebase import RuleBase, save
+    from csql_sim.discovery import transition_log
+
+    rules = RuleBase(3, r_classifiers(3), {"source": "test"})
+    made = {"rules.yaml": save(tmp_path / "rules.yaml", rules), "rules.npz": save(tmp_path / "rules.npz", rules)}
+    made["t.jsonl"] = transition_log.save(tmp_path / "t.jsonl", [], 3)
+    made["r.json"] = write_atomic(tmp_path / "r.json", '{\n "format": "csql-sim states report",\n "version": 1}\n')
+    made["d.pddl"] = write_atomic(tmp_path / "d.pddl", "; csql-sim domain, written by csql-sim 0\n(define)\n")
+    return made
+
+
+def test_identify_recognises_our_outputs_and_nothing_else(tmp_path):
+    from csql_sim.infra.outputs import identify
+    from csql_sim.jobs.plots import new_figure, png_bytes
+
+    made = _ours(tmp_path)
+    assert {name: identify(path) for name, path in made.items()} == {
+        "rules.yaml": "rules", "rules.npz": "rules", "t.jsonl": "transitions", "r.json": "json", "d.pddl": "pddl"}
+    fig = new_figure(1, 1)
+    write_atomic(tmp_path / "ours.png", png_bytes(fig))
+    fig.savefig(tmp_path / "theirs.png")  # matplotlib's own PNG: not tagged as ours
+    assert identify(tmp_path / "ours.png") == "png" and identify(tmp_path / "theirs.png") is None
+    for name, text in {"a.yaml": "format: notes\n", "b.json": '{"format": "other"}', "c.txt": ""}.items():
+        (tmp_path / name).write_text(text)
+        assert identify(tmp_path / name) is None
+    assert identify(tmp_path) is None and identify(tmp_path / "missing") is None and identify("/dev/zero") is None
+
+
+def test_a_file_without_a_header_is_ours_when_its_sidecar_is(tmp_path):
+    from csql_sim.infra.outputs import is_ours
+
+    (tmp_path / "v.mp4").write_bytes(b"\x00\x00\x00\x18ftypmp42")
+    assert not is_ours(tmp_path / "v.mp4", "video", tmp_path / "v.mp4.json")  # no sidecar
+    (tmp_path / "v.mp4.json").write_text('{"format": "csql-sim video provenance", "version": 1}')
+    assert is_ours(tmp_path / "v.mp4", "video", tmp_path / "v.mp4.json")
+    assert not is_ours(tmp_path / "v.mp4", "video")  # without a sidecar to vouch for it
+
+
+def _outputs(overwrite=False):
+    from csql_sim.infra.outputs import Outputs
+
+    return Outputs(overwrite=overwrite)
+
+
+def test_the_policy_for_existing_files(tmp_path):
+    import pytest
+
+    from csql_sim.infra.files import OutputError
+
+    made = _ours(tmp_path)
+    (tmp_path / "mine.yaml").write_text("my notes\n")
+    named = _outputs()
+    named.file(made["rules.yaml"], "rule file", "rules")  # ours, named: replaced
+    named.file(made["r.json"], "JSON report", "json", option="--json")
+    named.file(tmp_path / "new.yaml", "rule file", "rules")  # not there yet
+    named.check()
+    default = _outputs()
+    default.file(made["rules.yaml"], "rule file", "rules", default=True)  # ours, but at the default path
+    with pytest.raises(OutputError, match="already exists .*--out.*--overwrite"):
+        default.check()
+    foreign = _outputs()
+    foreign.file(tmp_path / "mine.yaml", "rule file", "rules")
+    with pytest.raises(OutputError, match="mine.yaml' exists and is not a csql-sim rule file.*--overwrite"):
+        foreign.check()
+    wrong_kind = _outputs()
+    wrong_kind.file(made["r.json"], "rule file", "rules")  # ours, but another kind
+    with pytest.raises(OutputError, match="not a csql-sim rule file"):
+        wrong_kind.check()
+    asked = _outputs(overwrite=True)
+    asked.file(tmp_path / "mine.yaml", "rule file", "rules", default=True)
+    asked.check()
+    assert (tmp_path / "mine.yaml").read_text() == "my notes\n"  # checking writes nothing
+
+
+def test_the_policy_for_clashes_and_inputs(tmp_path):
+    import pytest
+
+    from csql_sim.infra.files import OutputError
+
+    (tmp_path / "in.yaml").write_text("x")
+    os.link(tmp_path / "in.yaml", tmp_path / "hard.yaml")
+    os.symlink("in.yaml", tmp_path / "soft.yaml")
+    for path in ("in.yaml", "hard.yaml", "soft.yaml"):  # the same file by samefile, whatever the name
+        plan = _outputs(overwrite=True)
+        plan.input(tmp_path / "in.yaml", "rule file")
+        plan.file(tmp_path / path, "JSON report", "json", option="--json")
+        with pytest.raises(OutputError, match="is the rule file this command reads"):
+            plan.check()
+    plan = _outputs()
+    plan.file(tmp_path / "a" / ".." / "x.json", "JSON report", "json")
+    plan.file(tmp_path / "x.json", "log", "transitions")
+    with pytest.raises(OutputError, match="are the same path"):
+        plan.check()
+    plan = _outputs()
+    plan.folder(tmp_path / "out", "output folder")
+    plan.file(tmp_path / "out", "JSON report", "json")
+    with pytest.raises(OutputError, match="are the same path"):
+        plan.check()
+    plan = _outputs()
+    plan.file(tmp_path / "x", "rule file", "rules")
+    plan.file(tmp_path / "x" / "t.jsonl", "log", "transitions")
+    with pytest.raises(OutputError, match="needs it as a folder"):
+        plan.check()
+    with pytest.raises(OutputError, match="empty path"):
+        _outputs().file("", "rule file", "rules")
+
+
+# ------------------------------------------------------------------ temporary files and kept copies
+def test_stale_temporaries_of_a_dead_process_are_removed(tmp_path):
+    from csql_sim.infra.files import remove_stale_temporaries
+
+    dead = subprocess_pid_that_exited()
+    stale = tmp_path / f".v.mp4.csql-sim-{dead}-abc.tmp.mp4"
+    mine = tmp_path / f".v.mp4.csql-sim-{os.getpid()}-abc.tmp.mp4"  # a live process's
+    other = tmp_path / f".w.mp4.csql-sim-{dead}-abc.tmp.mp4"  # another output's
+    foreign = tmp_path / ".v.mp4.abc.tmp.mp4"  # not named by us
+    for path in (stale, mine, other, foreign):
+        path.write_bytes(b"")
+        os.utime(path, (1, 1))
+    assert remove_stale_temporaries(tmp_path / "v.mp4") == [stale]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(p.name for p in (mine, other, foreign))
+
+
+def subprocess_pid_that_exited() -> int:
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True)
+    return int(proc.stdout)
+
+
+def test_atomic_output_writes_through_a_symbolic_link(tmp_path):
+    (tmp_path / "real.json").write_text("old")
+    os.symlink("real.json", tmp_path / "link.json")
+    write_atomic(tmp_path / "link.json", "new")
+    assert os.readlink(tmp_path / "link.json") == "real.json" and (tmp_path / "real.json").read_text() == "new"
+
+
+def test_a_copy_that_cannot_be_kept_whole_is_not_kept(tmp_path, monkeypatch):
+    import errno
+    import tempfile
+
+    import pytest
+
+    from csql_sim.infra.files import OutputError, write_or_keep
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "tmp"))
+    (tmp_path / "tmp").mkdir()
+    (tmp_path / "out").mkdir()
+
+    def full(fd):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", full)  # every write fails at its end, the kept copy's too
+    with pytest.raises(OutputError, match="No space left on device.*no copy of r.yaml could be kept"):
+        write_or_keep([(tmp_path / "out" / "r.yaml", "x" * 1000)])
+    assert list((tmp_path / "tmp").iterdir()) == [] and list((tmp_path / "out").iterdir()) == []

@@ -97,7 +97,8 @@ def test_end_level_averages_the_last_points():
     rw = falling(150, 700, end=75.0)
     rw[-1] = 75.0 + 5 * END_POINTS  # one noisy last point moves the end level by 5
     statements = by_name(evaluate(paper_like(**{"cs-bb-rw": method("cs-bb-rw", rw, RW_VALUES)})))
-    assert "end 80.0" in statements["rw-degrades-to-75"].measured
+    measured = statements["rw-degrades-to-75"].measured
+    assert "end level (mean of the last 5 test points) 80.0" in measured and "at the last point 100.0" in measured
 
 
 STABLE_AT_20 = (  # "start near" and the first trial at exactly 8 move with the cycle count; not these
@@ -112,3 +113,13 @@ def test_statements_stable_at_20_cycles_hold_with_the_default_constants():
         assert got[name].holds, f"{got[name].text}: {got[name].measured}"
     rw = next(r for r in result.methods if r.method == "cs-bb-rw")
     assert end_steps(rw) > 5 * result.optimal  # CS-BB-RW degrades (~60-70 here; "about 75" needs 50 cycles)
+
+
+def test_each_line_says_what_the_paper_says_and_what_was_measured():
+    """A statement that does not hold because the optimum came early says so, with the paper's number."""
+    from csql_sim.jobs.figure7_statements import Statement, _when, statement_lines
+
+    line = statement_lines([Statement("x", "reach by about trial 700", False, f"cs-ql {_when(300, 700)}",
+                                      "about trial 700 (accepted 550-850)")])[0]
+    assert line.startswith("does not hold") and "paper about trial 700 (accepted 550-850)" in line
+    assert "measured cs-ql trial 300 (earlier than the paper)" in line

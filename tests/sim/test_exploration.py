@@ -29,11 +29,20 @@ def test_a_recorded_discovery_episode_captions_failures():
     assert failed and sum("FAILED (" in what for _, what in captions) == len(failed)
 
 
-def test_render_discovery_writes_a_video(tmp_path, capsys):
-    out = tmp_path / "d.gif"
+def test_render_discovery_writes_a_video_and_its_provenance(tmp_path, capsys):
+    import json
+
+    import imageio.v3 as iio
+
+    out = tmp_path / "d.mp4"  # a GIF writer may merge equal frames; an mp4 keeps every one
     assert main(["render", "--discovery", "--transitions", "2", "--out", str(out), "--width", "64",
                  "--height", "48", "--fps", "5", "--workers", "1"]) == 0
-    assert out.stat().st_size > 0 and "FAILED" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert out.stat().st_size > 0 and "FAILED" in printed
+    sidecar = json.loads((tmp_path / "d.mp4.json").read_text())
+    frames = sum(1 for _ in iio.imiter(out))
+    assert sidecar["format"] == "csql-sim video provenance" and sidecar["video"]["frames"] == frames
+    assert f"({frames} frames)" in printed and sidecar["parameters"]["transitions"] == 2
 
 
 def test_a_putdown_with_no_free_spot_is_a_failure_not_a_refusal():
@@ -51,3 +60,17 @@ def test_a_putdown_with_no_free_spot_is_a_failure_not_a_refusal():
         assert arm.perceive() == held
         again = arm.attempt(pick)  # the hand is full: the guard refuses, and that is a refusal
         assert not again.ok and again.refused
+
+
+def test_a_nudged_scene_makes_disturbed_transitions_that_teach_nothing():
+    from csql_sim.discovery.induction import Evidence
+
+    rng = np.random.default_rng(0)
+    with ArmWorld(3, rng, perturb=True, nudge_probability=1.0) as arm:  # a nudge after every attempt
+        result = explore(arm, rng, Exploration(max_transitions=20))
+    assert result.disturbed > 0
+    changed = [t for t in result.log if t.is_refusal and t.after != t.before]  # refused, yet a cube moved
+    assert changed
+    evidence = Evidence(3)
+    assert all(evidence.add(t) for t in changed)
+    assert evidence.disturbed == len(changed) and not evidence.outcomes

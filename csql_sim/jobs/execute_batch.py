@@ -1,0 +1,105 @@
+"""Many PDDL problems on the arm: ``csql-sim evaluate --problems DIR`` (issue: any planner's plans).
+
+Every problem file in a folder (``*.pddl`` that defines a problem, not a domain) is run
+with :func:`~csql_sim.jobs.execute.execute_problem`: with its plan file from a plans
+folder (``<stem>.plan``, ``<stem>.soln`` or ``<stem>.pddl.soln``, as Fast Downward and
+pyperplan name them), or with a rule base or the BFS planner. A problem whose plan is
+refused (a step that is not applicable, an unrepresentable problem) is a failed row with
+the refusal as its reason, so one bad plan does not hide the others' results.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.provenance import provenance
+from csql_sim.jobs.execute import execute_problem
+
+PLAN_SUFFIXES = (".plan", ".soln", ".pddl.soln")
+REPORT_FORMAT = "csql-sim problems report"
+
+
+@dataclass(frozen=True)
+class ProblemRun:
+    """One problem's outcome.
+
+    Attributes:
+        problem: the problem file's name.
+        plan: the plan file's name (None with rules or a planner).
+        reached: the perceived final state satisfies the goal.
+        actions: actions executed.
+        reason: why not reached ("" when reached); a refusal before physics starts with ``refused:``.
+    """
+
+    problem: str
+    plan: str | None
+    reached: bool
+    actions: int
+    reason: str
+
+
+def problem_files(folder: str | os.PathLike) -> list[Path]:
+    """The problem files of ``folder``, sorted (domain files are skipped)."""
+    root = Path(folder)
+    if not root.is_dir():
+        raise CsqlError(f"--problems {os.fspath(folder)!r} is not a folder")
+    found = [p for p in sorted(root.glob("*.pddl")) if "(define (domain" not in p.read_text(errors="replace").lower()]
+    if not found:
+        raise CsqlError(f"--problems {os.fspath(folder)!r} holds no PDDL problem (*.pddl)")
+    return found
+
+
+def plan_file(problem: Path, plans: str | os.PathLike) -> Path:
+    """The plan of ``problem`` in the plans folder (``<stem>.plan``, ``.soln`` or ``.pddl.soln``)."""
+    for suffix in PLAN_SUFFIXES:
+        candidate = Path(plans) / (problem.stem + suffix)
+        if candidate.is_file():
+            return candidate
+    raise CsqlError(f"no plan for {problem.name} in {os.fspath(plans)!r} "
+                    f"(looked for {', '.join(problem.stem + s for s in PLAN_SUFFIXES)})")
+
+
+def evaluate_problems(folder: str | os.PathLike, plans: str | os.PathLike | None = None,
+                      rules: str | os.PathLike | None = None, planner: str | None = None,
+                      domain: str | os.PathLike | None = None, seed: int = 0, perception: str = "pose",
+                      perturb: bool = False, progress: bool = False) -> list[ProblemRun]:
+    """Run every problem of ``folder`` on the arm (its plan, a rule base's or BFS's), in name order."""
+    if (plans is None) == (rules is None and planner is None):
+        raise CsqlError("--problems needs exactly one of --plans DIR, --rules FILE or --planner bfs")
+    files = problem_files(folder)
+    if plans is not None:
+        chosen = {p: plan_file(p, plans) for p in files}  # every plan found before any physics
+    from tqdm import tqdm
+
+    runs = []
+    for problem in tqdm(files, desc="problems", unit="problem", disable=not progress, leave=False, delay=1.0):
+        plan = chosen[problem] if plans is not None else None
+        try:
+            result = execute_problem(problem, domain, plan=plan, rules=rules, planner=planner, seed=seed,
+                                     perception=perception, perturb=perturb)
+        except CsqlError as exc:
+            runs.append(ProblemRun(problem.name, plan and plan.name, False, 0, f"refused: {exc}"))
+            continue
+        runs.append(ProblemRun(problem.name, plan and plan.name, result.reached, len(result.steps), result.reason))
+    return runs
+
+
+def problems_report(runs: list[ProblemRun], parameters: dict) -> dict:
+    """The JSON report: counts, success rate and one row per problem, with provenance."""
+    reached = sum(r.reached for r in runs)
+    return {"format": REPORT_FORMAT, "version": 1, "problems": len(runs), "reached": reached,
+            "success_rate": reached / len(runs) if runs else 0.0,
+            "runs": [r.__dict__ for r in runs], "provenance": provenance(command="evaluate --problems", **parameters)}
+
+
+def problems_lines(runs: list[ProblemRun]) -> list[str]:
+    """The printed report: the success rate, then one line per problem."""
+    reached = sum(r.reached for r in runs)
+    lines = [f"{reached}/{len(runs)} problems reached on the arm ({100.0 * reached / len(runs):.1f} %)"]
+    for r in runs:
+        verdict = "reached" if r.reached else f"FAILED: {r.reason}"
+        lines.append(f"  {r.problem:<24} {r.plan or '-':<24} {r.actions:>3} actions  {verdict}")
+    return lines

@@ -1,0 +1,5 @@
+(define (problem blocks3-01)
+  (:domain blocks)
+  (:objects a b c)
+  (:init (handempty) (ontable c) (on a c) (on b a) (clear b))
+  (:goal (and (ontable c) (on a c) (ontable b))))

@@ -1,0 +1,5 @@
+(define (problem blocks3-02)
+  (:domain blocks)
+  (:objects a b c)
+  (:init (handempty) (ontable a) (ontable b) (on c b) (clear a) (clear c))
+  (:goal (and (ontable a) (ontable c) (on b c))))

@@ -1,0 +1,5 @@
+(define (problem blocks4-01)
+  (:domain blocks)
+  (:objects a b c d)
+  (:init (handempty) (ontable c) (on a c) (ontable d) (on b d) (clear a) (clear b))
+  (:goal (and (ontable a) (on b a) (on d b) (ontable c))))

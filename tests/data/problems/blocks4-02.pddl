@@ -1,0 +1,5 @@
+(define (problem blocks4-02)
+  (:domain blocks)
+  (:objects a b c d)
+  (:init (handempty) (ontable a) (on b a) (on d b) (on c d) (clear c))
+  (:goal (and (ontable c) (on b c) (on a b) (on d a))))

@@ -1,0 +1,5 @@
+(define (problem blocks5-01)
+  (:domain blocks)
+  (:objects a b c d e)
+  (:init (handempty) (ontable a) (ontable e) (on d e) (on b d) (ontable c) (clear a) (clear b) (clear c))
+  (:goal (and (ontable b) (ontable a) (on c a) (ontable e) (ontable d))))

@@ -1,0 +1,5 @@
+(define (problem blocks5-02)
+  (:domain blocks)
+  (:objects a b c d e)
+  (:init (handempty) (ontable c) (on a c) (on e a) (on d e) (ontable b) (clear d) (clear b))
+  (:goal (and (ontable b) (on e b) (on c e) (ontable d) (on a d))))

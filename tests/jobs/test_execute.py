@@ -1,0 +1,193 @@
+"""The execute job: outside plans (Fast Downward, pyperplan) on the simulated arm, closed loop."""
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from csql_sim.cli import OneLineParser
+from csql_sim.cli import execute as execute_cli
+from csql_sim.cli.output import plan_outputs
+from csql_sim.core.ipc_plan import PlanError
+from csql_sim.core.notation import parse_config
+from csql_sim.core.pddl_export import domain_text as export_domain_text
+from csql_sim.core.pddl_export import problem_text as export_problem_text
+from csql_sim.core.r_classifier import r_classifiers
+from csql_sim.core.search import bfs_plan
+from csql_sim.infra.errors import CsqlError
+from csql_sim.jobs.execute import execute_problem, execute_task
+from csql_sim.jobs.problems import DOMAIN_TEXT, generate_problem, task_problem_text
+
+DATA = Path(__file__).resolve().parents[1] / "data" / "problems"
+MOVE3_DOMAIN = """(define (domain blocksworld) (:requirements :strips)
+(:predicates (clear ?x) (on-table ?x) (on ?x ?y))
+(:action move-b-to-b :parameters (?bm ?bf ?bt) :precondition (and (clear ?bm) (clear ?bt) (on ?bm ?bf))
+  :effect (and (not (clear ?bt)) (not (on ?bm ?bf)) (on ?bm ?bt) (clear ?bf)))
+(:action move-b-to-t :parameters (?bm ?bf) :precondition (and (clear ?bm) (on ?bm ?bf))
+  :effect (and (not (on ?bm ?bf)) (on-table ?bm) (clear ?bf)))
+(:action move-t-to-b :parameters (?bm ?bt) :precondition (and (clear ?bm) (clear ?bt) (on-table ?bm))
+  :effect (and (not (clear ?bt)) (not (on-table ?bm)) (on ?bm ?bt))))
+"""
+
+
+def cli(argv: list[str]) -> int:
+    """What ``csql-sim execute ...`` does once the subcommand is wired into csql_sim.cli.main."""
+    parser = OneLineParser(prog="csql-sim")
+    execute_cli.register(parser.add_subparsers(dest="command", required=True, parser_class=OneLineParser))
+    args = parser.parse_args(argv)
+    try:
+        plan_outputs(args)
+        return int(args.func(args))
+    except CsqlError as exc:
+        print(f"csql-sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+
+
+def write(path: Path, text: str) -> Path:
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("name", ["blocks3-02", "blocks5-02"])
+def test_a_fast_downward_style_plan_reaches_the_goal(name):
+    result = execute_problem(DATA / f"{name}.pddl", DATA / "domain.pddl", plan=DATA / f"{name}.plan")
+    plan_lines = [line for line in (DATA / f"{name}.plan").read_text().splitlines() if not line.startswith(";")]
+    assert result.reached and result.reason == "" and result.final == result.target
+    assert [s.line for s in result.steps] == list(range(1, len(plan_lines) + 1))
+    assert [s.text for s in result.steps] == plan_lines
+    assert all(s.status == "ok" and s.perceived == s.expected for s in result.steps)
+    report = result.to_dict()
+    assert (report["format"], report["version"], report["reached"]) == ("csql-sim execute report", 1, True)
+    assert report["objects"] == {c: c.upper() for c in "abcde"[: result.blocks]}
+    assert report["provenance"]["parameters"]["plan"]["file"].endswith(f"{name}.plan")
+    assert json.loads(json.dumps(report)) == report
+
+
+def test_a_wrong_step_is_refused_before_physics_with_its_line(tmp_path, monkeypatch, capsys):
+    import csql_sim.sim.executor as executor
+
+    def no_physics(*args, **kwargs):
+        raise AssertionError("physics ran")
+
+    monkeypatch.setattr(executor, "run_physical_episode", no_physics)
+    plan = write(tmp_path / "bad.plan", "; from a planner\n(unstack c b)\n(put-down c)\n(stack b a)\n")
+    with pytest.raises(PlanError) as caught:
+        execute_problem(DATA / "blocks3-02.pddl", plan=plan)
+    assert "bad.plan line 4: step 3 (stack b a) = stack(B,A) is not applicable in A,B,C: b is not held" \
+        in str(caught.value)
+    assert cli(["execute", "--problem", str(DATA / "blocks3-02.pddl"), "--plan", str(plan)]) == 2
+    err = capsys.readouterr().err
+    assert "line 4" in err and err.count("\n") == 1
+
+
+def test_the_three_operator_move_variant(tmp_path):
+    domain = write(tmp_path / "domain.pddl", MOVE3_DOMAIN)
+    problem = write(tmp_path / "p.pddl", "(define (problem bw) (:domain blocksworld) (:objects B1 B2 B3)\n"
+                    "(:init (on-table B1) (on B2 B1) (on B3 B2) (clear B3))\n(:goal (and (on B1 B2) (on B2 B3))))\n")
+    plan = write(tmp_path / "p.plan", "(move-b-to-t b3 b2)\n(move-b-to-b b2 b1 b3)\n(move-t-to-b b1 b2)\n"
+                                      "; cost = 3 (unit cost)\n")
+    result = execute_problem(problem, domain, plan=plan)
+    assert result.reached and result.mapping == {"b1": "A", "b2": "B", "b3": "C"} and result.final == "CBA"
+    assert [(s.line, s.action) for s in result.steps] == [
+        (1, "unstack(C,B)"), (1, "putdown(C)"), (2, "unstack(B,A)"), (2, "stack(B,C)"), (3, "pickup(A)"),
+        (3, "stack(A,B)")]
+    with pytest.raises(PlanError, match="line 1: pick-up is not an action of the domain"):
+        execute_problem(problem, domain, plan=write(tmp_path / "q.plan", "(pick-up b3)\n"))
+
+
+def test_the_one_operator_move_variant_with_a_table_object(tmp_path):
+    problem = write(tmp_path / "p.pddl", "(define (problem q) (:domain bw) (:objects a b c table)\n"
+                    "(:init (on a table) (on b table) (on c a) (clear b) (clear c) (clear table))\n"
+                    "(:goal (and (on a b) (on b c))))\n")
+    result = execute_problem(problem, plan=["(move c a table)", "(move b table c)", "(move a table b)"])
+    assert result.reached and result.final == "CBA"
+    assert [s.action for s in result.steps] == ["unstack(C,A)", "putdown(C)", "pickup(B)", "stack(B,C)",
+                                                "pickup(A)", "stack(A,B)"]
+
+
+def test_a_partial_goal_is_reached_by_any_state_satisfying_it(tmp_path):
+    problem = write(tmp_path / "p.pddl", "(define (problem part) (:domain blocks) (:objects a b c)\n"
+                    "(:init (handempty) (ontable c) (on b c) (on a b) (clear a))\n(:goal (on c a)))\n")
+    plan = write(tmp_path / "p.plan", "(unstack a b)\n(put-down a)\n(unstack b c)\n(put-down b)\n(pick-up c)\n"
+                                      "(stack c a)\n")
+    by_plan = execute_problem(problem, plan=plan)
+    assert by_plan.reached and by_plan.goal.partial and by_plan.final == "AC,B"
+    by_bfs = execute_problem(problem, planner="bfs")
+    assert by_bfs.reached and by_bfs.target == by_bfs.final == "AC,B" and len(by_bfs.steps) == 6
+    # four states have C on A: AC,B AC+B ACB BAC; the nearest is AC,B
+    assert by_bfs.to_dict()["goal"] == {"atoms": ["(on c a)"], "partial": True, "states": 4, "target": "AC,B"}
+
+
+def test_pyperplans_plans_execute(tmp_path):
+    planner = pytest.importorskip("pyperplan.planner")
+    domain = write(tmp_path / "domain.pddl", DOMAIN_TEXT)
+    problem = write(tmp_path / "p.pddl", generate_problem(4, np.random.default_rng(3), "random4"))
+    plan = planner.search_plan(str(domain), str(problem), planner.SEARCHES["bfs"], None)
+    planner.write_solution(plan, str(tmp_path / "p.soln"))
+    assert execute_problem(problem, domain, plan=tmp_path / "p.soln").reached
+    # csql-sim's own export (`csql-sim pddl`): message facts and actions such as unstack_a_b
+    start, goal = parse_config("CBA"), parse_config("BAC")
+    domain = write(tmp_path / "export-domain.pddl", export_domain_text(r_classifiers(3), 3))
+    problem = write(tmp_path / "export-problem.pddl", export_problem_text(r_classifiers(3), start, goal))
+    plan = planner.search_plan(str(domain), str(problem), planner.SEARCHES["bfs"], None)
+    planner.write_solution(plan, str(tmp_path / "export.soln"))
+    result = execute_problem(problem, domain, plan=tmp_path / "export.soln")
+    assert result.reached and len(result.steps) == 8 and result.final == "BAC"
+
+
+def test_a_rule_base_drives_the_arm(tmp_path):
+    from csql_sim.core.rulebase import save
+    from csql_sim.learners.training import train
+
+    rules = tmp_path / "rules.yaml"
+    save(rules, train("cs-ql", trials=2500, seed=0))
+    problem = write(tmp_path / "p.pddl", task_problem_text(parse_config("CBA"), parse_config("BAC")))
+    result = execute_problem(problem, rules=rules)
+    assert result.reached and result.source == {"kind": "rules", "file": str(rules)} and len(result.steps) == 8
+    with pytest.raises(CsqlError, match="exactly one of"):
+        execute_problem(problem, rules=rules, planner="bfs")
+
+
+def test_perception_diverging_from_the_plan_stops_the_run():
+    plan = [a.name() for a in bfs_plan(parse_config("CBA"), parse_config("BAC"))]
+    result = execute_task("CBA", "BAC", plan=plan, seed=1, perturb=True)  # a nudge knocks A off B after step 7
+    assert not result.reached and result.episode.events == ["nudged A towards -147 deg"]
+    bad = result.failed_step
+    assert (bad.step, bad.action, bad.status, bad.expected, bad.perceived) == (7, "pickup(C)", "diverged", "BA+C",
+                                                                               "A,B+C")
+    assert [s.status for s in result.steps[7:]] == ["not run"]
+    assert result.reason == ("perception diverged from the plan after step 7 (line 7: pickup(C)): the plan "
+                             "predicts BA+C, perceived A,B+C")
+    assert "goal atoms not satisfied by the perceived state A,B+C: (handempty) (on a b) (on c a)" in result.explain()
+
+
+def test_the_command_reports_json_and_exit_status(tmp_path, capsys):
+    problem = str(DATA / "blocks3-01.pddl")
+    out = tmp_path / "report.json"
+    assert cli(["execute", "--problem", problem, "--plan", str(DATA / "blocks3-01.plan"), "--json", str(out)]) == 0
+    report = json.loads(out.read_text())
+    assert report["format"] == "csql-sim execute report" and report["reached"] is True
+    assert [(s["line"], s["action"], s["status"]) for s in report["steps"]] == [
+        (1, "(unstack b a)", "ok"), (2, "(put-down b)", "ok")]
+    assert report["provenance"]["parameters"]["problem"]["file"] == problem
+    short = write(tmp_path / "short.plan", "(unstack b a)\n")
+    assert cli(["execute", "--problem", problem, "--plan", str(short)]) == 1
+    text = capsys.readouterr().out
+    assert "objects: a -> A, b -> B, c -> C" in text and "NOT reached: the plan ended" in text
+    eight = write(tmp_path / "p8.pddl", generate_problem(8, np.random.default_rng(0)))
+    assert cli(["execute", "--problem", str(eight), "--planner", "bfs"]) == 2
+    err = capsys.readouterr().err
+    assert "csql-sim executes at most 6" in err and err.count("\n") == 1
+
+
+def test_the_command_writes_a_video_with_its_provenance(tmp_path, capsys):
+    video = tmp_path / "run.mp4"
+    assert cli(["execute", "--problem", str(DATA / "blocks3-01.pddl"), "--plan", str(DATA / "blocks3-01.plan"),
+                "--video", str(video), "--quiet"]) == 0
+    sidecar = json.loads((tmp_path / "run.mp4.json").read_text())
+    assert video.stat().st_size > 0 and sidecar["video"]["actions"] == 2 and sidecar["video"]["success"] is True
+    assert sidecar["parameters"]["command"] == "execute"
+    assert cli(["execute", "--problem", str(DATA / "blocks3-01.pddl"), "--planner", "bfs", "--video",
+                str(tmp_path)]) == 2  # a folder is refused before any work

@@ -1,0 +1,83 @@
+"""The pytest plugin, run the way a user's test suite runs it (pytester, with -p to load it)."""
+
+import subprocess
+import sys
+from pathlib import Path
+
+# pytester's in-process runs drop the modules a run imported; numpy's C extension cannot be
+# loaded twice in one process, so the simulator is imported here, once, before any run.
+import csql_sim.jobs.execute  # noqa: F401
+import csql_sim.sim.executor  # noqa: F401
+
+pytest_plugins = ["pytester"]
+
+PLUGIN = ["-p", "csql_sim.testing.plugin", "-p", "no:cacheprovider"]
+PROBLEMS = Path(__file__).resolve().parents[1] / "data" / "problems"
+REBUILD = '["unstack(A,B)", "putdown(A)", "unstack(B,C)", "stack(B,A)", "pickup(C)", "stack(C,B)"]'
+
+
+def test_a_plan_that_reaches_the_goal_passes(pytester):
+    pytester.makepyfile(f"""
+        from csql_sim.testing.plugin import assert_reached
+
+        def test_rebuild(arm):
+            result = arm.execute({REBUILD}, start="CBA", goal="ABC")
+            assert result.reached
+            assert_reached(result)
+            assert [s.status for s in result.steps] == ["ok"] * 6 and result.final == "ABC"
+
+        def test_ipc_names_a_plan_file_and_a_partial_goal(arm):
+            assert arm.execute(["(unstack a b)", "(put-down a)"], start="CBA", goal=["(clear b)"]).reached
+            result = arm.execute_problem(r"{PROBLEMS / 'blocks3-02.pddl'}", r"{PROBLEMS / 'blocks3-02.plan'}")
+            assert result.reached and len(arm.results) == 2
+    """)
+    result = pytester.runpytest(*PLUGIN)
+    result.assert_outcomes(passed=2)
+
+
+def test_a_failing_plan_says_which_step_failed_and_what_was_perceived(pytester):
+    pytester.makepyfile("""
+        import pytest
+        from csql_sim.core.ipc_plan import PlanError
+        from csql_sim.testing.plugin import assert_reached
+
+        def test_bare_assert(arm):
+            result = arm.execute(["unstack(A,B)", "putdown(A)"], start="CBA", goal="ABC")
+            assert result.reached
+
+        def test_helper(arm):
+            assert_reached(arm.execute(["(unstack a b)", "(put-down a)"], start="CBA", goal="ABC"))
+
+        def test_diverged(arm):
+            plan = ["unstack(A,B)", "putdown(A)", "unstack(B,C)", "putdown(B)", "pickup(A)", "stack(A,B)",
+                    "pickup(C)", "stack(C,A)"]
+            assert_reached(arm.execute(plan, start="CBA", goal="BAC", seed=1, perturb=True))
+
+        def test_refused_before_physics(arm):
+            with pytest.raises(PlanError, match="line 2: step 2 stack.B,A. is not applicable in CB.A: B is not held"):
+                arm.execute(["unstack(A,B)", "stack(B,A)"], start="CBA", goal="ABC")
+    """)
+    result = pytester.runpytest(*PLUGIN)
+    result.assert_outcomes(passed=1, failed=3)
+    out = result.stdout.str()
+    # the bare assert: the one-line summary pytest prints for `assert result.reached`
+    result.stdout.fnmatch_lines(["*where False = <ExecuteResult not reached: the plan ended; the perceived state "
+                                 "A,CB does not satisfy (on b a) (on c b); final A,CB>.reached*"])
+    # the helper: every step with what was perceived
+    result.stdout.fnmatch_lines(["*AssertionError: NOT reached: the plan ended; the perceived state A,CB does not "
+                                 "satisfy (on b a) (on c b)*",
+                                 "*goal atoms not satisfied by the perceived state A,CB: (on b a) (on c b)*",
+                                 "*1 line 1   (unstack a b)*unstack(A,B)*ok*perceived CB+A*",
+                                 "*2 line 2   (put-down a)*putdown(A)*ok*perceived A,CB*"])
+    # a physical failure: the step where perception diverged, and what it saw
+    result.stdout.fnmatch_lines(["*failed at step 7 (line 7: pickup(C)): diverged; perceived A,B+C (the plan "
+                                 "predicts BA+C)*"])
+    assert out.count("csql-sim arm") == 3  # the report section of each failed test that used the arm
+
+
+def test_loading_the_plugin_imports_nothing_heavy():
+    heavy = "('pybullet', 'numpy', 'pddl', 'csql_sim.sim', 'csql_sim.jobs')"
+    code = f"import sys, csql_sim.testing.plugin; print(sorted(m for m in {heavy} if m in sys.modules))"
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "[]"
