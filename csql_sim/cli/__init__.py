@@ -27,13 +27,9 @@ from typing import Any
 from csql_sim import __version__
 from csql_sim.cli import core, demo, discover, execute, learn, pddl_cmd, sim
 from csql_sim.cli.output import plan_outputs
-from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.errors import CsqlError, Terminated
 
 TERMINATED_STATUS = 128 + signal.SIGTERM
-
-
-class Terminated(BaseException):
-    """SIGTERM arrived: unwinds like KeyboardInterrupt (``finally`` blocks run, workers stop)."""
 
 
 class StdoutError(CsqlError):
@@ -108,14 +104,14 @@ def main(argv: list[str] | None = None) -> int:
             # The reader (e.g. `| head`) closed the pipe: stop quietly, as Unix tools do.
             _silence_stdout()
             return 0
+        except Terminated:  # before KeyboardInterrupt, which it is
+            _close_progress_bars()
+            print("csql-sim: terminated", file=sys.stderr)
+            return TERMINATED_STATUS
         except KeyboardInterrupt:
             _close_progress_bars()
             print("csql-sim: interrupted", file=sys.stderr)
             return 130
-        except Terminated:
-            _close_progress_bars()
-            print("csql-sim: terminated", file=sys.stderr)
-            return TERMINATED_STATUS
 
 
 @contextmanager

@@ -66,8 +66,8 @@ def warn_workers(workers: int | None) -> None:
     """One warning line on stderr when ``--workers`` asks for more processes than cores."""
     cores = os.cpu_count() or 1
     if workers is not None and workers > cores:
-        print(f"csql-sim: warning: --workers {workers} is more than the {cores} cores; "
-              f"extra processes only share them", file=sys.stderr)
+        print(f"csql-sim: warning: --workers {workers} is more than the {cores} cores; using {cores}",
+              file=sys.stderr)
 
 
 def path_arg(text: str) -> str:

@@ -21,6 +21,19 @@ from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 
 PHYSICS_SEED_BOUND = 2**31  # physics seeds are drawn from [0, 2**31)
+MIN_IMAGE_SIDE, MAX_IMAGE_SIDE = 16, 4096  # rendered images' width and height, in pixels
+
+
+def check_image_side(value: object, name: str) -> int:
+    """A rendered image's ``width`` or ``height``: an integer in 16..4096, else a CsqlError naming it.
+
+    The renderer itself is not asked: it returns empty images for 0, crashes the
+    interpreter for negative sizes and aborts it for huge ones.
+    """
+    if isinstance(value, (int, np.integer)) and not isinstance(value, bool) \
+            and MIN_IMAGE_SIDE <= value <= MAX_IMAGE_SIDE:
+        return int(value)
+    raise CsqlError(f"{name} must be an integer in {MIN_IMAGE_SIDE}..{MAX_IMAGE_SIDE} pixels, got {value!r}")
 
 
 class PhysicalBlocksEnv(BlocksWorldEnv):
@@ -78,11 +91,11 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
 
     Args:
         n: number of blocks.
-        max_steps: steps before ``truncated`` (None: never).
+        max_steps: steps before ``truncated``: a positive integer, or None (never).
         render_mode: ``"rgb_array"`` or None.
         perception: ``"pose"`` or ``"camera"``.
-        width: rendered image width.
-        height: rendered image height.
+        width: rendered image width, an integer in 16..4096 pixels.
+        height: rendered image height, an integer in 16..4096 pixels.
         camera_noise: sensor noise of camera perception.
         rules: a rule file whose precondition rules decide which actions are legal (the
             action mask); what an action does is up to the physics.
@@ -96,11 +109,11 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
                  rules: str | os.PathLike | None = None) -> None:
         if render_mode not in (None, "rgb_array"):
             raise CsqlError(f"render_mode must be 'rgb_array' or None, got {render_mode!r}")
+        self.width, self.height = check_image_side(width, "width"), check_image_side(height, "height")
         super().__init__(n, max_steps, None, rules)
         self.render_mode = render_mode
         self.perception = perception
         self.camera_noise = camera_noise
-        self.width, self.height = width, height
         self.physical: PhysicalWorld | None = None
         self.physics_seed: int | None = None
         self.perceived = Perceived(None, "not reset")  # the last perception (an illegal action keeps it)

@@ -47,6 +47,24 @@ def rule_transitions(world: BlocksWorld, rules: str | os.PathLike) -> np.ndarray
         raise CsqlError(f"{rules}: {exc}") from None
 
 
+def check_max_steps(max_steps: object) -> int | None:
+    """``max_steps`` of an environment: None (never truncate) or a positive integer, else a CsqlError."""
+    if max_steps is None:
+        return None
+    if isinstance(max_steps, (int, np.integer)) and not isinstance(max_steps, bool) and max_steps >= 1:
+        return int(max_steps)
+    raise CsqlError(f"max_steps must be None or a positive integer, got {max_steps!r}")
+
+
+def check_options(options: object) -> dict:
+    """``reset``'s ``options``: a dict (or None, read as empty), else a CsqlError."""
+    if options is None:
+        return {}
+    if not isinstance(options, dict):
+        raise CsqlError(f"options must be a dict or None, got {type(options).__name__} {options!r:.80}")
+    return options
+
+
 class EnvEpisode(NamedTuple):
     """One episode on an environment: steps taken and whether the goal was reached."""
 
@@ -105,7 +123,7 @@ class BlocksWorldEnv(gym.Env):
 
     Args:
         n: number of blocks, 2..6 (``blocks`` in ``gymnasium.make``).
-        max_steps: steps before ``truncated`` (None: never).
+        max_steps: steps before ``truncated``: a positive integer, or None (never).
         render_mode: ``"ansi"`` (the state's notation and message) or None.
         rules: a rule file whose R-classifiers define the dynamics (default: the
             built-in ones, identical to the blocks world); Q-classifiers in it are ignored.
@@ -118,7 +136,7 @@ class BlocksWorldEnv(gym.Env):
                  rules: str | os.PathLike | None = None) -> None:
         self.world = BlocksWorld.of(n)
         self.n = n
-        self.max_steps = max_steps
+        self.max_steps = check_max_steps(max_steps)
         if render_mode not in (None, "ansi"):
             raise CsqlError(f"render_mode must be 'ansi' or None, got {render_mode!r}")
         self.render_mode = render_mode
@@ -158,8 +176,8 @@ class BlocksWorldEnv(gym.Env):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
         """Start a task; ``options`` may give ``start`` and ``goal``."""
+        options = check_options(options)
         super().reset(seed=seed)
-        options = options or {}
         count = len(self.world.states)
         start = self._index(options["start"], "start") if options.get("start") is not None else None
         goal = self._index(options["goal"], "goal") if options.get("goal") is not None else None

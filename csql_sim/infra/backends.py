@@ -15,29 +15,39 @@ on a local instance started for the call (``address=None``, ``workers`` CPUs) or
 existing cluster (``address="auto"`` on a cluster node, or ``"ray://head:10001"``).
 Every node needs the same csql-sim and Python versions. A Ray session that this module
 started is shut down before :func:`map_tasks` returns; one the caller started with
-``ray.init`` is used and left running.
+``ray.init`` is used and left running. A local instance's processes end with this
+process even if it is killed (:func:`csql_sim.infra.workers.reaper`); an address that
+does not answer fails within :data:`CONNECT_TIMEOUT` seconds, in one line.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import logging
 import os
+import signal
+import socket
+import subprocess
 import sys
+import threading
 import time
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from concurrent.futures.process import BrokenProcessPool
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from dataclasses import dataclass
 from functools import cache
 from typing import Any, TypeVar
 
 from tqdm import tqdm
 
-from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.workers import worker_count, worker_pool
+from csql_sim.infra.errors import CsqlError, Terminated
+from csql_sim.infra.workers import python_command, reaper, worker_count, worker_pool
 
 BACKENDS = ("processes", "ray")
+CONNECT_TIMEOUT = 5.0  # seconds a Ray address has to accept a connection
+GCS_PROBE_SECONDS = 15.0  # seconds a cluster's GCS has to tell its id (a Python start and Ray's import included)
+RAY_CLIENT_PORT = 10001  # the port of a ray:// address that names none
 TASK_ERRORS = (CsqlError, MemoryError)  # how a task (or a worker's setup) may fail without a bug
 T = TypeVar("T")
 R = TypeVar("R")
@@ -187,40 +197,137 @@ def _remote_run_chunk() -> Any:
     return ray.remote(max_retries=1)(_run_chunk)
 
 
+def _terminate(signum: int, frame: object) -> None:
+    raise Terminated("terminated (SIGTERM)")
+
+
 @contextmanager
 def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
     """Connect to (or start) Ray for ``backend``; yields the CPUs available.
 
     Shuts Ray down on exit if this call started it; a session the caller opened stays.
+    A local instance runs under :func:`csql_sim.infra.workers.reaper`: its processes
+    end with this one, even after a SIGKILL. While a session this call started is open,
+    SIGTERM raises :class:`Terminated` (a KeyboardInterrupt) instead of Ray's stack dump.
     """
     try:
         import ray
     except ImportError:
         raise CsqlError('--backend ray needs Ray: pip install "csql-sim[ray]"') from None
-    owned = not ray.is_initialized()
-    if owned:
-        began = time.perf_counter()
-        kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR,
-                                  "log_to_driver": False}
+    if ray.is_initialized():
+        yield _announce(ray, "existing session", time.perf_counter(), announce)
+        return
+    with ExitStack() as stack:
         if backend.address is None:
-            kwargs["num_cpus"] = backend.workers or os.cpu_count() or 1
-        os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
-        try:
-            ray.init(address=backend.address, **kwargs)
-        except (ConnectionError, RuntimeError, ValueError) as exc:
-            raise CsqlError(f"cannot start Ray at {backend.address or 'a local instance'}: "
-                            f"{' '.join(str(exc).split())}") from None
+            stack.enter_context(reaper())
+        else:
+            check_ray_address(backend.address)
+        began = time.perf_counter()
+        main_thread = threading.current_thread() is threading.main_thread()
+        if main_thread:
+            previous = signal.getsignal(signal.SIGTERM)
+            stack.callback(signal.signal, signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
+        _init_ray(ray, backend)
+        stack.callback(ray.shutdown)
+        if main_thread:  # after ray.init: it installs its own handler and a C++ one that dumps the stack
+            signal.signal(signal.SIGTERM, _terminate)
         where = f"cluster at {backend.address}" if backend.address else "local instance"
-    else:
-        began, where = time.perf_counter(), "existing session"
+        yield _announce(ray, where, began, announce)
+
+
+def _announce(ray: Any, where: str, began: float, announce: bool) -> int:
+    """The CPUs of the session; with ``announce``, one line on stderr saying where tasks run."""
+    cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
+    if announce:
+        print(f"ray: {where}, {cpus} CPUs (ready in {time.perf_counter() - began:.1f} s)", file=sys.stderr)
+    return cpus
+
+
+def _init_ray(ray: Any, backend: Backend) -> None:
+    """``ray.init`` for ``backend``, quiet; a local instance gets at most the cores (``backend.workers``)."""
+    kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR, "log_to_driver": False}
+    if backend.address is None:
+        kwargs["num_cpus"] = worker_count(backend.workers, os.cpu_count() or 1)
+    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
     try:
-        cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
-        if announce:
-            print(f"ray: {where}, {cpus} CPUs (ready in {time.perf_counter() - began:.1f} s)", file=sys.stderr)
-        yield cpus
-    finally:
-        if owned:
-            ray.shutdown()
+        ray.init(address=backend.address, **kwargs)
+    except (ConnectionError, RuntimeError, ValueError) as exc:
+        raise CsqlError(f"cannot start Ray at {backend.address or 'a local instance'}: "
+                        f"{' '.join(str(exc).split())}") from None
+
+
+def check_ray_address(address: str) -> None:
+    """Fail fast, in one line, on a Ray address that cannot work.
+
+    A ``ray://`` address needs the Ray Client (``pip install "ray[client]"``). Any address
+    must accept a TCP connection within :data:`CONNECT_TIMEOUT` seconds, and a cluster
+    address's GCS must tell its cluster id within :data:`GCS_PROBE_SECONDS` (asked by a
+    child process, killed after that): ``ray.init`` itself waits minutes on an address
+    that accepts connections but is no Ray cluster, printing a warning a second.
+
+    Raises:
+        CsqlError: naming the address and the problem.
+    """
+    client = address.startswith("ray://")
+    if client and importlib.util.find_spec("grpc") is None:
+        raise CsqlError(f'--address {address}: a ray:// address needs the Ray Client: pip install "ray[client]"')
+    try:
+        endpoint = _endpoint(address)
+    except ConnectionError as exc:  # "auto" with no cluster to find
+        raise CsqlError(f"cannot start Ray at {address}: {' '.join(str(exc).split())}") from None
+    except ValueError as exc:
+        raise CsqlError(f"--address {address!r}: not a Ray address (auto, host:port or ray://host:port): "
+                        f"{' '.join(str(exc).split())}") from None
+    if endpoint is None:
+        return
+    where = f"[{endpoint[0]}]:{endpoint[1]}" if ":" in endpoint[0] else f"{endpoint[0]}:{endpoint[1]}"
+    try:
+        socket.create_connection(endpoint, timeout=CONNECT_TIMEOUT).close()
+    except OSError as exc:
+        reason = "no answer" if isinstance(exc, TimeoutError) else exc.strerror or type(exc).__name__
+        raise CsqlError(f"cannot reach Ray at {address} ({where}: {reason} within {CONNECT_TIMEOUT:g} s); "
+                        f"is the cluster running?") from None
+    if not client:
+        _probe_gcs(address, where)
+
+
+def _probe_gcs(address: str, where: str) -> None:
+    """Ask the GCS at ``where`` for its cluster id in a child process that dies with us; one line if it cannot."""
+    code = ("import sys; from csql_sim.infra.workers import die_with_parent; die_with_parent(int(sys.argv[2])); "
+            "from ray._raylet import GcsClient; GcsClient(address=sys.argv[1]).cluster_id")
+    argv, env = python_command(code, where, str(os.getpid()))
+    try:
+        probe = subprocess.run(argv, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
+                               timeout=GCS_PROBE_SECONDS)
+    except subprocess.TimeoutExpired:
+        raise CsqlError(f"cannot start Ray at {address}: {where} accepts connections, but no Ray cluster answered "
+                        f"within {GCS_PROBE_SECONDS:g} s; is it the right address?") from None
+    if probe.returncode != 0:
+        last = next((line for line in reversed(probe.stderr.splitlines()) if line.strip()), "no reason given")
+        raise CsqlError(f"cannot start Ray at {address}: {where} is no Ray cluster ({' '.join(last.split())[:200]})")
+
+
+def _endpoint(address: str) -> tuple[str, int] | None:
+    """The host and port a Ray address connects to first, resolved as ``ray.init`` does.
+
+    Raises:
+        ValueError: not an address.
+        ConnectionError: ``"auto"`` finds no cluster.
+    """
+    if address.startswith("ray://"):
+        where = address[len("ray://"):].split("/")[0]
+        _, colon, port = where.rpartition(":")
+        found: str | None = where if colon and "]" not in port else f"{where}:{RAY_CLIENT_PORT}"  # [::1] has no port
+    else:
+        from ray._private.services import canonicalize_bootstrap_address  # what ray.init resolves
+
+        found = canonicalize_bootstrap_address(address)
+    if found is None:
+        return None
+    host, _, port = found.rpartition(":")
+    if not host or not port.isdigit():
+        raise ValueError(f"no port in {found!r}")
+    return host.strip("[]"), int(port)
 
 
 def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_args: tuple, bar: tqdm) -> list:

@@ -9,14 +9,21 @@ episodes, video frames). Its workers
   SIGKILL (``prctl(PR_SET_PDEATHSIG)``); elsewhere, and as a fallback, a watchdog thread
   polls the parent's pid twice a second.
 
-:func:`worker_count` caps the number of processes at the number of tasks.
+:func:`worker_count` caps the number of processes at the number of cores and of tasks.
+
+Processes that others start for us (a local Ray instance's daemons and agents) cannot be
+given a death signal: :func:`reaper` starts a small watchdog process that records every
+process started below this one inside its block and, once this process is gone (even by
+SIGKILL) or the block ends, terminates those still running (Linux; elsewhere a no-op).
 """
 
 from __future__ import annotations
 
 import ctypes
 import os
+import select
 import signal
+import subprocess
 import sys
 import threading
 import time
@@ -28,11 +35,17 @@ from multiprocessing.context import BaseContext
 PR_SET_PDEATHSIG = 1  # <linux/prctl.h>
 WATCHDOG_SECONDS = 0.5
 STOP_SECONDS = 1.0  # how long a terminated worker may take before it is killed
+REAPER_POLL_SECONDS = 0.25  # how often the reaper records the processes below its parent
 
 
 def worker_count(requested: int | None, tasks: int) -> int:
-    """Processes to start: ``requested`` (default: every core), at most ``tasks``, at least 1."""
-    return max(1, min(requested or os.cpu_count() or 1, tasks))
+    """Processes to start: ``requested`` (default: every core), at most the cores and ``tasks``, at least 1.
+
+    More processes than cores would only share them, each with its own copy of the
+    task's state: ``--workers 1000`` must not start a thousand processes.
+    """
+    cores = os.cpu_count() or 1
+    return max(1, min(requested or cores, cores, tasks))
 
 
 def _watch_parent(parent: int) -> None:
@@ -94,3 +107,108 @@ def worker_pool(workers: int, initializer: Callable[..., object] | None = None,
         stop_pool(pool)
         raise
     pool.shutdown(wait=True)
+
+
+def python_command(code: str, *args: str) -> tuple[list[str], dict[str, str]]:
+    """The command line and environment of a child ``python -c code args`` that can import this package."""
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [root, os.environ.get("PYTHONPATH")]))}
+    return [sys.executable, "-c", code, *args], env
+
+
+def _process_table() -> dict[int, tuple[int, int]]:
+    """``pid -> (parent pid, start time)`` of every process, from /proc (Linux)."""
+    table = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat", "rb") as fh:
+                    fields = fh.read().rsplit(b")", 1)[1].split()
+            except (OSError, IndexError):
+                continue
+            table[int(entry)] = (int(fields[1]), int(fields[19]))
+    return table
+
+
+def _descendants(roots: list[int], table: dict[int, tuple[int, int]]) -> dict[int, int]:
+    """``pid -> start time`` of every process below ``roots`` in ``table``."""
+    children: dict[int, list[int]] = {}
+    for pid, (parent, _) in table.items():
+        children.setdefault(parent, []).append(pid)
+    found: dict[int, int] = {}
+    stack = list(roots)
+    while stack:
+        for child in children.get(stack.pop(), ()):
+            if child not in found:
+                found[child] = table[child][1]
+                stack.append(child)
+    return found
+
+
+def _end_processes(recorded: dict[int, int]) -> None:
+    """SIGTERM the ``recorded`` processes still running (same pid and start time), SIGKILL them a second later."""
+    def running() -> list[int]:
+        table = _process_table()
+        return [pid for pid, start in recorded.items() if table.get(pid, (0, -1))[1] == start]
+
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        for pid in running():
+            try:
+                os.kill(pid, sig)
+            except OSError:  # gone meanwhile, or not ours to signal
+                pass
+        deadline = time.monotonic() + STOP_SECONDS
+        while running() and time.monotonic() < deadline:
+            time.sleep(0.05)
+
+
+def reap(parent: int, fd: int = 0) -> None:
+    """The reaper process: record what ``parent`` starts; when it is gone or closes ``fd``, end it all.
+
+    Processes below ``parent`` when the reaper starts are left alone; it says ``ready``
+    on stdout once it has seen them. It ignores SIGINT and SIGTERM (a Ctrl-C in a terminal
+    reaches the whole process group): it ends on its own once its work is done.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    me = os.getpid()
+    before = set(_descendants([parent], _process_table())) | {me}
+    print("ready", flush=True)
+    recorded: dict[int, int] = {}
+    while os.getppid() == parent:
+        recorded.update({pid: start for pid, start in _descendants([parent], _process_table()).items()
+                         if pid not in before})
+        ready, _, _ = select.select([fd], [], [], REAPER_POLL_SECONDS)
+        if ready and not os.read(fd, 4096):  # EOF: the parent closed the pipe, or died
+            break
+    recorded.update(_descendants(list(recorded), _process_table()))  # what they started since (workers)
+    recorded.pop(me, None)
+    _end_processes(recorded)
+
+
+@contextmanager
+def reaper() -> Iterator[None]:
+    """Every process started below this one inside the block ends with it, even after a SIGKILL.
+
+    For processes that a library starts and that do not die with their parent (a local
+    Ray instance's agents outlive it by a minute): a watchdog process (:func:`reap`)
+    records them and terminates those still running when this process dies or the block
+    ends. Linux only (it reads /proc); elsewhere the block runs without one.
+    """
+    if not sys.platform.startswith("linux"):
+        yield
+        return
+    argv, env = python_command("import sys; from csql_sim.infra.workers import reap; reap(int(sys.argv[1]))",
+                               str(os.getpid()))
+    watchdog = subprocess.Popen(argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                env=env)
+    try:
+        watchdog.stdout.readline()  # "ready" (or EOF if it could not start: then there is none)
+        yield
+    finally:
+        watchdog.stdin.close()
+        try:
+            watchdog.wait(3 * STOP_SECONDS)
+        except subprocess.TimeoutExpired:  # it ends on its own
+            pass
+        watchdog.stdout.close()

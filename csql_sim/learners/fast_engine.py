@@ -47,9 +47,9 @@ class _Kernels:
 
 fk = _Kernels()
 MAX_FAST_BLOCKS = 5
-STEPS_PER_CALL = 1_000_000
+STEPS_PER_CALL = 250_000
 """Steps one compiled call of :meth:`FastCSQL.train` may take before it returns to Python
-(it pauses between trials, so plus those under way): a few hundredths of a second."""
+(it pauses between trials, so plus those under way): some 50 ms at 5 million steps a second."""
 COMPENSATED_SUM = sys.version_info >= (3, 12)
 """Python 3.12 made ``sum()`` of floats compensated; the kernels follow the running Python."""
 
@@ -140,7 +140,7 @@ class FastCSQL(Learner):
         p = self.params
         points = trials // test_every + 1 if test_every else 0
         steps, values = np.zeros(points, np.int64), np.zeros(points)
-        plan = fk.Schedule(trials, test_every, *self.test_task(), p.t0, p.t_decay, p.t_min, p.step_cap)
+        plan = fk.Schedule(trials, test_every, *self.test_indices(), p.t0, p.t_decay, p.t_min, p.step_cap)
         ctr = self.kernel.ctr
         ctr[fk.K] = ctr[fk.PHASE] = 0
         chunk = max(1, trials // 100) if on_trial is not None else trials + 1
@@ -177,7 +177,7 @@ class FastCSQL(Learner):
         if not self.params.sweep:
             return 0
         steps = self.plan(on_pass)
-        self.run_trial(*self.test_task(), 0.0)
+        self.run_trial(*self.test_indices(), 0.0)
         return steps
 
     def plan(self, on_pass: Callable[[], None] | None = None) -> int:
@@ -190,7 +190,7 @@ class FastCSQL(Learner):
         before = self.t
         for _ in range(p.sweep_passes):
             start_t = self.t
-            fk.sweep_pass(p.sweep_eta if p.sweep_backup_all else 0.0, self.rng, k)
+            self._sweep_pass(p.sweep_eta if p.sweep_backup_all else 0.0)
             if on_pass is not None:
                 on_pass()
             used = int(k.ctr[fk.CLS])
@@ -199,10 +199,20 @@ class FastCSQL(Learner):
             if worst <= p.sweep_tolerance:
                 break
         for _ in range(p.sweep_greedy_tail):
-            fk.sweep_pass(0.0, self.rng, k)
+            self._sweep_pass(0.0)
             if on_pass is not None:
                 on_pass()
         return self.t - before
+
+    def _sweep_pass(self, plan_eta: float) -> None:
+        """One pass of the sweep, compiled, in calls of at most :data:`STEPS_PER_CALL` steps (Ctrl-C between).
+
+        A goal's trials take at most ``count ** 2`` steps (``count`` trials capped at ``count`` steps).
+        """
+        count = self.count
+        goals = max(1, STEPS_PER_CALL // (count * count))
+        for g in range(0, count, goals):
+            fk.sweep_pass(plan_eta, self.rng, self.kernel, g, min(g + goals, count))
 
     # -- export ------------------------------------------------------------------------
     def q_arrays(self) -> dict[str, np.ndarray]:

@@ -9,7 +9,7 @@ operation, so that the same uniforms give the same floating-point results:
   largest value, ``exp((v - top) / T)``, the weights summed as Python's ``sum`` does, the
   cumulative draw), ``learn`` (eq. 1, 2) and, with ``plan_eta > 0``, ``update_all``;
 * :func:`run_trials` is :func:`~csql_sim.learners.trial.run_training`;
-* :func:`sweep_pass` is one pass of :meth:`~csql_sim.learners.cs_ql.CSQL.sweep`.
+* :func:`sweep_pass` is (a range of goals of) one pass of :meth:`~csql_sim.learners.cs_ql.CSQL.sweep`.
 
 The kernels take the engine's arrays and constants as one record, :class:`Engine` (a
 NamedTuple, which numba passes as a tuple), with the generator ``rng`` beside it (inside
@@ -301,10 +301,13 @@ def run_trials(plan, k_stop, t_stop, rng, e, curve_steps, curve_values):
 
 
 @njit(cache=True, error_model="numpy")
-def sweep_pass(plan_eta, rng, e):
-    """One greedy pass on engine ``e`` over every (start, goal) pair, goal-major (``CSQL.sweep_pass``)."""
+def sweep_pass(plan_eta, rng, e, g_lo, g_hi):
+    """Goals ``g_lo .. g_hi - 1`` of one greedy pass on engine ``e`` over every (start, goal) pair, goal-major.
+
+    ``CSQL.sweep_pass`` is the calls over consecutive goal ranges from 0 to ``e.count``.
+    """
     count = e.count
-    for g in range(count):
+    for g in range(g_lo, g_hi):
         for s in range(count):
             if s != g:
                 trial(s, g, 0.0, count, True, plan_eta, rng, e)

@@ -74,7 +74,8 @@ def caption_image(rgb: np.ndarray, text: str, legend: int = 0) -> np.ndarray:
     draw = ImageDraw.Draw(img)
     draw.rectangle((0, h - strip, img.width, h), fill=(20, 20, 20))
     font = ImageFont.load_default(size=max(8, int(strip * 0.6)))
-    draw.text((6, h - strip + strip * 0.15), text, fill=(255, 255, 255), font=font)
+    caption_font, text = fit_caption(draw, text, img.width - 12, max(8, int(strip * 0.6)))
+    draw.text((6, h - strip + strip * 0.15), text, fill=(255, 255, 255), font=caption_font)
     if legend:
         box = max(8, strip * 0.8)
         for i in range(legend):
@@ -84,6 +85,22 @@ def caption_image(rgb: np.ndarray, text: str, legend: int = 0) -> np.ndarray:
             draw.text((x0 + box / 2, y0 + box / 2), BLOCK_NAMES[i], fill=(255, 255, 255), font=font, anchor="mm",
                       stroke_width=1, stroke_fill=(0, 0, 0))
     return np.asarray(img)
+
+
+def fit_caption(draw: ImageDraw.ImageDraw, text: str, width: float, size: int,
+                smallest: int = 8) -> tuple[ImageFont.ImageFont, str]:
+    """A font (``size`` or smaller, down to ``smallest``) and text that fit ``width`` pixels.
+
+    A long caption (a 6-block tower's state, a long failure reason) first gets a smaller
+    font; if it still does not fit, it is cut with an ellipsis, never drawn past the frame.
+    """
+    for points in range(size, smallest - 1, -1):
+        font = ImageFont.load_default(size=points)
+        if draw.textlength(text, font=font) <= width:
+            return font, text
+    while text and draw.textlength(text + "...", font=font) > width:
+        text = text[:-1]
+    return font, text + "..."
 
 
 class ReplayRenderer:
@@ -161,13 +178,17 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
                 progress: bool = True, renderer: str = "auto") -> Path:
     """Render ``recording`` and write it atomically (:func:`csql_sim.infra.files.atomic_output`) as .mp4 or .gif.
 
+    The video is read back from the temporary file (:func:`verify_video`) before it
+    replaces anything: an encoder that died half way (a full disk, a file size limit)
+    fails with a VideoError and leaves an existing file at ``path`` as it was.
+
     Args:
         recording: poses recorded during an episode.
         path: output file; its suffix picks the format.
         width: frame width in pixels.
         height: frame height in pixels.
         fps: playback frame rate (default: the recording's).
-        workers: rendering processes (default: every core, at most one per 16 frames).
+        workers: rendering processes (default: every core; at most the cores and one per chunk of frames).
         camera: the rendering view.
         progress: show a tqdm bar on stderr.
         renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
@@ -180,27 +201,99 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
     renderer = resolve_renderer(renderer)
     if not recording.frames:
         raise VideoError("the recording has no frames")
-    cores = workers or os.cpu_count() or 1
+    cores = worker_count(workers, len(recording.frames))  # at most the cores
     chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
     bar = tqdm(total=len(recording.frames), desc=f"render {out.name}", unit="frame", disable=not progress)
     rendered = _map_chunks(recording, chunks, width, height, camera, worker_count(workers, len(chunks)), renderer)
+    suffix = out.suffix.lower()
     try:
-        with atomic_output(out) as tmp, _open_writer(tmp, fps, out.suffix.lower()) as writer:
-            last = None
-            for rgb_list in rendered:
-                for rgb in rgb_list:
-                    writer.append_data(rgb)
-                    last = rgb
-                bar.update(len(rgb_list))
-            for _ in range(hold_frames(fps)):
-                writer.append_data(last)
+        with atomic_output(out) as tmp:
+            with _open_writer(tmp, fps, suffix) as writer:
+                last = None
+                for rgb_list in rendered:
+                    for rgb in rgb_list:
+                        writer.append_data(rgb)
+                        last = rgb
+                    bar.update(len(rgb_list))
+                for _ in range(hold_frames(fps)):
+                    writer.append_data(last)
+            verify_video(tmp, suffix, video_frame_count(recording, fps), out)
     except OSError as exc:  # a file or encoder (ffmpeg) error: many lines, keep the first
-        first = next((line for line in str(exc).splitlines() if line.strip()), exc.__class__.__name__)
-        raise VideoError(f"cannot write video {str(out)!r} ({first.strip()})") from None
+        raise VideoError(f"cannot write video {str(out)!r} ({_first_line(exc)})") from None
     finally:
         rendered.close()  # ends the rendering workers if the encoder failed
         bar.close()
     return out
+
+
+def _first_line(exc: BaseException) -> str:
+    """The first non-blank line of ``exc``'s message (encoders print many), or its type's name."""
+    return next((line.strip() for line in str(exc).splitlines() if line.strip()), exc.__class__.__name__)
+
+
+def verify_video(path: Path, suffix: str, frames: int, shown: Path | None = None) -> None:
+    """Read the video at ``path`` back; a VideoError unless it is whole.
+
+    An .mp4 must have exactly ``frames`` frames. A .gif must decode to its end, end with the
+    GIF trailer and have 1..``frames`` frames (Pillow merges identical consecutive frames,
+    e.g. the final hold, into one of a longer duration).
+
+    Args:
+        path: the file written (the temporary file of :func:`write_video`).
+        suffix: ``".mp4"`` or ``".gif"``.
+        frames: the frames the encoder was given.
+        shown: the name to report (default ``path``).
+    """
+    name = str(shown or path)
+    try:
+        found = _frames_read_back(path, suffix)
+    except Exception as exc:  # whatever the reader fails with, the video is broken
+        raise VideoError(f"cannot write video {name!r}: the file written is not a whole video "
+                         f"({_first_line(exc)}); nothing was written") from None
+    whole = found == frames if suffix == ".mp4" else 1 <= found <= frames
+    if not whole:
+        raise VideoError(f"cannot write video {name!r}: {found} frames read back of {frames} written "
+                         f"(the encoder stopped early?); nothing was written")
+
+
+def _frames_read_back(path: Path, suffix: str) -> int:
+    """The frames imageio reads from the video at ``path``; raises if it cannot read it to the end."""
+    if suffix == ".mp4":
+        _check_mp4_boxes(path)
+        with imageio.get_reader(path, format="FFMPEG") as reader:
+            return reader.count_frames()
+    with imageio.get_reader(path, format="GIF") as reader:
+        found = sum(1 for _ in reader)
+    with open(path, "rb") as fh:
+        fh.seek(-1, os.SEEK_END)
+        if fh.read(1) != b";":
+            raise VideoError("no GIF trailer: the file is cut short")
+    return found
+
+
+def _check_mp4_boxes(path: Path) -> None:
+    """Raise unless the top-level boxes of the .mp4 at ``path`` tile it exactly and include moov and mdat.
+
+    ffmpeg's exit status is not reported by imageio: an encoder killed while writing its
+    last box (the index, ``moov``, comes last) leaves a file whose frames may still be
+    counted, but whose last box runs past the end of the file.
+    """
+    size, at, kinds = path.stat().st_size, 0, set()
+    with open(path, "rb") as fh:
+        while at < size:
+            fh.seek(at)
+            head = fh.read(16)
+            box, kind = int.from_bytes(head[:4], "big"), head[4:8]
+            if box == 1 and len(head) == 16:  # a 64-bit size follows the type
+                box = int.from_bytes(head[8:16], "big")
+            elif box == 0:  # the box runs to the end of the file
+                box = size - at
+            if len(head) < 8 or box < 8 or at + box > size:
+                raise VideoError(f"the file is cut short (box {kind.decode('latin-1')!r} at byte {at})")
+            kinds.add(kind)
+            at += box
+    if not {b"moov", b"mdat"} <= kinds:
+        raise VideoError("no moov or mdat box: not a whole mp4 file")
 
 
 def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, height: int, camera: Camera,

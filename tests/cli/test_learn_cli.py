@@ -58,7 +58,8 @@ def test_experiment_writes_csv_and_png(tmp_path, capsys):
     assert code == 0 and "cs-ql" in out and "lt-ql" in out
     assert "statements about Figure 7" in out
     assert "LT-QL starts near 1400 steps: paper about 1400 (accepted 700-2100); measured lt-ql" in out
-    assert "does not hold  LT-QL reaches the optimal 8 steps by about trial 1150: lt-ql never" in out
+    assert "does not hold  LT-QL reaches the optimal 8 steps by about trial 1150: paper about trial 1150 " \
+           "(accepted 1000-1300); measured first at the optimum: lt-ql never" in out
     rows = list(csv.DictReader((tmp_path / "figure7.csv").open()))
     assert len(rows) == 2 * 3 and rows[0]["method"] == "cs-ql" and rows[-1]["trial"] == "100"
     assert (tmp_path / "figure7.png").read_bytes()[:4] == b"\x89PNG"

@@ -121,3 +121,20 @@ def test_replay_renderer_owns_one_scene_per_world_and_closes_them(recording):
     assert renderer.scene(recording.n, recording.config) is scene and scene.replay_only
     renderer.close()
     assert scene.client == -1
+
+
+def test_a_long_caption_stays_inside_the_frame():
+    """A 6-block tower's caption ran off the right edge: it now shrinks, then is cut with '...'."""
+    import numpy as np
+    from PIL import Image, ImageDraw
+
+    from csql_sim.sim.video import fit_caption
+
+    draw = ImageDraw.Draw(Image.new("RGB", (320, 40)))
+    long = "step 12/16  stack(F,E)  S0000001edcba0F  FEDCBA -> ABCDEF  perception: camera, nudged"
+    font, text = fit_caption(draw, long, 308, 16)
+    assert draw.textlength(text, font=font) <= 308
+    short_font, short = fit_caption(draw, "step 1", 308, 16)
+    assert short == "step 1" and short_font.size == 16
+    frame = caption_image(np.zeros((240, 320, 3), np.uint8), long)
+    assert frame.shape == (240, 320, 3)

@@ -1,4 +1,4 @@
-"""The pytest plugin, run the way a user's test suite runs it (pytester, with -p to load it)."""
+"""The pytest plugin, run the way a user's test suite runs it (pytester; loaded by its pytest11 entry point)."""
 
 import subprocess
 import sys
@@ -11,7 +11,7 @@ import csql_sim.sim.executor  # noqa: F401
 
 pytest_plugins = ["pytester"]
 
-PLUGIN = ["-p", "csql_sim.testing.plugin", "-p", "no:cacheprovider"]
+PLUGIN = ["-p", "no:cacheprovider"]  # the plugin itself comes from the installed entry point, as for a user
 PROBLEMS = Path(__file__).resolve().parents[1] / "data" / "problems"
 REBUILD = '["unstack(A,B)", "putdown(A)", "unstack(B,C)", "stack(B,A)", "pickup(C)", "stack(C,B)"]'
 
@@ -81,3 +81,10 @@ def test_loading_the_plugin_imports_nothing_heavy():
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stderr
     assert run.stdout.strip() == "[]"
+
+
+def test_the_plugin_is_installed_as_a_pytest11_entry_point():
+    from importlib.metadata import entry_points
+
+    ours = [ep for ep in entry_points(group="pytest11") if ep.value == "csql_sim.testing.plugin"]
+    assert len(ours) == 1

@@ -1,0 +1,241 @@
+"""Ray's failure modes end in one line, and a local instance's processes end with ours.
+
+Found by a hostile-input sweep: after SIGKILL of ``evaluate --backend ray`` the Ray
+agents outlived it by a minute; SIGTERM printed a stack dump; an address that accepts
+connections but is no Ray cluster printed a warning a second for 20 s; ``ray://`` asked
+for ``ray[client]`` in Ray's words. The hang guards only stop a hung test; the assertions
+are on exit status, stderr lines and the processes left.
+"""
+
+import contextlib
+import importlib.util
+import os
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+from csql_sim.cli import main
+from csql_sim.infra import backends
+from csql_sim.infra.backends import Backend, map_tasks
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.workers import worker_count
+
+HANG_GUARD = 60.0  # seconds; only against a hang
+GONE_GUARD = 20.0  # seconds for what a killed driver left to go (Ray's own agents took a minute)
+linux = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+needs_ray = pytest.mark.skipif(importlib.util.find_spec("ray") is None, reason="the ray extra is not installed")
+
+
+def session(sid: int) -> dict[int, str]:
+    """``pid -> command line`` of the live processes of session ``sid``."""
+    found = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as fh:
+                    fields = fh.read().rsplit(")", 1)[1].split()
+                with open(f"/proc/{entry}/cmdline", "rb") as fh:
+                    cmd = fh.read().replace(b"\0", b" ").decode(errors="replace").strip()
+            except OSError:
+                continue
+            if int(fields[3]) == sid and fields[0] != "Z":
+                found[int(entry)] = cmd
+    return found
+
+
+def wait_for(predicate, guard: float, what: str) -> None:
+    deadline = time.monotonic() + guard
+    while not predicate():
+        assert time.monotonic() < deadline, what
+        time.sleep(0.1)
+
+
+@pytest.fixture
+def started():
+    """Processes started in sessions of their own; at teardown whatever is left of each session is killed."""
+    procs = []
+    yield procs
+    for proc in procs:
+        for pid in session(proc.pid):
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
+        with contextlib.suppress(OSError):
+            proc.kill()
+        proc.wait()
+
+
+def run_cli(*argv: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "csql_sim", *argv], capture_output=True, text=True,
+                          timeout=HANG_GUARD)
+
+
+# ------------------------------------------------------------------ addresses: one line, at once
+@needs_ray
+def test_ray_client_address_without_the_client_extra_names_the_install(capsys, monkeypatch):
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec", lambda name, *a: None if name == "grpc" else real(name, *a))
+    assert main(["evaluate", "--backend", "ray", "--address", "ray://127.0.0.1:10001", "--pairs", "1", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and 'pip install "ray[client]"' in err and "ray://127.0.0.1:10001" in err
+
+
+@needs_ray
+@pytest.mark.parametrize("address", ["nonsense", "host:port", "ray://head:http"])
+def test_malformed_addresses_are_one_line(address):
+    with pytest.raises(CsqlError, match="address"):
+        backends.check_ray_address(address)
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@needs_ray
+def test_an_address_nobody_listens_on_fails_in_one_line():
+    out = run_cli("evaluate", "--backend", "ray", "--address", f"127.0.0.1:{_free_port()}", "--pairs", "1", "--quiet")
+    assert out.returncode == 2 and out.stdout == ""
+    assert len(out.stderr.splitlines()) == 1 and "cannot reach Ray" in out.stderr
+
+
+@needs_ray
+def test_an_address_that_answers_but_is_no_ray_cluster_fails_in_one_line(capfd, monkeypatch):
+    """Something accepts connections and says nothing: Ray itself would wait minutes, warning every second."""
+    monkeypatch.setattr(backends, "GCS_PROBE_SECONDS", 3.0)
+    server = socket.create_server(("", 0))  # every interface: for 127.0.0.1 Ray dials the node's own address
+    port = server.getsockname()[1]
+    stop = threading.Event()
+
+    def accept():
+        server.settimeout(0.2)
+        kept = []
+        while not stop.is_set():
+            with contextlib.suppress(OSError):
+                kept.append(server.accept()[0])  # accept and say nothing
+        for conn in kept:
+            conn.close()
+
+    thread = threading.Thread(target=accept, daemon=True)
+    thread.start()
+    try:
+        status = main(["evaluate", "--backend", "ray", "--address", f"127.0.0.1:{port}", "--pairs", "1", "--quiet"])
+    finally:
+        stop.set()
+        thread.join()
+        server.close()
+    out, err = capfd.readouterr()  # file descriptors 1 and 2: Ray's C++ side writes there
+    assert status == 2 and out == ""
+    assert len(err.splitlines()) == 1 and f"127.0.0.1:{port}" in err and "no Ray cluster" in err, err
+
+
+CLUSTER = """
+import json, logging, subprocess, sys, ray
+ray.init(num_cpus=1, include_dashboard=False, logging_level=logging.ERROR, log_to_driver=False)
+address = ray.get_runtime_context().gcs_address  # joinable by this process's children (they inherit its token)
+out = subprocess.run([sys.executable, "-m", "csql_sim", "evaluate", "--backend", "ray", "--address", address,
+                      "--pairs", "2", "--quiet"], capture_output=True, text=True)
+ray.shutdown()
+print(json.dumps([out.returncode, out.stdout, out.stderr]))
+"""
+
+
+@linux
+@needs_ray
+@pytest.mark.slow
+def test_a_running_cluster_is_reached_by_its_address(started):
+    import json
+
+    cluster = subprocess.Popen([sys.executable, "-c", CLUSTER], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                               text=True, start_new_session=True)
+    started.append(cluster)
+    status, out, err = json.loads(cluster.communicate(timeout=2 * HANG_GUARD)[0])
+    assert status == 0 and err == "" and "episodes: 2" in out, err
+
+
+# ------------------------------------------------------------------ workers: at most the cores
+def test_workers_are_capped_at_the_cores_and_the_tasks(monkeypatch):
+    monkeypatch.setattr("os.cpu_count", lambda: 2)
+    assert worker_count(1000, 462) == 2 and worker_count(1000, 1) == 1 and worker_count(None, 462) == 2
+    assert worker_count(1, 462) == 1
+
+
+def test_a_thousand_workers_start_a_pool_of_the_cores(monkeypatch):
+    from csql_sim.core.notation import parse_config
+
+    asked = []
+    real = backends.worker_pool
+    monkeypatch.setattr("os.cpu_count", lambda: 2)
+    monkeypatch.setattr(backends, "worker_pool", lambda n, *a, **k: asked.append(n) or real(n, *a, **k))
+    configs = ["AB,C", "CBA", "C,B,A", "BA,C"] * 3
+    assert map_tasks(parse_config, configs, Backend("processes", 1000)) == [parse_config(c) for c in configs]
+    assert asked == [2]
+
+
+# ------------------------------------------------------------------ the reaper, without Ray
+DRIVER = """
+import subprocess, sys, time
+from csql_sim.infra.workers import reaper
+before = subprocess.Popen(["sleep", "300"])
+with reaper():
+    inside = subprocess.Popen(["sleep", "300"])
+    print(before.pid, inside.pid, flush=True)
+    time.sleep(300)
+"""
+
+
+@linux
+def test_what_a_killed_process_started_under_the_reaper_ends_with_it(started):
+    proc = subprocess.Popen([sys.executable, "-c", DRIVER], stdout=subprocess.PIPE, text=True, start_new_session=True)
+    started.append(proc)
+    before, inside = map(int, proc.stdout.readline().split())
+    time.sleep(1.0)  # the reaper records what runs below its parent four times a second
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    wait_for(lambda: inside not in session(proc.pid), GONE_GUARD, "the process started inside the block survived")
+    assert before in session(proc.pid), "a process started before the block is not the reaper's"
+    wait_for(lambda: set(session(proc.pid)) == {before}, GONE_GUARD, "the reaper did not exit")
+
+
+# ------------------------------------------------------------------ a local instance (slow: a Ray start-up each)
+def _start_evaluate(started) -> subprocess.Popen:
+    """``evaluate --backend ray --pairs all`` in a session of its own, once its Ray tasks run."""
+    proc = subprocess.Popen([sys.executable, "-m", "csql_sim", "evaluate", "--backend", "ray", "--pairs", "all",
+                             "--workers", "2", "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+    started.append(proc)
+    deadline = time.monotonic() + HANG_GUARD
+    while not any("ray::_run_chunk" in cmd for cmd in session(proc.pid).values()):
+        assert proc.poll() is None, proc.communicate()
+        assert time.monotonic() < deadline, "Ray tasks never started"
+        time.sleep(0.2)
+    time.sleep(1.0)  # Ray's agents are up by now; the reaper has seen them
+    return proc
+
+
+@linux
+@needs_ray
+@pytest.mark.slow
+def test_sigkill_leaves_no_ray_process(started):
+    proc = _start_evaluate(started)
+    assert any("DashboardAgent" in cmd or "RuntimeEnvAgent" in cmd for cmd in session(proc.pid).values())
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
+
+
+@linux
+@needs_ray
+@pytest.mark.slow
+def test_sigterm_is_one_line_and_leaves_no_ray_process(started):
+    proc = _start_evaluate(started)
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=HANG_GUARD)
+    assert proc.returncode in (130, 143), err  # unwound like Ctrl-C (143 if the CLI names SIGTERM apart)
+    assert len(err.splitlines()) == 1 and out == "", err
+    wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
