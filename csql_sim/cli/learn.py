@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 import time
+from dataclasses import fields
 
 from csql_sim.cli.args import (
     add_backend_arguments,
@@ -217,9 +218,8 @@ def cmd_scaling(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ params
 def cmd_params(args: argparse.Namespace) -> int:
-    from csql_sim.learners.params import params_yaml
 
-    print(params_yaml(args.method, args.blocks), end="")
+    print(_params_yaml(args.method, args.blocks), end="")
     return 0
 
 
@@ -319,6 +319,23 @@ def _register_params(sub: argparse._SubParsersAction, methods: tuple[str, ...]) 
     p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
     p.set_defaults(func=cmd_params)
+
+
+def _params_yaml(method: str, n: int = 3) -> str:
+    """The defaults of ``method`` for n blocks as a flat YAML mapping that ``--params`` accepts.
+
+    A header comment names the package version, the method and n.
+    """
+    import yaml
+
+    from csql_sim import __version__
+    from csql_sim.learners.params import defaults_for_blocks
+
+    params = defaults_for_blocks(method, n)
+    doc = {f.name: getattr(params, f.name) for f in fields(params)}
+    head = (f"# csql-sim {__version__}: default parameters of {method} ({type(params).__name__}) for {n} blocks;\n"
+            f"# edit and pass with --params FILE (with --blocks {n})\n")
+    return head + yaml.safe_dump(doc, sort_keys=False)
 
 
 def register(sub: argparse._SubParsersAction) -> None:

@@ -392,19 +392,3 @@ def resolve_params(
     if isinstance(params, dict):
         return with_overrides(defaults_for_blocks(method, n), params)
     return load_params(params, method, n)
-
-
-def params_yaml(method: str, n: int = 3) -> str:
-    """The defaults of ``method`` for n blocks as a flat YAML mapping that ``--params`` accepts.
-
-    A header comment names the package version, the method and n.
-    """
-    import yaml
-
-    from csql_sim import __version__
-
-    params = defaults_for_blocks(method, n)
-    doc = {f.name: getattr(params, f.name) for f in fields(params)}
-    head = (f"# csql-sim {__version__}: default parameters of {method} ({type(params).__name__}) for {n} blocks;\n"
-            f"# edit and pass with --params FILE (with --blocks {n})\n")
-    return head + yaml.safe_dump(doc, sort_keys=False)
