@@ -23,6 +23,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from csql_sim.core.classifier_list import PatternIndex
+from csql_sim.core.lifted_rule import LiftedRule, ground_rules
 from csql_sim.core.message import (
     action_messages,
     format_action_message,
@@ -91,6 +92,11 @@ class WorldModel:
     def for_blocks(cls, n: int) -> WorldModel:
         """The built-in domain knowledge: the paper's rules for n = 3, generated otherwise (shared per n)."""
         return cls(r_classifiers(n), n)
+
+    @classmethod
+    def from_lifted(cls, rules: Iterable[LiftedRule], n: int) -> WorldModel:
+        """The world model of lifted R-classifiers (:mod:`csql_sim.core.lifted_rule`), grounded at n blocks."""
+        return cls(ground_rules(rules, n), n)
 
     @functools.cached_property
     def table(self) -> TransitionTable:
