@@ -1,9 +1,11 @@
-"""Benchmark: the two CS-QL engines against a plain dict-based tabular Q-learner, same trials.
+"""Benchmark: both engines of CS-QL and of LT-QL, and a plain dict-based Q-learner, same trials.
 
 The plain learner is what one would write without a classifier system: a dict from
 (state, goal) to a dict of legal action -> Q, the world's integer transition table, the
 same Boltzmann selection, temperature schedule, test-task schedule and uniform stream.
 Both learners therefore see the same random tasks; the ratio compares steps per second.
+LT-QL's reference and array engines also run the same trials (the same trajectory), so
+their ratio is one of CPU times on identical work.
 """
 
 from __future__ import annotations
@@ -75,13 +77,28 @@ class EngineTiming:
 
 @dataclass(frozen=True)
 class BenchResult:
-    """The three learners on the same trials, and whether the two CS-QL engines agree."""
+    """The learners on the same trials, and whether each method's two engines agree.
+
+    Attributes:
+        trials: training trials of every run.
+        reference: CS-QL's reference engine.
+        fast: CS-QL's array engine.
+        plain: the plain dict-based Q-learner.
+        identical: the two CS-QL engines wrote the same rule file.
+        lt_reference: LT-QL's reference engine.
+        lt_fast: LT-QL's array engine.
+        lt_identical: the two LT-QL engines wrote the same rule file.
+
+    """
 
     trials: int
     reference: EngineTiming
     fast: EngineTiming
     plain: EngineTiming
     identical: bool
+    lt_reference: EngineTiming
+    lt_fast: EngineTiming
+    lt_identical: bool
 
     @property
     def ratio(self) -> float:
@@ -92,6 +109,11 @@ class BenchResult:
     def fast_ratio(self) -> float:
         """Fast CS-QL steps/s over the plain learner's."""
         return self.fast.rate / self.plain.rate
+
+    @property
+    def lt_ratio(self) -> float:
+        """LT-QL's array engine steps/s over its reference engine's (the same steps)."""
+        return self.lt_fast.rate / self.lt_reference.rate
 
 
 def _best(name: str, job, repeats: int) -> tuple[EngineTiming, object]:
@@ -104,26 +126,32 @@ def _best(name: str, job, repeats: int) -> tuple[EngineTiming, object]:
 
 
 def bench(trials: int = 2500, seed: int = 0, repeats: int = 5) -> BenchResult:
-    """Time the reference and the fast CS-QL engine and the plain learner on the same trials.
+    """Time both engines of CS-QL and of LT-QL, and the plain learner, on the same trials (n = 3).
 
     Times are CPU seconds of this process (``time.process_time``), the best of
     ``repeats``, so other processes on a shared machine disturb them less. The fast
-    engine is compiled (or loaded from numba's cache) before timing. The trajectories
-    are identical when both engines write the same rule file.
+    engines are compiled (or loaded from numba's cache) before timing. A method's
+    trajectories are identical when both its engines write the same rule file (npz
+    bytes: every field at full precision).
     """
-    from csql_sim.core.rulebase import dumps
     from csql_sim.learners.training import make_learner
 
-    def run(engine: str):
+    def run(method: str, engine: str):
         def job():
-            learner = make_learner("cs-ql", 3, seed=seed, engine=engine)
+            learner = make_learner(method, 3, seed=seed, engine=engine)
             learner.train(trials)
             return learner, learner.t
         return job
 
-    run("fast")()  # compile
-    ref, ref_learner = _best("reference", run("reference"), repeats)
-    fast, fast_learner = _best("fast", run("fast"), repeats)
+    def same(a, b) -> bool:
+        return a.file_bytes("rules.npz", {}) == b.file_bytes("rules.npz", {})
+
+    run("cs-ql", "fast")()  # compile
+    run("lt-ql", "fast")()
+    ref, ref_learner = _best("reference", run("cs-ql", "reference"), repeats)
+    fast, fast_learner = _best("fast", run("cs-ql", "fast"), repeats)
     plain, _ = _best("plain", lambda: (None, plain_q_learning(trials, seed)), repeats)
-    identical = dumps(ref_learner.rulebase()) == dumps(fast_learner.rulebase())
-    return BenchResult(trials, ref, fast, plain, identical)
+    lt_ref, lt_ref_learner = _best("lt-ql reference", run("lt-ql", "reference"), repeats)
+    lt_fast, lt_fast_learner = _best("lt-ql fast", run("lt-ql", "fast"), repeats)
+    return BenchResult(trials, ref, fast, plain, same(ref_learner, fast_learner), lt_ref, lt_fast,
+                       same(lt_ref_learner, lt_fast_learner))

@@ -6,6 +6,12 @@ sweep: this measures learning from trials), with the temperature reaching its fl
 action of every (state, goal) pair lies on an optimal plan. That local test is exact: a
 plan is optimal iff every step lowers the BFS distance to the goal by one. The cell is
 empty when ``max_trials`` is reached first.
+
+Each cell also reports its peak memory: the peak resident set size (RSS) of the process
+running it, while it ran. On Linux the kernel's high-water mark (``VmHWM``) is reset
+before the cell (``/proc/self/clear_refs``) and read after it; where that cannot be done,
+it is ``resource.getrusage``'s ``ru_maxrss``, the process's peak since it started (an
+upper bound). Either includes the interpreter and its libraries (some 150 MB).
 """
 
 from __future__ import annotations
@@ -13,6 +19,7 @@ from __future__ import annotations
 import csv
 import io
 import os
+import sys
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -30,13 +37,20 @@ from csql_sim.learners.training import make_learner
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-COLUMNS = ("method", "blocks", "trials_to_all_optimal", "steps", "wall_seconds")
+COLUMNS = ("method", "blocks", "trials_to_all_optimal", "steps", "wall_seconds", "peak_rss_mb",
+           "population")
 CHECKS = 100
 
 
 @dataclass(frozen=True)
 class ScalingRow:
-    """One (method, n) cell; ``trials`` is None when the cap was reached first."""
+    """One (method, n) cell; ``trials`` is None when the cap was reached first.
+
+    ``peak_rss_mb``: the peak resident set size while the cell ran, in MB (10**6 bytes;
+    see the module's docstring); 0 where it could not be measured. ``population``: the
+    Q-classifiers (table rows' entries for LT-QL) the learner holds at the end (for
+    ``xcs-ql``, its generalized population).
+    """
 
     method: str
     blocks: int
@@ -45,6 +59,8 @@ class ScalingRow:
     wall_seconds: float
     optimal_pairs: int
     pairs: int
+    peak_rss_mb: float = 0.0
+    population: int = 0
 
 
 def optimal_pairs(learner: Learner) -> int:
@@ -56,13 +72,46 @@ class _Reached(Exception):
     """Raised from the trial callback when every pair is optimal."""
 
 
-def run_cell(method: str, n: int, seed: int, max_trials: int) -> ScalingRow:
-    """Train one agent until all pairs are optimal or ``max_trials``; its row."""
+def reset_peak_rss() -> bool:
+    """Reset this process's peak resident set size (Linux's ``VmHWM``); whether that was possible."""
+    try:
+        with open("/proc/self/clear_refs", "w") as fh:
+            fh.write("5")
+    except OSError:
+        return False
+    return True
+
+
+def peak_rss_bytes(since_reset: bool = True) -> int:
+    """This process's peak resident set size in bytes: ``VmHWM`` (since :func:`reset_peak_rss`) or ``ru_maxrss``."""
+    if since_reset:
+        try:
+            with open("/proc/self/status") as fh:
+                for line in fh:
+                    if line.startswith("VmHWM:"):
+                        return int(line.split()[1]) * 1024
+        except (OSError, ValueError, IndexError):
+            pass
+    try:
+        import resource
+    except ImportError:  # no getrusage (Windows)
+        return 0
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return peak if sys.platform == "darwin" else peak * 1024  # bytes on macOS, kB elsewhere
+
+
+def run_cell(method: str, n: int, seed: int, max_trials: int, engine: str | None = None) -> ScalingRow:
+    """Train one agent until all pairs are optimal or ``max_trials``; its row.
+
+    ``engine``: as :func:`~csql_sim.learners.training.make_learner`'s (None: the array
+    engine where the method has one); trials and steps do not depend on it.
+    """
     base = default_params(method)
     overrides: dict = {"t_decay": (base.t_min / base.t0) ** (1.0 / (0.6 * max_trials))}
-    if method == "cs-ql":
+    if method in ("cs-ql", "xcs-ql"):
         overrides["sweep"] = False
-    learner = make_learner(method, n, overrides, seed=seed, engine=None)
+    reset = reset_peak_rss()
+    learner = make_learner(method, n, overrides, seed=seed, engine=engine)
     count = len(learner.world.states)
     every = max(1, max_trials // CHECKS)
     found: list[int] = []
@@ -86,7 +135,10 @@ def run_cell(method: str, n: int, seed: int, max_trials: int) -> ScalingRow:
         pass
     wall = time.perf_counter() - began - spent[0]
     trials, good = (found or [max_trials, optimal_pairs(learner)])[:2]
-    return ScalingRow(method, n, trials if reached else None, learner.t, wall, good, count * (count - 1))
+    peak = peak_rss_bytes(reset) / 1e6
+    population = len(getattr(learner, "population", ())) or learner.counts()[1]
+    return ScalingRow(method, n, trials if reached else None, learner.t, wall, good, count * (count - 1), peak,
+                      population)
 
 
 @dataclass(frozen=True)
@@ -99,9 +151,10 @@ class CellJob:
     max_trials: int
 
 
-def _warm_up_cs_ql() -> None:
-    """Worker setup: load CS-QL's engine (compiling the fast kernels) before any cell is timed."""
-    make_learner("cs-ql", 2, engine=None).train(1)
+def _warm_up(methods: tuple[str, ...]) -> None:
+    """Worker setup: load the methods' engines (compiling the array engines' kernels) before any cell is timed."""
+    for method in methods:
+        make_learner(method, 2, engine=None).train(1)
 
 
 def _run_job(job: CellJob) -> ScalingRow:
@@ -117,9 +170,8 @@ def run_scaling(blocks: Sequence[int], methods: Sequence[str], seed: int = 0, ma
     and steps do not depend on it, wall seconds do.
     """
     jobs = [CellJob(m, n, seed, max_trials) for n in blocks for m in methods]
-    setup = _warm_up_cs_ql if "cs-ql" in methods else None
-    rows = map_tasks(_run_job, jobs, backend or Backend(workers=1), setup=setup, progress=progress,
-                     desc="scaling", unit="cell")
+    rows = map_tasks(_run_job, jobs, backend or Backend(workers=1), setup=_warm_up,
+                     setup_args=(tuple(dict.fromkeys(methods)),), progress=progress, desc="scaling", unit="cell")
     for job, row in zip(jobs, rows, strict=True):
         if isinstance(row, TaskFailure):
             raise CsqlError(f"the scaling cell {job.method} n={job.n} failed: {row.reason}")
@@ -127,12 +179,13 @@ def run_scaling(blocks: Sequence[int], methods: Sequence[str], seed: int = 0, ma
 
 
 def csv_text(rows: Sequence[ScalingRow]) -> str:
-    """``method,blocks,trials_to_all_optimal,steps,wall_seconds`` (empty trials: cap reached)."""
+    """``method,blocks,trials_to_all_optimal,steps,wall_seconds,peak_rss_mb,population`` (empty trials: cap)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(COLUMNS)
     for r in rows:
-        writer.writerow([r.method, r.blocks, "" if r.trials is None else r.trials, r.steps, f"{r.wall_seconds:.3f}"])
+        writer.writerow([r.method, r.blocks, "" if r.trials is None else r.trials, r.steps, f"{r.wall_seconds:.3f}",
+                         f"{r.peak_rss_mb:.1f}", r.population])
     return out.getvalue()
 
 

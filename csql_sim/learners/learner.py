@@ -1,7 +1,8 @@
 """The one learner contract, and the vocabulary the learners share.
 
 Every learner, whichever method and whichever engine runs it (the reference engines on
-classifier objects, the array engine of :mod:`~csql_sim.learners.fast_engine`), is a
+classifier objects, the array engines of :mod:`~csql_sim.learners.fast_engine` (CS-QL) and
+:mod:`~csql_sim.learners.lt_fast` (LT-QL)), is a
 :class:`Learner`; callers outside this package use nothing else:
 
 * :meth:`Learner.train`: the training schedule (random tasks, the test task every

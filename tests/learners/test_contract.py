@@ -10,8 +10,8 @@ from csql_sim.core.rulebase import dumps, load
 from csql_sim.learners.learner import Curve, Learner
 from csql_sim.learners.training import make_learner, train_learner
 
-KINDS = [("lt-ql", "reference"), ("cs-ql", "reference"), ("cs-ql", "fast"), ("cs-bb-bz", "reference"),
-         ("cs-bb-rw", "reference")]
+KINDS = [("lt-ql", "reference"), ("lt-ql", "fast"), ("cs-ql", "reference"), ("cs-ql", "fast"),
+         ("cs-bb-bz", "reference"), ("cs-bb-rw", "reference")]
 TRIALS = 120
 
 

@@ -53,7 +53,7 @@ def test_engine_choice():
     assert isinstance(make_learner("cs-ql", 4, engine=None), FastCSQL)
     assert not isinstance(make_learner("cs-ql", 3, engine="reference"), FastCSQL)
     with pytest.raises(ParamsError):
-        make_learner("lt-ql", 3, engine="fast")
+        make_learner("cs-bb-bz", 3, engine="fast")
     with pytest.raises(ParamsError):
         make_learner("cs-ql", 3, engine="turbo")
 
