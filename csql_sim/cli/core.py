@@ -30,11 +30,17 @@ from csql_sim.infra.provenance import provenance
 def read_task(start: str, goal: str | None, n: int | None) -> tuple[State, State]:
     """Parse a start and goal configuration (or n=3 state messages) of one world.
 
-    A state message given as the start carries its own goal: it is used when ``goal`` is
+    A state message given as the start (the index form, or the goal form of
+    :mod:`csql_sim.core.goal_message`) carries its own goal: it is used when ``goal`` is
     None, and a ``goal`` that names another state is an error.
     """
+    from csql_sim.core.goal_message import is_goal_message, read_goal_message
+
     message_goal = None
-    if is_state_message(start.strip()):
+    if is_goal_message(start.strip()):
+        read = read_goal_message(start.strip(), n)
+        s, message_goal = read.state, read.goal
+    elif is_state_message(start.strip()):
         parsed = parse_state_message(start.strip(), n)
         s = parsed.state
         message_goal = BlocksWorld.of(s.n).states[parsed.goal]

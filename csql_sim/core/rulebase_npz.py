@@ -12,7 +12,9 @@ Format (``version: 1``), one array per field, every classifier in list order:
 The file is a zip archive written with ``numpy.savez_compressed`` (CRC-checked members)
 and read with ``allow_pickle=False``. A file cut anywhere is refused: the zip's central
 directory is at its end, every member is CRC-checked, and ``count`` must equal the
-length of every array. The same classifier list written as YAML and as npz reads back
+length of every array. In a goal-form file (``meta.form: goal``,
+:mod:`csql_sim.core.goal_message`) the conditions are goal-form patterns (``#`` allowed)
+of that form's length, and only Q-classifiers are held. The same classifier list written as YAML and as npz reads back
 to the same classifiers (the npz keeps the full float64 values). Reading checks what the
 YAML reader checks (messages, R-classifier patterns, ``meta`` as JSON data), every byte
 of a message is printable ASCII, and the header is at most :data:`MAX_HEADER_CHARS`
@@ -30,6 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
+from csql_sim.core.goal_message import GoalForm, form_of
 from csql_sim.core.message import layout
 from csql_sim.core.message_index import known_action, known_state
 from csql_sim.core.q_classifier import QClassifier
@@ -62,9 +65,13 @@ def to_arrays(rulebase: RuleBase) -> dict[str, np.ndarray]:
     """A rule base's classifiers as the npz form's arrays (every classifier, list order)."""
     cs = rulebase.classifiers
     width = layout(rulebase.blocks).length
+    cond_width = _condition_width(rulebase.blocks, rulebase.meta, "rule base", CsqlError)
+    if cond_width != width and any(not isinstance(c, QClassifier) for c in cs):
+        raise CsqlError("a goal-form rule base in npz holds Q-classifiers only (its R-classifiers are "
+                        "index-form messages of another length); write it as YAML")
     arrays = {
         "kind": np.array([c.kind for c in cs], dtype="S1"),
-        "condition": np.array([c.condition for c in cs], dtype=f"S{width}"),
+        "condition": np.array([c.condition for c in cs], dtype=f"S{cond_width}"),
         "action": np.array([c.action for c in cs], dtype=f"S{width}"),
     }
     for name in FLOATS:
@@ -107,13 +114,15 @@ def read_arrays(path: str | os.PathLike, source: str, error: type[Exception]) ->
         raise error(f"{source}: not a csql-sim npz rule base (no {missing[0]!r} array)")
     header = _header(arrays.pop("header"), source, error)
     count, width = header["count"], layout(header["blocks"]).length
+    widths = {"condition": _condition_width(header["blocks"], header.get("meta", {}), source, error),
+              "action": width}
     for name, array in arrays.items():
         if array.ndim != 1 or array.shape[0] != count:
             raise error(f"{source}: array {name!r} holds {array.shape} entries, the header says {count} (truncated?)")
-    for name in ("condition", "action"):
-        if arrays[name].dtype != np.dtype(f"S{width}"):
-            raise error(f"{source}: {name}s must be {width}-character strings, got {arrays[name].dtype}")
-        _check_bytes(arrays[name], name, width, source, error)
+    for name, size in widths.items():
+        if arrays[name].dtype != np.dtype(f"S{size}"):
+            raise error(f"{source}: {name}s must be {size}-character strings, got {arrays[name].dtype}")
+        _check_bytes(arrays[name], name, size, source, error)
     if arrays["kind"].dtype != np.dtype("S1") or not np.isin(arrays["kind"], (b"R", b"Q")).all():
         raise error(f"{source}: every kind must be R or Q")
     for name in FLOATS:
@@ -124,11 +133,34 @@ def read_arrays(path: str | os.PathLike, source: str, error: type[Exception]) ->
             raise error(f"{source}: classifier {int(np.argmin(np.isfinite(values))) + 1}: {name} must be finite")
         if name in ("age", "error") and (values < 0).any():
             raise error(f"{source}: classifier {int(np.argmax(values < 0)) + 1}: {name} must be >= 0")
-    _check_messages(header["blocks"], arrays, source, error)
+    _check_messages(header["blocks"], arrays, source, error, form_of(header.get("meta", {}), header["blocks"]))
     return header, arrays
 
 
-def _check_messages(n: int, arrays: dict[str, np.ndarray], source: str, error: type[Exception]) -> None:
+def _condition_width(n: int, meta: dict, source: str, error: type[Exception]) -> int:
+    """Conditions are index-form messages, or goal-form patterns when ``meta`` records the goal form."""
+    try:
+        form = form_of(meta, n, source)
+    except CsqlError as exc:
+        raise error(str(exc)) from None
+    return layout(n).length if form is None else form.length
+
+
+def peek_meta(path: str | os.PathLike) -> dict:
+    """The ``meta`` of an npz rule file's header array alone; ``{}`` when it cannot be read."""
+    try:
+        with zipfile.ZipFile(path) as archive, archive.open("header.npy") as member:
+            raw = np.lib.format.read_array(member, allow_pickle=False)
+        if raw.ndim != 0 or raw.dtype.kind != "U" or raw.dtype.itemsize // 4 > MAX_HEADER_CHARS:
+            return {}
+        meta = json.loads(str(raw[()])).get("meta")
+    except (OSError, KeyError, ValueError, AttributeError, zipfile.BadZipFile, RuntimeError, RecursionError):
+        return {}
+    return meta if isinstance(meta, dict) else {}
+
+
+def _check_messages(n: int, arrays: dict[str, np.ndarray], source: str, error: type[Exception],
+                    form: GoalForm | None = None) -> None:
     """Every condition and action fits n blocks, as the YAML loader checks (per distinct string).
 
     Q-classifiers' conditions are state messages and their actions action messages; the
@@ -137,11 +169,14 @@ def _check_messages(n: int, arrays: dict[str, np.ndarray], source: str, error: t
     """
     is_q = arrays["kind"] == b"Q"
     odd = ~is_q
-    odd[is_q] = ~(known_state(n, arrays["condition"][is_q]) & known_action(n, arrays["action"][is_q]))
+    if form is None:
+        odd[is_q] = ~(known_state(n, arrays["condition"][is_q]) & known_action(n, arrays["action"][is_q]))
+    else:
+        odd[is_q] = True  # goal-form patterns: each checked (a compacted base holds few)
     seen: dict[str, bool] = {}
     for k in np.flatnonzero(odd).tolist():
         kind, cond, act = (arrays[x][k].decode("ascii", "replace") for x in ("kind", "condition", "action"))
-        problem = check_strings(kind, cond, act, n, seen)
+        problem = check_strings(kind, cond, act, n, seen, form)
         if problem:
             raise error(f"{source}: classifier {k + 1}: {problem}")
 

@@ -16,6 +16,10 @@ Format (``version: 2``)::
     - {kind: Q, condition: S0111000ttt0000C, action: A70000001000at00,
        strength: 0.9992, q: 0.857, age: 3.27, error: 0.0006}
 
+A rule base whose ``meta`` records ``form: goal`` (:mod:`csql_sim.core.goal_message`) holds
+Q-classifiers whose conditions are goal-form patterns (with ``#``); files without ``form``
+(every earlier one) are in the paper's index form.
+
 R-classifiers carry only kind, condition and action; Q-classifiers also strength, q
 (Q-value), age and error (|epsilon|, prediction error). ``count`` is the number of
 classifiers: a file cut anywhere, even at a line boundary, is refused. Version 1 files
@@ -40,6 +44,7 @@ from dataclasses import dataclass, field
 import yaml
 
 from csql_sim.core.classifier_list import Classifier
+from csql_sim.core.goal_message import GoalForm, form_of, pattern_problem
 from csql_sim.core.message import MessageError, layout, parse_action_message, parse_state_message
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import parse_r_classifier, r_classifier_problem
@@ -184,7 +189,26 @@ def loads(text: str, source: str = "<string>", blocks: int | None = None, progre
     if count != len(rows):
         raise RuleBaseError(f"{source}: holds {len(rows)} classifiers but its header says {count} (cut or edited?)")
     meta = check_meta(doc.get("meta") or {}, source)
-    return RuleBase(blocks=n, classifiers=list(_classifiers(rows, n, source)), meta=meta)
+    return RuleBase(blocks=n, classifiers=list(_classifiers(rows, n, source, _form(meta, n, source))), meta=meta)
+
+
+def _form(meta: dict, n: int, source: str) -> GoalForm | None:
+    """The goal form ``meta`` records (None: the index form, as in every earlier file)."""
+    try:
+        return form_of(meta, n, source)
+    except CsqlError as exc:
+        raise RuleBaseError(str(exc)) from None
+
+
+def peek_meta(path: str | os.PathLike) -> dict:
+    """The ``meta`` of a YAML rule file's header, parsed alone; ``{}`` when it cannot be read."""
+    try:
+        split = _split_header(read_text_file(path, MAX_FILE_BYTES, "rule file"))
+        doc = load_yaml(split[0], os.fspath(path)) if split is not None else None
+    except (CsqlError, ValueError, OverflowError):
+        return {}
+    meta = doc.get("meta") if isinstance(doc, dict) else None
+    return meta if isinstance(meta, dict) else {}
 
 
 JSON_DATA = "text, a finite number, true/false, null, a list or a mapping with text keys"
@@ -225,13 +249,21 @@ def _json_problem(value: object, path: str, depth: int) -> str | None:
     return next((p for where, item in items if (p := _json_problem(item, where, depth + 1))), None)
 
 
-def check_strings(kind: str, cond: str, act: str, n: int, seen: dict[str, bool]) -> str | None:
-    """Why a classifier's condition or action does not fit n blocks (None if they fit)."""
+def check_strings(kind: str, cond: str, act: str, n: int, seen: dict[str, bool],
+                  form: GoalForm | None = None) -> str | None:
+    """Why a classifier's condition or action does not fit n blocks (None if they fit).
+
+    In a goal-form file (``form``) a Q-classifier's condition is a goal-form pattern
+    (:func:`csql_sim.core.goal_message.pattern_problem`), with ``#``.
+    """
     for name, value in (("condition", cond), ("action", act)):
         if not (value.isascii() and value.isprintable()):
             pos = next(p for p, ch in enumerate(value) if not (ch.isascii() and ch.isprintable()))
             return f"{name} {value!r}: position {pos} is {ascii(value[pos])}, not a message character"
     try:
+        if kind == "Q" and form is not None:
+            parse_action_message(act, n)
+            return pattern_problem(cond, form)
         if kind == "Q":
             if cond not in seen:
                 parse_state_message(cond, n)
@@ -245,7 +277,7 @@ def check_strings(kind: str, cond: str, act: str, n: int, seen: dict[str, bool])
     return r_classifier_problem(cond, act, n, owner="file")
 
 
-def _classifiers(rows: list, n: int, source: str) -> Iterable[Classifier]:
+def _classifiers(rows: list, n: int, source: str, form: GoalForm | None = None) -> Iterable[Classifier]:
     width = layout(n).length
     seen: dict[str, bool] = {}
     for k, row in enumerate(rows, start=1):
@@ -256,10 +288,11 @@ def _classifiers(rows: list, n: int, source: str) -> Iterable[Classifier]:
         if kind not in ("R", "Q"):
             raise RuleBaseError(f"{where}: kind must be R or Q, got {kind!r}")
         cond, act = row.get("condition"), row.get("action")
-        for name, value in (("condition", cond), ("action", act)):
-            if not isinstance(value, str) or len(value) != width:
-                raise RuleBaseError(f"{where}: {name} must be a {width}-character string, got {value!r}")
-        problem = check_strings(kind, cond, act, n, seen)
+        cond_width = form.length if form is not None and kind == "Q" else width
+        for name, value, size in (("condition", cond, cond_width), ("action", act, width)):
+            if not isinstance(value, str) or len(value) != size:
+                raise RuleBaseError(f"{where}: {name} must be a {size}-character string, got {value!r}")
+        problem = check_strings(kind, cond, act, n, seen, form)
         if problem:
             raise RuleBaseError(f"{where}: {problem}")
         if kind == "R":

@@ -27,7 +27,7 @@ from csql_sim.infra.provenance import provenance
 from csql_sim.infra.workers import worker_count
 from csql_sim.learners.learner import Curve
 from csql_sim.learners.params import CommonParams, resolve_params
-from csql_sim.learners.training import METHODS, make_learner
+from csql_sim.learners.training import METHODS, PAPER_METHODS, make_learner
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -150,7 +150,7 @@ def _run_cycles(jobs: list[CycleJob], backend: Backend, progress: bool) -> list[
 
 
 def run_experiment(
-    methods: Sequence[str] = METHODS,
+    methods: Sequence[str] = PAPER_METHODS,
     cycles: int = 50,
     trials: int = 2500,
     seed: int = 0,
