@@ -25,7 +25,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, execute, learn, pddl_cmd, sim
+from csql_sim.cli import core, demo, discover, execute, generalize, learn, pddl_cmd, sim
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
 
@@ -62,7 +62,7 @@ class _GuardedStdout:
     def __getattr__(self, name: str) -> Any:
         return getattr(self._stream, name)
 
-SUBCOMMAND_MODULES = (core, learn, sim, demo, discover, pddl_cmd, execute)
+SUBCOMMAND_MODULES = (core, learn, sim, demo, discover, pddl_cmd, execute, generalize)
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -104,14 +104,20 @@ def main(argv: list[str] | None = None) -> int:
             # The reader (e.g. `| head`) closed the pipe: stop quietly, as Unix tools do.
             _silence_stdout()
             return 0
-        except Terminated:  # before KeyboardInterrupt, which it is
+        except Terminated as exc:  # before KeyboardInterrupt, which it is
             _close_progress_bars()
-            print("csql-sim: terminated", file=sys.stderr)
+            print(f"csql-sim: terminated{_note(exc)}", file=sys.stderr)
             return TERMINATED_STATUS
-        except KeyboardInterrupt:
+        except KeyboardInterrupt as exc:
             _close_progress_bars()
-            print("csql-sim: interrupted", file=sys.stderr)
+            print(f"csql-sim: interrupted{_note(exc)}", file=sys.stderr)
             return 130
+
+
+def _note(exc: KeyboardInterrupt) -> str:
+    """What a command said about its interruption (e.g. how to resume), as ``: note``; empty if nothing."""
+    note = exc.args[0] if exc.args and isinstance(exc.args[0], str) else ""
+    return f": {' '.join(note.split())}" if note else ""
 
 
 @contextmanager

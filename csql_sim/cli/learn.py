@@ -25,6 +25,7 @@ from csql_sim.cli.args import (
 )
 from csql_sim.cli.core import read_task_for_rules
 from csql_sim.cli.output import emit, json_text, with_format
+from csql_sim.cli.train_shards import add_size_arguments, train_blocks_arg
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 
@@ -107,8 +108,19 @@ def cmd_experiment(args: argparse.Namespace) -> int:
 
 # ------------------------------------------------------------------ train
 def cmd_train(args: argparse.Namespace) -> int:
+    """``train``: the estimate first; then one engine and one rule file, or shards into a directory."""
+    from csql_sim.cli import train_shards
     from csql_sim.infra.files import write_or_keep
     from csql_sim.learners.training import train_learner
+
+    train_shards.settle(args)
+    status = train_shards.check_estimate(args)
+    if status is not None:  # --dry-run
+        return status
+    if train_shards.sharded(args):
+        return train_shards.run(args)
+    if args.backend != "processes" or args.address is not None:
+        raise CsqlError("--backend ray trains shards of goals: give --shards K (one engine runs here)")
 
     domain = None
     if args.domain:
@@ -136,14 +148,27 @@ def cmd_train(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ show
 def cmd_show(args: argparse.Namespace) -> int:
     from csql_sim.core.rulebase import load
+    from csql_sim.core.rulebase_shards import is_sharded
     from csql_sim.learners.pruning import figure6_rows, figure6_table
 
+    if is_sharded(args.rules):  # read lazily: the greedy path's Q-classifiers only
+        from csql_sim.cli.train_shards import show_sharded
+
+        return show_sharded(args)
     rb = load(args.rules, progress=show_progress(args))
     if (args.start is None) != (args.goal is None):
         raise CsqlError("show needs both --start and --goal, or neither")
     start = goal = None
     if args.start is not None:
         start, goal = read_task_for_rules(args.start, args.goal, rb.blocks, args.rules)
+    if rb.meta.get("form") == "goal":  # generalized Q-classifiers: list order and coverage (learners/coverage.py)
+        from csql_sim.learners.coverage import coverage_rows, coverage_table
+
+        rows = coverage_rows(rb, start, goal)
+        doc = {"rules": args.rules, "blocks": rb.blocks, "start": start.notation() if start else None,
+               "goal": goal.notation() if goal else None, "classifiers": rows, "meta": rb.meta}
+        emit(args, doc, lambda: coverage_table(rows))
+        return 0
     doc = {"rules": args.rules, "blocks": rb.blocks, "start": start.notation() if start else None,
            "goal": goal.notation() if goal else None, "classifiers": figure6_rows(rb, start, goal),
            "meta": rb.meta}
@@ -170,25 +195,30 @@ def cmd_bench(args: argparse.Namespace) -> int:
     from csql_sim.jobs.bench import bench
 
     r = bench(args.trials, args.seed, args.repeats)
-    engines = {"reference": r.reference, "fast": r.fast, "plain": r.plain}
+    engines = {"reference": r.reference, "fast": r.fast, "plain": r.plain, "lt_reference": r.lt_reference,
+               "lt_fast": r.lt_fast}
     doc = {"trials": r.trials, "repeats": args.repeats,
            **{k: {"steps": e.steps, "seconds": e.seconds, "steps_per_second": e.rate} for k, e in engines.items()},
            "identical": r.identical, "ratio": r.ratio, "fast_ratio": r.fast_ratio,
+           "lt_identical": r.lt_identical, "lt_ratio": r.lt_ratio,
            "provenance": provenance(trials=args.trials, seed=args.seed, repeats=args.repeats)}
 
     def text() -> list[str]:
         lines = [f"{r.trials} trials (n = 3), seed {args.seed}, best of {args.repeats} in CPU time; "
                  "same tasks and uniforms for every learner"]
         for label, e in (("CS-QL reference engine", r.reference), ("CS-QL fast engine", r.fast),
-                         ("plain dict Q-learner", r.plain)):
+                         ("plain dict Q-learner", r.plain), ("LT-QL reference engine", r.lt_reference),
+                         ("LT-QL fast engine", r.lt_fast)):
             lines.append(f"  {label + ':':<24} {e.steps} steps in {e.seconds * 1000:8.1f} ms, {e.rate:>12,.0f} steps/s")
         return [*lines,
-                f"  trajectories of the two engines identical (same rule file): {'yes' if r.identical else 'NO'}",
-                f"  ratio reference / plain steps per second: {r.ratio:.2f}x",
-                f"  ratio fast / plain steps per second:      {r.fast_ratio:.1f}x"]
+                f"  CS-QL's two engines: identical trajectories (same rule file): {'yes' if r.identical else 'NO'}",
+                f"  LT-QL's two engines: identical trajectories (same rule file): {'yes' if r.lt_identical else 'NO'}",
+                f"  ratio CS-QL reference / plain steps per second: {r.ratio:.2f}x",
+                f"  ratio CS-QL fast / plain steps per second:      {r.fast_ratio:.1f}x",
+                f"  ratio LT-QL fast / reference steps per second:  {r.lt_ratio:.1f}x"]
 
     emit(args, doc, text)
-    return 0 if r.identical else 1
+    return 0 if r.identical and r.lt_identical else 1
 
 
 # ------------------------------------------------------------------ scaling
@@ -209,7 +239,8 @@ def cmd_scaling(args: argparse.Namespace) -> int:
         for r in rows:
             when = f"all optimal after {r.trials} trials" if r.trials is not None else (
                 f"cap {args.max_trials} reached: {r.optimal_pairs} of {r.pairs} pairs optimal")
-            lines.append(f"{r.method:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s")
+            lines.append(f"{r.method:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s, "
+                         f"peak RSS {r.peak_rss_mb:.0f} MB, population {r.population}")
         return [*lines, f"wrote {csv_path}, {sidecar} (provenance) and {png_path}"]
 
     emit(args, doc, text)
@@ -238,7 +269,10 @@ def _block_list(text: str) -> list[int]:
 
 def _register_experiment(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = sub.add_parser("experiment", help="Figure 7: test-task curves of the learners over cycles")
-    p.add_argument("--methods", type=_methods, default=list(methods), help=f"comma list (default {','.join(methods)})")
+    from csql_sim.learners.training import PAPER_METHODS
+
+    p.add_argument("--methods", type=_methods, default=list(PAPER_METHODS),
+                   help=f"comma list of {','.join(methods)} (default the paper's {','.join(PAPER_METHODS)})")
     p.add_argument("--cycles", type=positive_int, default=50, help="cycles per method (default 50)")
     p.add_argument("--trials", type=non_negative_int, default=None,
                    help="trials per cycle (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
@@ -259,20 +293,32 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
     p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--trials", type=non_negative_int, default=None,
                    help="training trials (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
-    p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
+    p.add_argument("--seed", type=seed_arg, default=None, help="seed (default 0)")
+    p.add_argument("--blocks", type=train_blocks_arg, default=None,
+                   help="number of blocks (default 3; 7 only with --dry-run, to see the estimate)")
     p.add_argument("--params", type=path_arg, help="YAML parameter overrides (on top of the defaults for n)")
     p.add_argument("--engine", choices=("fast", "reference"), default=None,
-                   help="CS-QL engine: fast (default for cs-ql up to 5 blocks) or reference; the same rule file")
+                   help="engine of cs-ql and lt-ql: fast (their default; cs-ql with the built-in rules, lt-ql up "
+                   "to 5 blocks) or reference; the same rule file")
     p.add_argument("--domain", type=path_arg,
                    help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
-    p.add_argument("--out", type=path_arg, required=True, help="rule file to write: *.npz (compact) or YAML")
+    p.add_argument("--out", type=path_arg, required=True,
+                   help="rule file to write: *.npz (compact) or YAML; a directory for a sharded run")
+    add_size_arguments(p)
     add_overwrite(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_train, declare=declare_rule_file)
+    p.set_defaults(func=cmd_train, declare=_declare_train)
+
+
+def _declare_train(args: argparse.Namespace, outputs: Outputs) -> None:
+    from csql_sim.cli import train_shards
+
+    train_shards.settle(args)
+    (train_shards.declare if train_shards.sharded(args) else declare_rule_file)(args, outputs)
 
 def _register_show(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("show", help="print Q-classifiers in Figure 6's table form")
+    p = sub.add_parser("show", help="print Q-classifiers in Figure 6's table form (goal form: in list order, "
+                                    "with the pairs each decides)")
     p.add_argument("rules", type=path_arg, help="a rule file from 'csql-sim train'")
     p.add_argument("--start", help="with --goal: show just the greedy path's classifiers")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
@@ -290,7 +336,8 @@ def _register_prune(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
     p.set_defaults(func=cmd_prune, declare=declare_rule_file)
 
 def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("scaling", help="trials until every pair is planned optimally, per n and method")
+    p = sub.add_parser("scaling", help="trials until every pair is planned optimally, per n and method "
+                       "(with each cell's wall time and peak resident memory)")
     p.add_argument("--blocks", type=_block_list, default=[3, 4, 5], help="comma list of n, 2..5 (default 3,4,5)")
     p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
@@ -306,7 +353,8 @@ def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...])
     p.set_defaults(func=cmd_scaling, declare=lambda args, outputs: declare_folder(args, outputs, SCALING_FILES))
 
 def _register_bench(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("bench", help="time both CS-QL engines and a plain dict-based Q-learner on the same trials")
+    p = sub.add_parser("bench", help="time both engines of CS-QL and of LT-QL, and a plain dict-based Q-learner, "
+                       "on the same trials")
     p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--repeats", type=positive_int, default=15, help="best of this many runs (default 15)")

@@ -13,12 +13,15 @@ import os
 
 import numpy as np
 
+from csql_sim.core.default_hierarchy import DefaultHierarchy, is_goal_form
 from csql_sim.core.message import format_state_message, layout
 from csql_sim.core.message_index import action_indices, base36_column, lookup, state_bodies
 from csql_sim.core.policy import VALUES, NoRuleError, Policy
 from csql_sim.core.rulebase import RuleBase, RuleBaseError, is_npz, load
 from csql_sim.core.rulebase_npz import read_arrays, to_arrays
+from csql_sim.core.rulebase_shards import is_sharded
 from csql_sim.core.search import BfsPolicy, greedy_argmax
+from csql_sim.core.sharded_policy import ShardedPolicy
 from csql_sim.core.world import Action, BlocksWorld, State
 from csql_sim.infra.errors import CsqlError
 
@@ -110,7 +113,7 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: 
     """The greedy policy of a rule base from ``csql-sim train``, or BFS when ``path`` is None.
 
     Args:
-        path: a rule-base file, or None for the BFS planner.
+        path: a rule-base file, a sharded rule base's directory, or None for the BFS planner.
         n: the number of blocks the caller expects (checked against the rule file's
             header before its classifiers are parsed).
         progress: show a bar while a large rule file is parsed.
@@ -120,7 +123,17 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: 
     """
     if path is None:
         return BfsPolicy()
+    if is_sharded(path):  # a directory from goal-sharded training, read shard by shard
+        return ShardedPolicy.open(path, n)
+    if is_goal_form(path):  # generalized Q-classifiers: the default hierarchy's answers (core/default_hierarchy.py)
+        return hierarchy_table(path, n, progress)
     table = GreedyTable.load(path, blocks=n, progress=progress)  # QPolicy's answers as a table, YAML or npz
     if n is not None and table.n != n:
         raise CsqlError(f"rule base {os.fspath(path)!r} is for {table.n} blocks, not {n}")
     return table
+
+
+def hierarchy_table(path: str | os.PathLike, n: int | None = None, progress: bool = False) -> GreedyTable:
+    """A goal-form rule file's default hierarchy (:mod:`csql_sim.core.default_hierarchy`) as a greedy table."""
+    hierarchy = DefaultHierarchy.from_rulebase(load(path, blocks=n, progress=progress))
+    return GreedyTable(hierarchy.n, hierarchy.decisions().best)

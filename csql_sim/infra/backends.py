@@ -125,7 +125,8 @@ def _describe(exc: BaseException) -> str:
 
 def map_tasks(fn: Callable[[T], R], items: Sequence[T], backend: Backend = Backend(), *,
               setup: Setup | None = None, setup_args: tuple = (), progress: bool = False,
-              desc: str = "tasks", unit: str = "task") -> list[R | TaskFailure]:
+              desc: str = "tasks", unit: str = "task",
+              on_result: Callable[[int, R | TaskFailure], None] | None = None) -> list[R | TaskFailure]:
     """``[fn(item) for item in items]`` on ``backend``, in item order.
 
     Args:
@@ -135,10 +136,14 @@ def map_tasks(fn: Callable[[T], R], items: Sequence[T], backend: Backend = Backe
         setup: a module-level function run once in each worker before its first task
             (e.g. building a policy), and again when its arguments differ from those of
             its last run in that worker; ``setup_args`` are compared with ``==``.
-        setup_args: the arguments of ``setup``.
+        setup_args: the arguments of ``setup``; on Ray they go to the object store once.
         progress: show a tqdm bar on stderr (and, for Ray, one line on where it runs).
         desc: the bar's label.
         unit: the bar's unit.
+        on_result: called in this process with (item index, result) as each task's chunk
+            comes back, in completion order (e.g. to save each result before the run ends);
+            what it returns takes the result's place in the list returned (a summary lets a
+            large result go as soon as it is saved).
 
     Returns:
         One result, or a :class:`TaskFailure`, per item.
@@ -152,9 +157,33 @@ def map_tasks(fn: Callable[[T], R], items: Sequence[T], backend: Backend = Backe
     if backend.kind == "ray":
         with ray_session(backend, announce=progress) as cpus, \
                 tqdm(total=len(items), desc=desc, unit=unit, disable=not progress) as bar:
-            return _map_ray(fn, items, cpus, setup, setup_args, bar)
+            return _map_ray(fn, items, cpus, setup, setup_args, _Sink(bar, on_result))
     with tqdm(total=len(items), desc=desc, unit=unit, disable=not progress) as bar:
-        return _map_processes(fn, items, backend.workers, setup, setup_args, bar)
+        return _map_processes(fn, items, backend.workers, setup, setup_args, _Sink(bar, on_result))
+
+
+@dataclass(frozen=True)
+class _Sink:
+    """Where a finished chunk's results go: the bar, and ``on_result`` for each."""
+
+    bar: tqdm
+    on_result: Callable[[int, Any], None] | None
+
+    def put(self, first: int, results: list) -> list:
+        """Hand a chunk's results on; what to keep of them."""
+        if self.on_result is not None:
+            results = [self.on_result(first + k, r) for k, r in enumerate(results)]
+        self.bar.update(len(results))
+        return results
+
+
+def _starts(chunks: list[list]) -> list[int]:
+    """The index of each chunk's first item."""
+    out, at = [], 0
+    for c in chunks:
+        out.append(at)
+        at += len(c)
+    return out
 
 
 def _chunks(items: list[T], slots: int) -> list[list[T]]:
@@ -164,16 +193,16 @@ def _chunks(items: list[T], slots: int) -> list[list[T]]:
 
 
 def _map_processes(fn: Callable, items: list, workers: int | None, setup: Setup | None, setup_args: tuple,
-                   bar: tqdm) -> list:
+                   sink: _Sink) -> list:
     """The pool's side of :func:`map_tasks` (:func:`csql_sim.infra.workers.worker_pool`: workers die with us)."""
     workers = worker_count(workers, len(items))
     if workers <= 1:
-        out = []
+        out: list = []
         for item in items:
-            out.extend(_run_chunk(fn, [item], setup, setup_args))
-            bar.update()
+            out.extend(sink.put(len(out), _run_chunk(fn, [item], setup, setup_args)))
         return out
     chunks = _chunks(items, workers)
+    starts = _starts(chunks)
     results: list[list | None] = [None] * len(chunks)
     with worker_pool(workers) as pool:
         futures = {pool.submit(_run_chunk, fn, c, setup, setup_args): k for k, c in enumerate(chunks)}
@@ -186,7 +215,8 @@ def _map_processes(fn: Callable, items: list, workers: int | None, setup: Setup 
                     results[k] = future.result()
                 except BrokenProcessPool as exc:
                     results[k] = [TaskFailure(f"worker process died: {exc}")] * len(chunks[k])
-                bar.update(len(chunks[k]))
+                results[k] = sink.put(starts[k], results[k])
+                del futures[future]
     return [r for chunk in results for r in chunk]  # type: ignore[union-attr]
 
 
@@ -330,22 +360,27 @@ def _endpoint(address: str) -> tuple[str, int] | None:
     return host.strip("[]"), int(port)
 
 
-def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_args: tuple, bar: tqdm) -> list:
-    """Ray's side of :func:`map_tasks`, inside a :func:`ray_session` with ``cpus`` CPUs."""
+def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_args: tuple, sink: _Sink) -> list:
+    """Ray's side of :func:`map_tasks`, inside a :func:`ray_session` with ``cpus`` CPUs.
+
+    ``setup_args`` are put in the object store once; every chunk's task gets the reference
+    (Ray resolves a reference passed as an argument before the task runs).
+    """
     import ray
     from ray.exceptions import RayError, RayTaskError
 
     chunks = _chunks(items, cpus)
+    starts = _starts(chunks)
     remote = _remote_run_chunk()
-    refs = [remote.remote(fn, c, setup, setup_args) for c in chunks]
-    index = {ref: k for k, ref in enumerate(refs)}
+    shared = ray.put(setup_args)
+    index = {remote.remote(fn, c, setup, shared): k for k, c in enumerate(chunks)}  # dropped when done
     results: list[list | None] = [None] * len(chunks)
-    pending = list(refs)
+    pending = list(index)
     try:
         while pending:
             done, pending = ray.wait(pending, num_returns=1)
             for ref in done:
-                k = index[ref]
+                k = index.pop(ref)
                 try:
                     results[k] = ray.get(ref)
                 except RayTaskError:
@@ -353,7 +388,7 @@ def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_ar
                 except RayError as exc:  # the worker or its node died, the object was lost, ...
                     reason = " ".join(str(exc).split())[:200]
                     results[k] = [TaskFailure(f"ray task failed: {reason}")] * len(chunks[k])
-                bar.update(len(chunks[k]))
+                results[k] = sink.put(starts[k], results[k])
     except BaseException:
         for ref in pending:
             ray.cancel(ref, force=True)

@@ -60,4 +60,7 @@ def rules_source(path: str | os.PathLike | None) -> dict[str, Any]:
     """The rule file a run used, with its SHA-256 (``{"file": None}`` for the BFS planner)."""
     if path is None:
         return {"file": None, "sha256": None}
+    if Path(path).is_dir():  # a sharded rule base: its manifest holds every shard's SHA-256
+        return {"file": os.fspath(Path(path)), "sha256": file_sha256(Path(path) / "manifest.json"),
+                "sha256_of": "manifest.json"}
     return {"file": os.fspath(Path(path)), "sha256": file_sha256(path)}

@@ -14,7 +14,8 @@ from csql_sim.core.greedy_table import GreedyTable, load_policy
 from csql_sim.core.notation import parse_config
 from csql_sim.core.pairs import check_sample_size, pair_count, selected_pairs
 from csql_sim.core.policy import Policy
-from csql_sim.core.world import all_states
+from csql_sim.core.sharded_policy import GoalColumns, ShardedPolicy
+from csql_sim.core.world import BlocksWorld, all_states
 from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
@@ -221,15 +222,22 @@ class PolicyData:
         best: a rule file's :class:`~csql_sim.core.greedy_table.GreedyTable` ``best`` array as
             bytes, or None for the BFS planner.
         dtype: the array's dtype (``numpy.dtype.str``).
+        goals: for a sharded rule base, the goals whose columns ``best`` holds
+            (``best[k * S + state]`` for ``goals[k]``); empty: ``best`` is the whole table.
     """
 
     n: int
     best: bytes | None = None
     dtype: str = ""
+    goals: tuple[int, ...] = ()
 
     @classmethod
-    def read(cls, rules: str | os.PathLike | None, n: int, progress: bool = False) -> PolicyData:
+    def read(cls, rules: str | os.PathLike | None, n: int, progress: bool = False,
+             goals: tuple[int, ...] = ()) -> PolicyData:
         """Read the rule file ``rules`` (once; BFS when None, reading nothing).
+
+        A sharded rule base is read only for ``goals`` (the goals of the episodes): their
+        shards, one column of greedy actions per goal.
 
         Raises:
             CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
@@ -237,6 +245,10 @@ class PolicyData:
         if rules is None:
             return cls(n)
         table = load_policy(rules, n, progress=progress)
+        if isinstance(table, ShardedPolicy):
+            wanted = tuple(sorted(set(goals)))
+            columns = np.ascontiguousarray(table.columns(wanted))
+            return cls(table.n, columns.tobytes(), columns.dtype.str, wanted)
         assert isinstance(table, GreedyTable), "a rule file's policy is a greedy table"
         best = np.ascontiguousarray(table.best)
         return cls(table.n, best.tobytes(), best.dtype.str)
@@ -245,7 +257,10 @@ class PolicyData:
         """The policy itself (a greedy table over the shipped array, or BFS)."""
         if self.best is None:
             return load_policy(None, self.n)
-        return GreedyTable(self.n, np.frombuffer(self.best, np.dtype(self.dtype)))
+        best = np.frombuffer(self.best, np.dtype(self.dtype))
+        if self.goals:
+            return GoalColumns(self.n, self.goals, best)
+        return GreedyTable(self.n, best)
 
 
 _WORKER_RUNNER: EpisodeRunner | None = None  # the one runner of an evaluation worker process
@@ -294,8 +309,9 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
 
     check_perception(perception)  # bad options fail once, here, not in every episode
     CameraNoise(*camera_noise)
-    policy = PolicyData.read(rules, n, progress=progress)  # the one read; the workers get the data
     specs = make_specs(n, pairs, seeds, sample_seed=seed)
+    goals = tuple(BlocksWorld.of(n).state_index(parse_config(s.goal)) for s in specs)
+    policy = PolicyData.read(rules, n, progress=progress, goals=goals)  # the one read; the workers get the data
     backend = backend or Backend()
     if workers is not None:
         backend = Backend(backend.kind, workers, backend.address)

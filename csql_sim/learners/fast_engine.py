@@ -46,7 +46,7 @@ class _Kernels:
 
 
 fk = _Kernels()
-MAX_FAST_BLOCKS = 5
+MAX_FAST_BLOCKS = 6
 STEPS_PER_CALL = 250_000
 """Steps one compiled call of :meth:`FastCSQL.train` may take before it returns to Python
 (it pauses between trials, so plus those under way): some 50 ms at 5 million steps a second."""
@@ -62,12 +62,16 @@ class ModelArrays:
         lo: ``lo[s] .. lo[s + 1]`` index state ``s``'s candidates in ``action`` and ``nxt``.
         action: each candidate's action index (ascending, the stable action order).
         nxt: each candidate's predicted successor state index (the add-delete rule).
+        pred_lo: ``pred_lo[s] .. pred_lo[s + 1]`` index the states predicted to lead to ``s``.
+        pred: those predecessors, grouped by successor (ascending within a group).
 
     """
 
     lo: np.ndarray
     action: np.ndarray
     nxt: np.ndarray
+    pred_lo: np.ndarray
+    pred: np.ndarray
 
 
 @functools.cache
@@ -78,19 +82,31 @@ def world_model(n: int) -> ModelArrays:
     lo = np.zeros(len(legal) + 1, np.int64)
     lo[1:] = np.cumsum([len(row) for row in legal])
     action = np.fromiter((a for row in legal for a in row), np.int64, count=int(lo[-1]))
-    nxt = table.next_state[np.repeat(np.arange(len(legal)), np.diff(lo)), action].astype(np.int64)
-    for x in (lo, action, nxt):
+    source = np.repeat(np.arange(len(legal)), np.diff(lo))
+    nxt = table.next_state[source, action].astype(np.int64)
+    pred = source[np.argsort(nxt, kind="stable")]
+    pred_lo = np.zeros(len(legal) + 1, np.int64)
+    pred_lo[1:] = np.cumsum(np.bincount(nxt, minlength=len(legal)))
+    for x in (lo, action, nxt, pred_lo, pred):
         x.flags.writeable = False
-    return ModelArrays(lo, action, nxt)
+    return ModelArrays(lo, action, nxt, pred_lo, pred)
 
 
 class FastCSQL(Learner):
     """CS-QL on arrays, behind the :class:`~csql_sim.learners.learner.Learner` contract.
 
     Args:
-        n: number of blocks (2..5).
+        n: number of blocks (2..6).
         params: CS-QL parameters.
         rng: the only source of randomness.
+        goals: the goal states to learn, ascending (None: every state, the paper's one
+            engine); a subset makes the engine one shard (:mod:`csql_sim.learners.shards`):
+            its random tasks draw a goal among ``goals``, and it has no test task.
+        ordered: sweep each goal's starts backwards from the goal through the
+            R-classifiers' predicted predecessors (prioritized sweeping) instead of in
+            index order.
+        model: the R-classifiers' answers (:func:`world_model` of n when None), e.g. as a
+            worker was sent them.
 
     Attributes:
         model: the R-classifiers' answers for every state (:func:`world_model`).
@@ -103,23 +119,32 @@ class FastCSQL(Learner):
     engine = "fast"
     params: CSQLParams
 
-    def __init__(self, n: int, params: CSQLParams, rng: np.random.Generator) -> None:
+    def __init__(self, n: int, params: CSQLParams, rng: np.random.Generator, goals: np.ndarray | None = None,
+                 ordered: bool = False, model: ModelArrays | None = None) -> None:
         if n > MAX_FAST_BLOCKS:
             raise CsqlError(f"the fast engine handles up to {MAX_FAST_BLOCKS} blocks; use --engine reference")
         super().__init__(n, params)
         self.rng = rng
-        self.model = world_model(n)
+        self.model = m = world_model(n) if model is None else model
         count = self.count = len(self.world.states)
-        slots = count * int(self.model.lo[-1])
+        self.sharded = goals is not None
+        goals = np.arange(count, dtype=np.int64) if goals is None else np.asarray(goals, np.int64)
+        width = len(goals)
+        if width == 0 or (np.diff(goals) <= 0).any() or goals[0] < 0 or goals[-1] >= count:
+            raise CsqlError(f"goals must be distinct ascending state indices below {count}")
+        goal_slot = np.full(count, -1, np.int64)
+        goal_slot[goals] = np.arange(width)
+        slots, nodes = width * int(m.lo[-1]), width * count
         ctr = np.zeros(fk.CTR_SIZE, np.int64)
         ctr[fk.POS] = BATCH  # spent: the first uniform draws a batch
         self.kernel = fk.Engine(
-            buf=np.zeros(BATCH), ctr=ctr, count=count, lo_legal=self.model.lo, nxt_state=self.model.nxt,
-            node_id=np.full(count * count, -1, np.int64), node_off=np.zeros(count * count, np.int64),
-            node_state=np.zeros(count * count, np.int64), node_born=np.zeros(count * count, np.int64),
+            buf=np.zeros(BATCH), ctr=ctr, count=count, lo_legal=m.lo, nxt_state=m.nxt,
+            node_id=np.full(nodes, -1, np.int64), node_off=np.zeros(nodes, np.int64),
+            node_state=np.zeros(nodes, np.int64), node_born=np.zeros(nodes, np.int64),
             q=np.zeros(slots), err=np.zeros(slots), last=np.zeros(slots, np.int64),
             q0=params.q0, gamma=params.gamma, eta=params.eta, payoff=params.payoff, compensated=COMPENSATED_SUM,
-            scratch=np.zeros(int(np.diff(self.model.lo).max())),
+            scratch=np.zeros(int(np.diff(m.lo).max())), goals=goals, goal_slot=goal_slot,
+            pred_lo=m.pred_lo, pred=m.pred, order=np.zeros(count, np.int64), ordered=ordered,
         )
 
     @property
@@ -140,7 +165,10 @@ class FastCSQL(Learner):
         p = self.params
         points = trials // test_every + 1 if test_every else 0
         steps, values = np.zeros(points, np.int64), np.zeros(points)
-        plan = fk.Schedule(trials, test_every, *self.test_indices(), p.t0, p.t_decay, p.t_min, p.step_cap)
+        if self.sharded and test_every:
+            raise CsqlError("a shard of goals has no test task: train it with test_every=0")
+        task = self.test_indices() if test_every else (0, 0)  # the test task costs a BFS per state at 6 blocks
+        plan = fk.Schedule(trials, test_every, *task, p.t0, p.t_decay, p.t_min, p.step_cap)
         ctr = self.kernel.ctr
         ctr[fk.K] = ctr[fk.PHASE] = 0
         chunk = max(1, trials // 100) if on_trial is not None else trials + 1
@@ -177,7 +205,8 @@ class FastCSQL(Learner):
         if not self.params.sweep:
             return 0
         steps = self.plan(on_pass)
-        self.run_trial(*self.test_indices(), 0.0)
+        if not self.sharded:  # a shard has no test task
+            self.run_trial(*self.test_indices(), 0.0)
         return steps
 
     def plan(self, on_pass: Callable[[], None] | None = None) -> int:
@@ -209,10 +238,10 @@ class FastCSQL(Learner):
 
         A goal's trials take at most ``count ** 2`` steps (``count`` trials capped at ``count`` steps).
         """
-        count = self.count
+        count, width = self.count, len(self.kernel.goals)
         goals = max(1, STEPS_PER_CALL // (count * count))
-        for g in range(0, count, goals):
-            fk.sweep_pass(plan_eta, self.rng, self.kernel, g, min(g + goals, count))
+        for g in range(0, width, goals):
+            fk.sweep_pass(plan_eta, self.rng, self.kernel, g, min(g + goals, width))
 
     # -- export ------------------------------------------------------------------------
     def q_arrays(self) -> dict[str, np.ndarray]:
@@ -240,10 +269,10 @@ class FastCSQL(Learner):
         }
 
     def _goals(self, used_nodes: int) -> np.ndarray:
-        node_id = self.kernel.node_id
+        node_id, targets = self.kernel.node_id, self.kernel.goals
         keys = np.flatnonzero(node_id >= 0)
         goals = np.empty(used_nodes, np.int64)
-        goals[node_id[keys]] = keys % self.count
+        goals[node_id[keys]] = targets[keys % len(targets)]
         return goals
 
     def greedy_table(self) -> GreedyTable:

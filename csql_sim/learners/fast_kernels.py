@@ -59,7 +59,7 @@ class Engine(NamedTuple):
         count: the number of states.
         lo_legal: ``lo_legal[s] .. lo_legal[s + 1]`` index state ``s``'s candidates.
         nxt_state: each candidate's predicted successor state.
-        node_id: node of each ``state * count + goal`` (-1: not posted yet).
+        node_id: node of each ``state * len(goals) + goal_slot[goal]`` (-1: not posted yet).
         node_off: each node's first classifier slot.
         node_state: each node's state.
         node_born: the clock when each node was covered.
@@ -72,6 +72,16 @@ class Engine(NamedTuple):
         payoff: the reward at the goal.
         compensated: sum weights as Python >= 3.12's compensated ``sum()`` does.
         scratch: room for one state's Boltzmann weights.
+        goals: the goal states this engine learns, ascending (all states: the paper's one
+            engine; a subset: one shard of goals, :mod:`csql_sim.learners.shards`).
+        goal_slot: each state's position in ``goals`` (-1: not one of them); node ``(s, g)``
+            is ``node_id[s * len(goals) + goal_slot[g]]``.
+        pred_lo: ``pred_lo[s] .. pred_lo[s + 1]`` index the states the R-classifiers predict
+            lead to ``s`` in one step (``pred``); used by ordered sweeps only.
+        pred: the predecessors, grouped by successor.
+        order: room for one sweep order (``count`` states).
+        ordered: sweep the starts of a goal backwards from it through ``pred`` (prioritized
+            sweeping, breadth-first) instead of in index order.
 
     """
 
@@ -93,6 +103,12 @@ class Engine(NamedTuple):
     payoff: float
     compensated: bool
     scratch: np.ndarray
+    goals: np.ndarray
+    goal_slot: np.ndarray
+    pred_lo: np.ndarray
+    pred: np.ndarray
+    order: np.ndarray
+    ordered: bool
 
 
 class Schedule(NamedTuple):
@@ -126,7 +142,7 @@ def new_node(e, s, g, t):
     ctr = e.ctr
     j = ctr[NODES]
     ctr[NODES] = j + 1
-    e.node_id[s * e.count + g] = j
+    e.node_id[s * e.goals.shape[0] + e.goal_slot[g]] = j
     off = ctr[CLS]
     nl = e.lo_legal[s + 1] - e.lo_legal[s]
     ctr[CLS] = off + nl
@@ -146,11 +162,12 @@ def trial(start, goal, temperature, cap, track, plan_eta, rng, e):
 
     ``track`` sums the chosen classifiers' Q-values (the test task's mean).
     """
-    count, gamma, eta, payoff, compensated = e.count, e.gamma, e.eta, e.payoff, e.compensated
+    gamma, eta, payoff, compensated = e.gamma, e.eta, e.payoff, e.compensated
     t = e.ctr[T]
     pos = e.ctr[POS]
     size = e.buf.shape[0]
-    j = e.node_id[start * count + goal]
+    width, gs = e.goals.shape[0], e.goal_slot[goal]
+    j = e.node_id[start * width + gs]
     if j < 0:
         j = new_node(e, start, goal, t)
     value_sum = 0.0
@@ -209,7 +226,7 @@ def trial(start, goal, temperature, cap, track, plan_eta, rng, e):
         nj = -1
         target = payoff
         if ns != goal:
-            nj = e.node_id[ns * count + goal]
+            nj = e.node_id[ns * width + gs]
             if nj < 0:
                 nj = new_node(e, ns, goal, t)
             noff = e.node_off[nj]
@@ -222,13 +239,13 @@ def trial(start, goal, temperature, cap, track, plan_eta, rng, e):
         if plan_eta > 0.0:  # CSQL.update_all: successors in candidate order at t - 1, then every backup
             for k in range(nl):
                 ks = e.nxt_state[lo + k]
-                if ks != goal and e.node_id[ks * count + goal] < 0:
+                if ks != goal and e.node_id[ks * width + gs] < 0:
                     new_node(e, ks, goal, t - 1)
             for k in range(nl):
                 ks = e.nxt_state[lo + k]
                 kt = payoff
                 if ks != goal:
-                    koff = e.node_off[e.node_id[ks * count + goal]]
+                    koff = e.node_off[e.node_id[ks * width + gs]]
                     best = -np.inf
                     for d in range(koff, koff + e.lo_legal[ks + 1] - e.lo_legal[ks]):
                         if e.q[d] > best:
@@ -291,23 +308,67 @@ def run_trials(plan, k_stop, t_stop, rng, e, curve_steps, curve_values):
             pos = 0
         v = buf[pos]
         ctr[POS] = pos + 1
-        start = min(int(u * count), count - 1)
-        goal = min(int(v * (count - 1)), count - 2)
-        if goal >= start:
-            goal += 1
+        width = e.goals.shape[0]
+        if width == count:  # UniformStream.task
+            start = min(int(u * count), count - 1)
+            goal = min(int(v * (count - 1)), count - 2)
+            if goal >= start:
+                goal += 1
+        else:  # a shard: one of its goals, then a start among the other states
+            goal = e.goals[min(int(u * width), width - 1)]
+            start = min(int(v * (count - 1)), count - 2)
+            if start >= goal:
+                start += 1
         trial(start, goal, temperature, cap, False, 0.0, rng, e)
         ctr[K] = k + 1
         ctr[PHASE] = 0
 
 
 @njit(cache=True, error_model="numpy")
-def sweep_pass(plan_eta, rng, e, g_lo, g_hi):
-    """Goals ``g_lo .. g_hi - 1`` of one greedy pass on engine ``e`` over every (start, goal) pair, goal-major.
+def sweep_order(e, goal):
+    """The starts of ``goal`` backwards from it through the predicted predecessors, breadth-first, in ``e.order``.
 
-    ``CSQL.sweep_pass`` is the calls over consecutive goal ranges from 0 to ``e.count``.
+    States from which the R-classifiers predict no way to ``goal`` follow in index order.
+    Returns the number of starts (``count - 1``: every state but the goal).
+    """
+    count, order = e.count, e.order
+    seen = np.zeros(count, np.bool_)
+    seen[goal] = True
+    order[0] = goal
+    head, tail = 0, 1
+    while head < tail:
+        x = order[head]
+        head += 1
+        for k in range(e.pred_lo[x], e.pred_lo[x + 1]):
+            p = e.pred[k]
+            if not seen[p]:
+                seen[p] = True
+                order[tail] = p
+                tail += 1
+    for s in range(count):
+        if not seen[s]:
+            order[tail] = s
+            tail += 1
+    for k in range(count - 1):  # drop the goal itself
+        order[k] = order[k + 1]
+    return count - 1
+
+
+@njit(cache=True, error_model="numpy")
+def sweep_pass(plan_eta, rng, e, g_lo, g_hi):
+    """Goals ``goals[g_lo] .. goals[g_hi - 1]`` of one greedy pass on engine ``e`` over every (start, goal) pair.
+
+    Goal-major; the starts of a goal in index order, or with ``e.ordered`` in
+    :func:`sweep_order`. ``CSQL.sweep_pass`` is the calls over consecutive goal ranges
+    from 0 to ``e.count`` of the unordered engine of every goal.
     """
     count = e.count
-    for g in range(g_lo, g_hi):
-        for s in range(count):
-            if s != g:
-                trial(s, g, 0.0, count, True, plan_eta, rng, e)
+    for gi in range(g_lo, g_hi):
+        g = e.goals[gi]
+        if e.ordered:
+            for k in range(sweep_order(e, g)):
+                trial(e.order[k], g, 0.0, count, True, plan_eta, rng, e)
+        else:
+            for s in range(count):
+                if s != g:
+                    trial(s, g, 0.0, count, True, plan_eta, rng, e)

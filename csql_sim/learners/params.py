@@ -269,6 +269,7 @@ PARAMS_BY_METHOD: dict[str, type[CommonParams]] = {
     "cs-ql": CSQLParams,
     "cs-bb-bz": BucketBrigadeParams,
     "cs-bb-rw": BucketBrigadeParams,
+    "xcs-ql": CSQLParams,  # CS-QL's critic with an XCS-style population (learners/xcs_ql.py)
 }
 
 

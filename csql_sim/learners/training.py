@@ -1,6 +1,7 @@
 """Making and training the paper's four learners: the functions the jobs and the CLI call.
 
-* ``lt-ql``: :class:`TabularQ`, Q-learning over a look-up table of all actions;
+* ``lt-ql``: :class:`TabularQ`, Q-learning over a look-up table of all actions, or its
+  array engine :class:`~csql_sim.learners.lt_fast.FastTabularQ` (the same trajectory);
 * ``cs-ql``: :class:`CSQL`, Q-learning through the classifier system, or its array
   engine :class:`FastCSQL` (the same trajectory);
 * ``cs-bb-bz`` / ``cs-bb-rw``: :class:`BucketBrigade` / :class:`BucketBrigadeRoulette`.
@@ -32,14 +33,18 @@ from csql_sim.learners.params import (
     resolve_params,
 )
 from csql_sim.learners.trial import StepLearner
+from csql_sim.learners.xcs_ql import XCSQL
 
 LEARNERS: dict[str, type[StepLearner]] = {
     "lt-ql": TabularQ,
     "cs-ql": CSQL,
     "cs-bb-bz": BucketBrigade,
     "cs-bb-rw": BucketBrigadeRoulette,
+    "xcs-ql": XCSQL,
 }
 METHODS = tuple(LEARNERS)
+PAPER_METHODS = ("lt-ql", "cs-ql", "cs-bb-bz", "cs-bb-rw")
+"""The paper's four learners: Figure 7's default methods."""
 ENGINES = ("fast", "reference")
 
 
@@ -55,8 +60,10 @@ def make_learner(
     """A fresh learner of ``method``; ``rng`` defaults to ``default_rng(seed)``.
 
     ``rules`` replaces the built-in R-classifiers of the classifier-system learners
-    (LT-QL has none and refuses them). ``engine`` picks CS-QL's implementation (see
-    :func:`train`); the other methods have the reference engine only.
+    (LT-QL has none and refuses them). ``engine`` picks the implementation of CS-QL and
+    LT-QL (see :func:`train`): each has an array engine (:class:`FastCSQL`,
+    :class:`FastTabularQ`) with the same trajectory as its reference engine; the
+    bucket-brigade methods have the reference engine only.
     """
     if method not in LEARNERS:
         raise ParamsError(f"unknown method {method!r}; choose from {', '.join(METHODS)}")
@@ -65,11 +72,15 @@ def make_learner(
     check_n(n)
     resolved = resolve_params(method, params, n)
     generator = rng if rng is not None else np.random.default_rng(seed)
-    fast_ok = method == "cs-ql" and n <= MAX_FAST_BLOCKS and rules is None
+    from csql_sim.learners.lt_fast import MAX_LT_FAST_BLOCKS, FastTabularQ
+
+    fast_ok = rules is None and (method == "cs-ql" and n <= MAX_FAST_BLOCKS
+                                 or method == "lt-ql" and n <= MAX_LT_FAST_BLOCKS)
     if engine == "fast" and not fast_ok:
-        raise ParamsError(f"the fast engine runs cs-ql with the built-in rules and up to {MAX_FAST_BLOCKS} blocks")
+        raise ParamsError(f"the fast engine runs cs-ql with the built-in rules up to {MAX_FAST_BLOCKS} blocks "
+                          f"and lt-ql up to {MAX_LT_FAST_BLOCKS}")
     if fast_ok and engine in (None, "fast"):
-        return FastCSQL(n, resolved, generator)
+        return FastCSQL(n, resolved, generator) if method == "cs-ql" else FastTabularQ(n, resolved, generator)
     cls = LEARNERS[method]
     if rules is None:
         return cls(n, resolved, generator)
@@ -146,9 +157,10 @@ def train(
         params: parameters (dataclass, dict of overrides, YAML path, or None: the defaults
             for n, :func:`~csql_sim.learners.params.defaults_for_blocks`).
         progress: show a tqdm bar on stderr.
-        engine: ``"fast"`` (the array-backed CS-QL engine: same trajectory, same file),
-            ``"reference"`` (the classifier list), or None: fast where it applies (CS-QL
-            with the built-in rules, n <= 5), the reference otherwise.
+        engine: ``"fast"`` (the array engines of CS-QL and LT-QL: same trajectory, same
+            file), ``"reference"`` (classifier / row objects), or None: fast where it
+            applies (CS-QL with the built-in rules, n <= 6; LT-QL, n <= 5), the reference
+            otherwise. Sharded training (6 blocks) is :mod:`csql_sim.learners.shards`.
         domain: R-classifiers to use instead of the built-in ones (classifier-system
             methods, reference engine), e.g. rules from ``csql-sim discover``.
 
