@@ -44,6 +44,7 @@ from csql_sim.core.message import (
     _fail,
     _parse_action_slot,
     _parse_on_field,
+    _supports,
     encode_code,
     layout,
 )
@@ -223,22 +224,7 @@ def parse_goal_message(message: str, form: GoalForm) -> GoalMessage:
 
 def _goal_support(message: str, form: GoalForm) -> list[int]:
     """What each block stands on in the goal, from the goal's on field."""
-    names = BLOCK_NAMES[: form.n].lower()
-    support = []
-    for i in range(BLOCK_FIELD):
-        pos, ch = form.goal_on_start + i, message[form.goal_on_start + i]
-        if i >= form.n:
-            if ch != "0":
-                raise _fail(message, pos, "'0' (no such block)")
-        elif ch == "t":
-            support.append(TABLE)
-        elif ch == "0":
-            support.append(HAND)
-        elif ch in names and ch != names[i]:
-            support.append(names.index(ch))
-        else:
-            raise _fail(message, pos, f"t, 0 or another of {names}")
-    return support
+    return _supports(message, form.goal_on_start, form.n)
 
 
 def _checked_state(message: str, support: list[int]) -> State:

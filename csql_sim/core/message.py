@@ -262,17 +262,15 @@ def _parse_action_slot(message: str, lay: MessageLayout) -> int:
     return code
 
 
-def _parse_on_field(message: str, lay: MessageLayout) -> list[int]:
-    """Each block's support from the on field; clear slots and unused slots checked for shape."""
-    n, names = lay.n, BLOCK_NAMES[: lay.n].lower()
-    for i in range(BLOCK_FIELD):
-        pos = lay.clear_start + i
-        allowed = "01" if i < n else "0"
-        if message[pos] not in allowed:
-            raise _fail(message, pos, " or ".join(allowed))
+def _supports(message: str, start: int, n: int) -> list[int]:
+    """What each block stands on, from an on field of :data:`BLOCK_FIELD` characters at ``start``.
+
+    Used for the state's on field here and for the goal's in the goal form.
+    """
+    names = BLOCK_NAMES[:n].lower()
     support = []
     for i in range(BLOCK_FIELD):
-        pos, ch = lay.on_start + i, message[lay.on_start + i]
+        pos, ch = start + i, message[start + i]
         if i >= n:
             if ch != "0":
                 raise _fail(message, pos, "'0' (no such block)")
@@ -284,6 +282,18 @@ def _parse_on_field(message: str, lay: MessageLayout) -> list[int]:
             support.append(names.index(ch))
         else:
             raise _fail(message, pos, f"t, 0 or another of {names}")
+    return support
+
+
+def _parse_on_field(message: str, lay: MessageLayout) -> list[int]:
+    """Each block's support from the on field; clear slots and unused slots checked for shape."""
+    n, names = lay.n, BLOCK_NAMES[: lay.n].lower()
+    for i in range(BLOCK_FIELD):
+        pos = lay.clear_start + i
+        allowed = "01" if i < n else "0"
+        if message[pos] not in allowed:
+            raise _fail(message, pos, " or ".join(allowed))
+    support = _supports(message, lay.on_start, n)
     held_ch = message[lay.held_pos]
     if held_ch != "0" and held_ch not in names:
         raise _fail(message, lay.held_pos, f"0 or one of {names}")

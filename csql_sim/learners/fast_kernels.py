@@ -137,6 +137,36 @@ class Schedule(NamedTuple):
 
 
 @njit(cache=True, error_model="numpy")
+def weighted_draw(weights, size, u, compensated):
+    """The index eq. 3 draws with uniform ``u`` from ``weights[:size]``, as selection.boltzmann does.
+
+    The weights are summed as Python's ``sum`` does (Neumaier-compensated on Python >=
+    3.12), then the first index whose cumulative weight exceeds ``u * total`` is taken
+    (the last one if rounding leaves none). Shared by CS-QL's and LT-QL's kernels.
+    """
+    total = weights[0]
+    comp = 0.0
+    for k in range(1, size):
+        x = weights[k]
+        sm = total + x
+        if compensated:
+            if abs(total) >= abs(x):
+                comp += (total - sm) + x
+            else:
+                comp += (x - sm) + total
+        total = sm
+    if compensated and comp != 0.0 and math.isfinite(comp):
+        total += comp
+    x = u * total
+    acc = 0.0
+    for k in range(size):
+        acc += weights[k]
+        if x < acc:
+            return k
+    return size - 1
+
+
+@njit(cache=True, error_model="numpy")
 def new_node(e, s, g, t):
     """Process (cover) the node of (s, g) on engine ``e`` at clock ``t``: its Q-classifiers get the next slots."""
     ctr = e.ctr
@@ -198,27 +228,7 @@ def trial(start, goal, temperature, cap, track, plan_eta, rng, e):
             else:
                 for k in range(nl):
                     e.scratch[k] = math.exp((e.q[off + k] - top) / temperature)
-                total = e.scratch[0]
-                comp = 0.0
-                for k in range(1, nl):
-                    x = e.scratch[k]
-                    sm = total + x
-                    if compensated:  # Python >= 3.12: sum() of floats is Neumaier-compensated
-                        if abs(total) >= abs(x):
-                            comp += (total - sm) + x
-                        else:
-                            comp += (x - sm) + total
-                    total = sm
-                if compensated and comp != 0.0 and math.isfinite(comp):
-                    total += comp
-                x = u * total
-                acc = 0.0
-                i = nl - 1
-                for k in range(nl):
-                    acc += e.scratch[k]
-                    if x < acc:
-                        i = k
-                        break
+                i = weighted_draw(e.scratch, nl, u, compensated)
         c = off + i
         if track:
             value_sum += e.q[c]

@@ -32,6 +32,8 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
+from csql_sim.learners.fast_kernels import weighted_draw
+
 ROWS, T, POS, K, PHASE = range(5)
 """Indices into ``ctr``: rows used, clock, stream position, trial index, phase within a
 trial index (0 test task, 1 random task)."""
@@ -146,27 +148,7 @@ def trial(start, goal, temperature, cap, track, rng, e):
                     prev = v
                     w = math.exp((v - top) / temperature)
                 e.scratch[k] = w
-            total = e.scratch[0]
-            comp = 0.0
-            for k in range(1, na):
-                x = e.scratch[k]
-                sm = total + x
-                if compensated:  # Python >= 3.12: sum() of floats is Neumaier-compensated
-                    if abs(total) >= abs(x):
-                        comp += (total - sm) + x
-                    else:
-                        comp += (x - sm) + total
-                total = sm
-            if compensated and comp != 0.0 and math.isfinite(comp):
-                total += comp
-            x = u * total
-            acc = 0.0
-            i = na - 1
-            for k in range(na):
-                acc += e.scratch[k]
-                if x < acc:
-                    i = k
-                    break
+            i = weighted_draw(e.scratch, na, u, compensated)
         c = off + i
         if track:
             value_sum += e.q[c]
