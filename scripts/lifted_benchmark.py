@@ -1,6 +1,7 @@
 """Lifted policies on random start/goal pairs of 6..26 blocks, measured against the exact optimum.
 
-    python scripts/lifted_benchmark.py [--pairs 1000] [--seed 0] [--sizes 6,8,10,15,20,26]
+    python scripts/lifted_benchmark.py [--pairs 1000] [--seed 0] [--sizes 6,7,8,10,15,20,26]
+                                       [--rules assets/rules/lifted.json]
 
 Per n, K ordered pairs of distinct states are drawn uniformly by counting
 (:func:`csql_sim.core.state_count.sample_pairs`, one generator seeded once for the whole
@@ -11,7 +12,10 @@ a pick and a put are two steps). Printed as a markdown table, one row per n and 
 solved %, optimal % (of all pairs), the mean of length / optimum over solved pairs, and
 the policy's wall time; the optimum's time is reported per n.
 
-Policies: ``gn1``, the hand-written baseline (:mod:`csql_sim.learners.gn1`).
+Policies, on the same pairs: ``lq-cs``, the lifted Q-classifiers learned on five blocks by
+``csql-sim train-lifted`` (the rule file given, by default the shipped
+``assets/rules/lifted.json``), and ``gn1``, the hand-written baseline
+(:mod:`csql_sim.learners.gn1`).
 """
 
 from __future__ import annotations
@@ -22,18 +26,19 @@ import time
 
 import numpy as np
 
+from csql_sim.core.lifted_policy import load_lifted_policy
 from csql_sim.core.optimum import optimal_length
 from csql_sim.core.relational_rollout import rollout_relational
 from csql_sim.core.state_count import sample_pairs
 from csql_sim.learners.gn1 import Gn1Policy
 
 
-def policies() -> dict:
+def policies(rules: str) -> dict:
     """The policies measured, by name."""
-    return {"gn1": Gn1Policy()}
+    return {"lq-cs": load_lifted_policy(rules), "gn1": Gn1Policy()}
 
 
-def measure(n: int, k: int, rng: np.random.Generator) -> tuple[list[str], float]:
+def measure(n: int, k: int, rng: np.random.Generator, rules: str) -> tuple[list[str], float]:
     """The table rows for n blocks (one per policy) and the optimum's wall time."""
     pairs = sample_pairs(n, k, rng)
     t0 = time.perf_counter()
@@ -45,7 +50,7 @@ def measure(n: int, k: int, rng: np.random.Generator) -> tuple[list[str], float]
     print(file=sys.stderr)
     optimum_seconds = time.perf_counter() - t0
     rows = []
-    for name, policy in policies().items():
+    for name, policy in policies(rules).items():
         t0 = time.perf_counter()
         runs = [rollout_relational(policy, start, goal) for start, goal in pairs]
         seconds = time.perf_counter() - t0
@@ -62,7 +67,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pairs", type=int, default=1000, help="random pairs per n (default 1000)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the one generator (default 0)")
-    parser.add_argument("--sizes", default="6,8,10,15,20,26", help="numbers of blocks (default 6,8,10,15,20,26)")
+    parser.add_argument("--sizes", default="6,7,8,10,15,20,26", help="numbers of blocks (default 6,7,8,10,15,20,26)")
+    parser.add_argument("--rules", default="assets/rules/lifted.json", help="lifted Q-classifier file (default "
+                        "assets/rules/lifted.json)")
     args = parser.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",")]
     if args.pairs < 1 or any(not 2 <= n <= 26 for n in sizes):
@@ -72,7 +79,7 @@ def main(argv: list[str] | None = None) -> int:
     print("|---|---|---|---|---|---|---|", flush=True)
     timing = []
     for n in sizes:
-        rows, seconds = measure(n, args.pairs, rng)
+        rows, seconds = measure(n, args.pairs, rng, args.rules)
         print("\n".join(rows), flush=True)
         timing.append(f"n = {n}: exact optimum of {args.pairs} pairs in {seconds:.1f} s")
     print("\n".join(["", *timing]))

@@ -25,7 +25,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, execute, generalize, learn, pddl_cmd, sim
+from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, sim
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
 
@@ -62,7 +62,7 @@ class _GuardedStdout:
     def __getattr__(self, name: str) -> Any:
         return getattr(self._stream, name)
 
-SUBCOMMAND_MODULES = (core, learn, sim, demo, discover, pddl_cmd, execute, generalize)
+SUBCOMMAND_MODULES = (core, learn, lifted, sim, demo, discover, pddl_cmd, execute, generalize)
 
 
 class OneLineParser(argparse.ArgumentParser):

@@ -14,6 +14,7 @@ import os
 import numpy as np
 
 from csql_sim.core.default_hierarchy import DefaultHierarchy, is_goal_form
+from csql_sim.core.lifted_policy import is_lifted_policy, load_lifted_policy
 from csql_sim.core.message import format_state_message, layout
 from csql_sim.core.message_index import action_indices, base36_column, lookup, state_bodies
 from csql_sim.core.policy import VALUES, NoRuleError, Policy
@@ -113,7 +114,8 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: 
     """The greedy policy of a rule base from ``csql-sim train``, or BFS when ``path`` is None.
 
     Args:
-        path: a rule-base file, a sharded rule base's directory, or None for the BFS planner.
+        path: a rule-base file, a sharded rule base's directory, a lifted Q-classifier
+            file (:mod:`csql_sim.core.lifted_policy`, any n <= 26), or None for the BFS planner.
         n: the number of blocks the caller expects (checked against the rule file's
             header before its classifiers are parsed).
         progress: show a bar while a large rule file is parsed.
@@ -123,6 +125,8 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: 
     """
     if path is None:
         return BfsPolicy()
+    if is_lifted_policy(path):  # lifted Q-classifiers: any number of blocks (core/lifted_policy.py)
+        return load_lifted_policy(path)
     if is_sharded(path):  # a directory from goal-sharded training, read shard by shard
         return ShardedPolicy.open(path, n)
     if is_goal_form(path):  # generalized Q-classifiers: the default hierarchy's answers (core/default_hierarchy.py)

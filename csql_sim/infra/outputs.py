@@ -42,7 +42,7 @@ _YAML_FORMAT = re.compile(rb"\A(?:\s*#[^\n]*\n)*\s*format:\s*['\"]?csql-sim rule
 _NPZ_HEADER = "csql-sim rule base"
 
 
-def _head(path: Path) -> bytes | None:
+def read_head(path: str | os.PathLike) -> bytes | None:
     """The first :data:`HEAD_BYTES` bytes of a regular file, or None (not one, unreadable)."""
     try:
         fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
@@ -75,7 +75,7 @@ def identify(path: str | os.PathLike) -> str | None:
     videos and CSV tables do not (see :func:`is_ours`).
     """
     target = Path(path)
-    head = _head(target)
+    head = read_head(target)
     if head is None:
         return None
     if head.startswith(b"\x89PNG"):

@@ -24,25 +24,8 @@ from __future__ import annotations
 
 from csql_sim.core.goal_relations import deadlocked, goal_place_ready, well_placed
 from csql_sim.core.large_state import LargeState
+from csql_sim.core.move_relations import pick_action, target_goal
 from csql_sim.core.world import TABLE, Action, ActionKind, State
-
-
-def pick(state: LargeState, b: int) -> Action:
-    """The action that lifts block b from where it stands."""
-    s = state.support[b]
-    return Action(ActionKind.PICKUP, b) if s == TABLE else Action(ActionKind.UNSTACK, b, s)
-
-
-def hand_empty_goal(state: LargeState, goal: LargeState) -> LargeState:
-    """The goal without its held block g: g where it stands if that can stay, else on the table."""
-    g = goal.held
-    if g is None:
-        return goal
-    s = state.support[g]
-    keep = s >= 0 and goal.above_of[s] is None
-    support = list(goal.support)
-    support[g] = s if keep else TABLE
-    return LargeState(tuple(support))
 
 
 def _needed_below(state: LargeState, goal: LargeState, placed: tuple[bool, ...], b: int) -> bool:
@@ -68,7 +51,7 @@ class Gn1Policy:
         state, goal = _relational(state), _relational(goal)
         if state == goal:
             return None
-        target = hand_empty_goal(state, goal)
+        target = target_goal(state, goal)
         placed = well_placed(state, target)
         held = state.held
         if held is not None:
@@ -77,17 +60,17 @@ class Gn1Policy:
                 return Action(ActionKind.STACK, held, d)
             return Action(ActionKind.PUTDOWN, held)
         if state == target:
-            return pick(state, goal.held)
+            return pick_action(state, goal.held)
         clear = [b for b in range(state.n) if not placed[b] and state.is_clear(b)]
         for b in clear:
             if goal_place_ready(state, target, placed, b):
-                return pick(state, b)
+                return pick_action(state, b)
         movable = [b for b in clear if state.support[b] != TABLE]
         stuck = deadlocked(state, target)
         for wanted in (lambda b: b in stuck, lambda b: _needed_below(state, target, placed, b), lambda b: True):
             for b in movable:
                 if wanted(b):
-                    return pick(state, b)
+                    return pick_action(state, b)
         return None
 
 

@@ -2,12 +2,13 @@ import numpy as np
 import pytest
 
 from csql_sim.core.large_state import LargeState, parse_large
+from csql_sim.core.move_relations import target_goal
 from csql_sim.core.optimum import optimal_length
 from csql_sim.core.relational_rollout import rollout_relational
 from csql_sim.core.search import check_pairs, distance_matrix
 from csql_sim.core.state_count import sample_pairs
 from csql_sim.core.world import all_states
-from csql_sim.learners.gn1 import Gn1Policy, hand_empty_goal
+from csql_sim.learners.gn1 import Gn1Policy
 
 
 def test_gn1_plans_every_pair_at_three_blocks_optimally_through_the_policy_interface():
@@ -40,6 +41,6 @@ def test_gn1_solves_seeded_random_pairs_at_large_n(n):
 
 def test_a_goal_that_holds_a_block_is_built_hand_empty_then_picked():
     start, goal = parse_large("ABC"), parse_large("AB+C")
-    assert hand_empty_goal(start, goal) == start
+    assert target_goal(start, goal) == start
     run = rollout_relational(Gn1Policy(), start, goal)
     assert [a.name() for a in run.actions] == ["unstack(C,B)"]
