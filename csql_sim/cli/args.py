@@ -8,6 +8,7 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from csql_sim.core.large_state import MAX_LARGE
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
 
 if TYPE_CHECKING:
@@ -36,6 +37,8 @@ def int_type(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
 positive_int = int_type(1)
 non_negative_int = int_type(0)
 blocks_arg = int_type(MIN_BLOCKS, MAX_BLOCKS)
+large_blocks_arg = int_type(MIN_BLOCKS, MAX_LARGE)
+"""``--blocks`` of the commands that take relational states past six blocks: an integer 2..26."""
 seed_arg = non_negative_int
 """Seeds are non-negative integers (numpy's SeedSequence refuses negative ones)."""
 

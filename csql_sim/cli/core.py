@@ -7,9 +7,9 @@ import json
 import sys
 from collections.abc import Sequence
 
-from csql_sim.cli.args import add_json, add_quiet, blocks_arg, path_arg, seed_arg, show_progress
+from csql_sim.cli.args import add_json, add_quiet, blocks_arg, large_blocks_arg, path_arg, seed_arg, show_progress
+from csql_sim.cli.large_plan import PLANNERS, large_blocks, plan_large, select_policy
 from csql_sim.cli.output import REPORT_VERSION, command_parameters, emit, json_stream
-from csql_sim.core.greedy_table import load_policy
 from csql_sim.core.message import (
     action_code,
     format_action_message,
@@ -101,15 +101,6 @@ def plan_steps(actions: Sequence[Action], n: int) -> list[dict]:
     return [{"code": action_code(a, n), "name": a.name(), "message": format_action_message(a, n)} for a in actions]
 
 
-def _policy_for(args: argparse.Namespace) -> Policy:
-    planner = args.planner or ("rules" if args.rules else "bfs")
-    if planner == "rules" and not args.rules:
-        raise CsqlError("--planner rules needs --rules FILE")
-    if planner == "bfs" and args.rules:
-        raise CsqlError(f"--planner bfs does not read --rules {args.rules!r}; give one of them")
-    return load_policy(args.rules if planner == "rules" else None, args.blocks, progress=show_progress(args))
-
-
 def declare_plan(args: argparse.Namespace, outputs: Outputs) -> None:
     """``plan`` reads ``--rules`` (no output may be that file) and may write ``--plan-out``."""
     outputs.input(args.rules, "rule file")
@@ -122,7 +113,10 @@ def cmd_plan(args: argparse.Namespace) -> int:
         if args.pairs not in (None, "all"):
             raise CsqlError("--all is --pairs all; give one of them")
         args.pairs = "all"
-    policy = _policy_for(args)
+    large = large_blocks(args)
+    if large is not None:  # past six blocks: relational states, lifted policies (cli/large_plan.py)
+        return plan_large(args, large)
+    policy = select_policy(args, args.blocks, large=False)
     n = policy.blocks or args.blocks
     if args.pairs is not None:
         if args.start or args.goal:
@@ -231,13 +225,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("plan", help="plan from a start to a goal configuration")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C), or a state message (with its goal)")
     p.add_argument("--goal", help="goal configuration, e.g. BAC (default: the goal of a state message --start)")
-    p.add_argument("--blocks", type=blocks_arg, help="number of blocks (default: from the configuration)")
-    p.add_argument("--planner", choices=("bfs", "rules"), help="bfs (default) or rules (default with --rules)")
+    p.add_argument("--blocks", type=large_blocks_arg,
+                   help="number of blocks, 2..26 (default: from the configuration); past 6 the states are "
+                        "relational and the planner lifted (gn1, or lifted --rules)")
+    p.add_argument("--planner", choices=PLANNERS,
+                   help="bfs (default; up to 6 blocks), rules (default with --rules) or gn1 (the hand-written "
+                        "lifted baseline, any n)")
     p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train': plan greedily from its Q-classifiers")
+                   help="a rule base from 'csql-sim train' (plan greedily from its Q-classifiers), or lifted "
+                        "rules (any n)")
     p.add_argument("--pairs", type=_pairs_arg, default=None,
-                   help="plan every ordered pair of distinct states (all) or a seeded sample of K, streamed; "
-                        "print a summary")
+                   help="plan every ordered pair of distinct states (all; up to 6 blocks) or a seeded sample of "
+                        "K (past 6 blocks drawn uniformly by counting), streamed; print a summary")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the --pairs sample (default 0)")
     p.add_argument("--all", action="store_true", help="the same as --pairs all")
     p.add_argument("--plan-out", type=path_arg, default=None,
