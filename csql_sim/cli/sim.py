@@ -18,6 +18,7 @@ from csql_sim.cli.args import (
     add_workers,
     backend_from_args,
     blocks_arg,
+    int_type,
     path_arg,
     positive_int,
     seed_arg,
@@ -25,15 +26,59 @@ from csql_sim.cli.args import (
     warn_workers,
 )
 from csql_sim.cli.core import read_task_for_rules
+from csql_sim.cli.large_plan import read_large_task, select_policy
 from csql_sim.cli.output import default_path, emit
+from csql_sim.core.large_state import MAX_LARGE, LargeState
+from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
+from csql_sim.sim.config import MAX_ARM_BLOCKS
 
 DEFAULT_VIDEO = "video.mp4"
+ARM_PLANNERS = ("bfs", "rules", "gn1")
+"""``--planner`` of ``render`` and ``evaluate``: BFS (up to 6 blocks), the rules of ``--rules FILE``, or GN1."""
+_any_blocks = int_type(MIN_BLOCKS, MAX_LARGE)
 
 if TYPE_CHECKING:
     from csql_sim.jobs.evaluate import EvalReport
     from csql_sim.sim.executor import EpisodeResult
+
+
+def arm_blocks_arg(text: str) -> int:
+    """Argparse type for the arm's ``--blocks``: 2..10 cubes; more are refused with the reason."""
+    n = _any_blocks(text)
+    if n > MAX_ARM_BLOCKS:
+        raise argparse.ArgumentTypeError(
+            f"the arm takes at most {MAX_ARM_BLOCKS} cubes (the table has room for {MAX_ARM_BLOCKS} start towers "
+            f"side by side, and a taller tower leaves the Panda's reach), got {n}")
+    return n
+
+
+def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[State | LargeState, State | LargeState]:
+    """The task of ``render``: as ``plan`` reads it up to six blocks, else a task of 7..10 cubes.
+
+    Past six blocks the start and goal are configurations with letters A-J or large state
+    messages (:func:`csql_sim.cli.large_plan.read_large_task`); more than ten cubes are
+    refused with one line (the table and the reach).
+    """
+    try:
+        return read_task_for_rules(start, goal, None, rules)
+    except CsqlError as small:
+        try:
+            s, g = read_large_task(start, goal, None)
+        except CsqlError:
+            raise small from None
+        if s.n <= MAX_BLOCKS:
+            raise small from None
+    from csql_sim.sim.arm_state import check_arm_blocks
+
+    check_arm_blocks(s.n)
+    return s, g
+
+
+def arm_policy(args: argparse.Namespace, n: int) -> object:
+    """The policy of ``--planner`` and ``--rules`` for n cubes (past six blocks: lifted only)."""
+    return select_policy(args, n, large=n > MAX_BLOCKS)
 
 
 def pairs_arg(text: str) -> str | int:
@@ -74,7 +119,6 @@ def declare_evaluate(args: argparse.Namespace, outputs: Outputs) -> None:
 
 
 def cmd_render(args: argparse.Namespace) -> int:
-    from csql_sim.core.greedy_table import load_policy
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode, sidecar_path
     from csql_sim.sim.rgbd import CameraNoise
@@ -86,12 +130,13 @@ def cmd_render(args: argparse.Namespace) -> int:
         raise CsqlError("render needs --start and --goal")
     check_video_options(args.out, args.width, args.height, args.fps)
     warn_workers(args.workers)
-    start, goal = read_task_for_rules(args.start, args.goal, None, args.rules)
-    policy = load_policy(args.rules, start.n, progress=show_progress(args))
+    start, goal = read_arm_task(args.start, args.goal, args.rules)
+    policy = arm_policy(args, start.n)
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
                                   perception=args.perception, progress=show_progress(args),
-                                  provenance_extra={"rules": rules_source(args.rules)},
+                                  provenance_extra={"rules": rules_source(args.rules),
+                                                    **({"planner": args.planner} if args.planner else {})},
                                   camera_noise=CameraNoise(*args.camera_noise), renderer=args.renderer)
     print_episode(result)
     frames = video_frame_count(result.recording, args.fps) if result.recording else 0
@@ -157,7 +202,8 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     warn_workers(args.workers)
     report = evaluate(n=args.blocks, pairs=args.pairs, seeds=args.seeds, perturb=args.perturb,
                       rules=args.rules, perception=args.perception, progress=show_progress(args),
-                      seed=args.seed, camera_noise=args.camera_noise, backend=backend_from_args(args))
+                      seed=args.seed, camera_noise=args.camera_noise, backend=backend_from_args(args),
+                      planner=_named_planner(args))
     status = evaluate_status(report, args.min_success)
     emit(args, {**report.to_dict(), "min_success": args.min_success, "status": status,
                 "provenance": provenance(command="evaluate", **report.config, min_success=args.min_success)},
@@ -169,12 +215,24 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     return status
 
 
+def _named_planner(args: argparse.Namespace) -> str | None:
+    """``evaluate --planner``: the named baseline to run (``gn1``), or None for ``--rules`` / BFS."""
+    planner = args.planner or ("rules" if args.rules else "bfs")
+    if planner == "rules" and not args.rules:
+        raise CsqlError("--planner rules needs --rules FILE")
+    if planner != "rules" and args.rules:
+        raise CsqlError(f"--planner {planner} does not read --rules {args.rules!r}; give one of them")
+    return "gn1" if planner == "gn1" else None
+
+
 def _evaluate_problems(args: argparse.Namespace) -> int:
     """``evaluate --problems DIR``: every problem of a folder on the arm, one after another."""
     from csql_sim.jobs.execute_batch import evaluate_problems, problems_lines, problems_report
 
     if args.problems is None:
         raise CsqlError("--plans and --domain go with --problems DIR")
+    if args.planner == "gn1":
+        raise CsqlError("--planner gn1 plans pairs; with --problems give --plans DIR, --rules FILE or nothing (BFS)")
     if args.plot is not None:
         raise CsqlError("--plot draws pairs; it does not apply to --problems")
     runs = evaluate_problems(args.problems, plans=args.plans, rules=args.rules,
@@ -199,6 +257,12 @@ def camera_noise_arg(text: str) -> tuple[float, float]:
     return values[0] / 1000.0, values[1] if len(values) == 2 else 0.0
 
 
+def _planner_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--planner", choices=ARM_PLANNERS,
+                   help=f"bfs (default; up to {MAX_BLOCKS} blocks), rules (default with --rules) or gn1 (the "
+                        f"hand-written lifted baseline, any n)")
+
+
 def _noise_arg(p: argparse.ArgumentParser) -> None:
     p.add_argument("--camera-noise", type=camera_noise_arg, default=(0.0, 0.0), metavar="MM[,LEVELS]",
                    help="camera perception noise: depth standard deviation in mm along the optical axis, "
@@ -210,7 +274,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("render", help="execute a plan on the simulated Panda and write a captioned video")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
-    p.add_argument("--rules", type=path_arg, help="a rule base from 'csql-sim train' (default: the BFS planner)")
+    p.add_argument("--rules", type=path_arg,
+                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
+    _planner_arg(p)
     p.add_argument("--out", type=path_arg, default=None,
                    help=f"output .mp4 or .gif (default {DEFAULT_VIDEO}; an existing one is kept unless --overwrite)")
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
@@ -231,9 +297,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_render, declare=declare_render)
 
     p = sub.add_parser("evaluate", help="run physical episodes over start/goal pairs and report success")
-    p.add_argument("--rules", type=path_arg, help="a rule base from 'csql-sim train' (default: the BFS planner)")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
-    p.add_argument("--pairs", type=pairs_arg, default="all", help="'all' (default) or a sample size K")
+    p.add_argument("--rules", type=path_arg,
+                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
+    _planner_arg(p)
+    p.add_argument("--blocks", type=arm_blocks_arg, default=3,
+                   help=f"number of cubes, 2..{MAX_ARM_BLOCKS} (default 3); past {MAX_BLOCKS} the states are "
+                        f"relational and the policy lifted (--planner gn1, or lifted --rules)")
+    p.add_argument("--pairs", type=pairs_arg, default="all",
+                   help=f"'all' (default; up to {MAX_BLOCKS} blocks) or a sample size K (past {MAX_BLOCKS} blocks "
+                        f"drawn uniformly by counting)")
     add_seed(p, "seed of the sample of pairs")
     p.add_argument("--seeds", type=positive_int, default=1, help="episodes per pair (default 1)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")

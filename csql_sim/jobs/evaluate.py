@@ -1,11 +1,22 @@
-"""Sim-in-the-loop evaluation: many physical episodes in parallel, with a summary report."""
+"""Sim-in-the-loop evaluation: many physical episodes in parallel, with a summary report.
+
+Up to six blocks the pairs come from the enumerated world (all of them, or a seeded
+sample) and the policy is BFS or a rule file. For 7..10 cubes (the arm's limit) the
+states are relational: ``pairs`` = K samples K pairs uniformly by counting
+(:func:`csql_sim.core.state_count.sample_pairs`, a Generator from the sample seed),
+``"all"`` is refused naming the pair count, the policy must be lifted (a lifted rule file
+from :func:`~csql_sim.core.greedy_table.load_policy`, or the named baseline ``gn1``), and
+optimal lengths come from :func:`csql_sim.core.optimum.optimal_length` (measuring only).
+"""
 
 from __future__ import annotations
 
 import json
 import os
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -15,13 +26,18 @@ from csql_sim.core.notation import parse_config
 from csql_sim.core.pairs import check_sample_size, pair_count, selected_pairs
 from csql_sim.core.policy import Policy
 from csql_sim.core.sharded_policy import GoalColumns, ShardedPolicy
-from csql_sim.core.world import BlocksWorld, all_states
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.state_count import pair_count as large_pair_count
+from csql_sim.core.state_count import sample_pairs
+from csql_sim.core.world import MAX_BLOCKS, BlocksWorld, all_states
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance, rules_source
 from csql_sim.infra.workers import worker_count
+from csql_sim.learners.gn1 import Gn1Policy
+
+NAMED_POLICIES: dict[str, Callable[[], Any]] = {"gn1": Gn1Policy}
+"""Baseline policies by name (``--planner gn1``): lifted, for any number of blocks."""
 
 
 @dataclass(frozen=True)
@@ -164,12 +180,26 @@ def make_specs(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: in
     """
     if seeds < 1:
         raise CsqlError(f"--seeds must be a positive integer, got {seeds}")
+    if n > MAX_BLOCKS:
+        return _sampled_specs(n, pairs, seeds, sample_seed)
     states = all_states(n)
     if pairs != "all":
         check_sample_size(pairs, pair_count(len(states)))
     # every episode gets its own seed (pair rank x seeds + k), so perturbations differ across pairs
     return [EpisodeSpec(start=states[s].notation(), goal=states[g].notation(), seed=r * seeds + k)
             for r, s, g in selected_pairs(len(states), pairs, sample_seed) for k in range(seeds)]
+
+
+def _sampled_specs(n: int, pairs: str | int, seeds: int, sample_seed: int) -> list[EpisodeSpec]:
+    """Past six blocks: K pairs drawn uniformly by counting, never all of them."""
+    count = large_pair_count(n)
+    if pairs == "all":
+        raise CsqlError(f"--pairs all at {n} blocks would run {count:,} pairs ({count:.2e}); give --pairs K")
+    if not isinstance(pairs, int) or isinstance(pairs, bool) or not 1 <= pairs <= count:
+        raise CsqlError(f"--pairs must be 'all' or 1..{count:,} for {n} blocks, got {pairs!r}")
+    drawn = sample_pairs(n, pairs, np.random.default_rng(sample_seed))
+    return [EpisodeSpec(start=s.notation(), goal=g.notation(), seed=r * seeds + k)
+            for r, (s, g) in enumerate(drawn) for k in range(seeds)]
 
 
 class EpisodeRunner:
@@ -185,20 +215,24 @@ class EpisodeRunner:
 
     def __init__(self, policy: Policy, n: int, perturb: bool, perception: str,
                  camera_noise: tuple[float, float] = (0.0, 0.0)) -> None:
+        from csql_sim.sim.arm_state import world_model_for
         from csql_sim.sim.rgbd import CameraNoise
 
         self.policy = policy
-        self.world_model = WorldModel.for_blocks(n)
+        self.n = n
+        self.world_model = world_model_for(n)
         self.perturb = perturb
         self.perception = perception
         self.camera_noise = CameraNoise(*camera_noise)
 
     def run(self, spec: EpisodeSpec) -> EpisodeSummary:
         """Run one physical episode; a CsqlError becomes a failed summary with its message."""
+        from csql_sim.sim.arm_state import parse_arm_state
         from csql_sim.sim.executor import run_physical_episode
 
         try:
-            r = run_physical_episode(parse_config(spec.start), parse_config(spec.goal), self.policy, seed=spec.seed,
+            start, goal = parse_arm_state(spec.start), parse_arm_state(spec.goal)
+            r = run_physical_episode(start, goal, self.policy, seed=spec.seed,
                                      perturb=self.perturb, perception=self.perception,
                                      world_model=self.world_model, camera_noise=self.camera_noise)
         except CsqlError as exc:
@@ -224,27 +258,46 @@ class PolicyData:
         dtype: the array's dtype (``numpy.dtype.str``).
         goals: for a sharded rule base, the goals whose columns ``best`` holds
             (``best[k * S + state]`` for ``goals[k]``); empty: ``best`` is the whole table.
+        named: a named baseline policy (:data:`NAMED_POLICIES`, e.g. ``"gn1"``), or "".
+        lifted: a lifted policy read from a rule file (any n; its ``blocks`` is None), or None.
     """
 
     n: int
     best: bytes | None = None
     dtype: str = ""
     goals: tuple[int, ...] = ()
+    named: str = ""
+    lifted: Any = None
 
     @classmethod
     def read(cls, rules: str | os.PathLike | None, n: int, progress: bool = False,
-             goals: tuple[int, ...] = ()) -> PolicyData:
-        """Read the rule file ``rules`` (once; BFS when None, reading nothing).
+             goals: tuple[int, ...] = (), named: str | None = None) -> PolicyData:
+        """Read the rule file ``rules`` (once; BFS when None and no ``named`` policy, reading nothing).
 
         A sharded rule base is read only for ``goals`` (the goals of the episodes): their
-        shards, one column of greedy actions per goal.
+        shards, one column of greedy actions per goal. Past six blocks only a lifted policy
+        will do: BFS and ground rule files are refused.
 
         Raises:
             CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
         """
+        if named:
+            if named not in NAMED_POLICIES:
+                raise CsqlError(f"unknown policy {named!r}; named policies: {', '.join(NAMED_POLICIES)}")
+            if rules is not None:
+                raise CsqlError(f"give a rule file or the named policy {named!r}, not both")
+            return cls(n, named=named)
         if rules is None:
+            if n > MAX_BLOCKS:
+                raise CsqlError(f"BFS enumerates the world and plans only up to {MAX_BLOCKS} blocks; for {n} cubes "
+                                f"give lifted rules (--rules FILE) or the gn1 baseline (--planner gn1)")
             return cls(n)
         table = load_policy(rules, n, progress=progress)
+        if getattr(table, "blocks", 0) is None:  # lifted rules: any number of blocks
+            return cls(n, lifted=table)
+        if n > MAX_BLOCKS:
+            raise CsqlError(f"rule file {os.fspath(rules)!r} holds ground rules for {getattr(table, 'blocks', '?')} "
+                            f"blocks; for {n} cubes give lifted rules or the gn1 baseline (--planner gn1)")
         if isinstance(table, ShardedPolicy):
             wanted = tuple(sorted(set(goals)))
             columns = np.ascontiguousarray(table.columns(wanted))
@@ -254,7 +307,11 @@ class PolicyData:
         return cls(table.n, best.tobytes(), best.dtype.str)
 
     def policy(self) -> Policy:
-        """The policy itself (a greedy table over the shipped array, or BFS)."""
+        """The policy itself (a greedy table over the shipped array, a lifted or named policy, or BFS)."""
+        if self.named:
+            return NAMED_POLICIES[self.named]()
+        if self.lifted is not None:
+            return self.lifted
         if self.best is None:
             return load_policy(None, self.n)
         best = np.frombuffer(self.best, np.dtype(self.dtype))
@@ -281,17 +338,18 @@ def _run_in_worker(spec: EpisodeSpec) -> EpisodeSummary:
 def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool = False,
              workers: int | None = None, rules: str | None = None, perception: str = "pose",
              progress: bool = True, seed: int = 0, camera_noise: tuple[float, float] = (0.0, 0.0),
-             backend: Backend | None = None) -> EvalReport:
+             backend: Backend | None = None, planner: str | None = None) -> EvalReport:
     """Run physical episodes for every start/goal pair in parallel and summarise them.
 
     Args:
-        n: number of blocks.
-        pairs: ``"all"`` or the size of a seeded sample of start/goal pairs.
+        n: number of blocks, 2..10 (past six: relational states, a lifted policy, sampled pairs).
+        pairs: ``"all"`` or the size of a seeded sample of start/goal pairs (past six blocks
+            K only, drawn uniformly by counting).
         seeds: episodes per pair (each episode has its own seed, reported with failures).
         perturb: jitter start scenes, nudge cubes, drop carried cubes.
         workers: processes (default: every core; at most one per episode), or CPUs of a
             local Ray instance; overrides ``backend.workers``.
-        rules: a rule-base file; the BFS planner when None.
+        rules: a rule-base file; the BFS planner when None (and no ``planner``).
         perception: ``"pose"`` or ``"camera"``.
         progress: show a tqdm bar on stderr.
         seed: seeds the sample of pairs (``pairs`` = K).
@@ -300,18 +358,22 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
             with this process; or Ray). A task that fails with a CsqlError, or whose
             worker dies, is reported as a failed episode; any other exception (a bug)
             propagates.
+        planner: a named baseline policy instead of a rule file (``"gn1"``).
 
     Raises:
-        CsqlError: bad perception mode, camera noise, rule file or pairs, before any episode.
+        CsqlError: bad perception mode, camera noise, rule file, policy, number of cubes or
+            pairs, before any episode.
     """
+    from csql_sim.sim.arm_state import check_arm_blocks
     from csql_sim.sim.physical import check_perception
     from csql_sim.sim.rgbd import CameraNoise
 
+    check_arm_blocks(n)
     check_perception(perception)  # bad options fail once, here, not in every episode
     CameraNoise(*camera_noise)
     specs = make_specs(n, pairs, seeds, sample_seed=seed)
-    goals = tuple(BlocksWorld.of(n).state_index(parse_config(s.goal)) for s in specs)
-    policy = PolicyData.read(rules, n, progress=progress, goals=goals)  # the one read; the workers get the data
+    goals = () if n > MAX_BLOCKS else tuple(BlocksWorld.of(n).state_index(parse_config(s.goal)) for s in specs)
+    policy = PolicyData.read(rules, n, progress=progress, goals=goals, named=planner)  # the one read
     backend = backend or Backend()
     if workers is not None:
         backend = Backend(backend.kind, workers, backend.address)
@@ -325,7 +387,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         "rules": rules_source(rules), "blocks": n, "perception": perception, "perturb": perturb,
         "camera_noise": list(camera_noise),
         "pairs": pairs, "seeds": seeds, "seed": seed, "workers": used, "backend": backend.kind,
-        "address": backend.address, "version": __version__,
+        "address": backend.address, "version": __version__, **({"planner": planner} if planner else {}),
     }
     return report
 

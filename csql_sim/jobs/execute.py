@@ -30,14 +30,15 @@ from typing import Any
 
 from csql_sim.core.goal_spec import GoalSpec, atom_text, state_atoms
 from csql_sim.core.ipc_plan import PlanError, PlanStep, check_plan, parse_plan, read_plan
+from csql_sim.core.large_state import LETTERS, LargeState
 from csql_sim.core.notation import parse_config
 from csql_sim.core.pddl_import import BlocksProblem, parse_problem_text, read_problem
 from csql_sim.core.policy import Policy
-from csql_sim.core.world import BLOCK_NAMES, Action, State
+from csql_sim.core.world import BLOCK_NAMES, MAX_BLOCKS, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
-from csql_sim.jobs.execute_report import ExecuteResult, StepReport
+from csql_sim.jobs.execute_report import ExecuteResult, LargeGoal, StepReport
 from csql_sim.jobs.execute_steps import BEFORE, final_state, policy_reports, replay_reports
 
 VIDEO_SIZE, VIDEO_FPS = (640, 480), 30
@@ -129,17 +130,90 @@ def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None
                           perturb=perturb, video=video, progress=progress, files=files)
 
 
-def execute_task(start: str | State, goal: str | State | Sequence[str], plan: PlanInput | None = None,
-                 rules: str | os.PathLike | None = None, planner: str | None = None, seed: int = 0,
-                 perception: str = "pose", perturb: bool = False, video: str | os.PathLike | None = None,
-                 progress: bool = False) -> ExecuteResult:
+def execute_task(start: str | State | LargeState, goal: str | State | LargeState | Sequence[str],
+                 plan: PlanInput | None = None, rules: str | os.PathLike | None = None, planner: str | None = None,
+                 seed: int = 0, perception: str = "pose", perturb: bool = False,
+                 video: str | os.PathLike | None = None, progress: bool = False) -> ExecuteResult:
     """:func:`execute_problem` for a task in csql-sim's notation (objects ``a``, ``b``, ... are cubes A, B, ...).
 
     ``goal`` is a configuration (``"ABC"``) or a list of PDDL atoms (``["(on a b)"]``: a
-    partial goal).
+    partial goal). Past six blocks (7..10 cubes, relational states) the goal is a
+    configuration and the actions come from lifted rules or ``planner="gn1"``
+    (:func:`execute_large`).
     """
+    from csql_sim.sim.arm_state import parse_arm_state
+
+    first = start if isinstance(start, (State, LargeState)) else parse_arm_state(start)
+    if first.n > MAX_BLOCKS:
+        return execute_large(first, goal, plan=plan, rules=rules, planner=planner, seed=seed, perception=perception,
+                             perturb=perturb, video=video, progress=progress)
     return execute_blocks(task_problem(start, goal), plan=plan, rules=rules, planner=planner, seed=seed,
                           perception=perception, perturb=perturb, video=video, progress=progress)
+
+
+class LiftedGoalPolicy:
+    """A lifted policy towards a full goal, recording the last state it was asked in (for the report)."""
+
+    def __init__(self, inner: object, goal: LargeState) -> None:
+        self.inner, self.goal = inner, goal
+        self.name = getattr(inner, "name", "policy")
+        self.blocks = None
+        self.last_seen: LargeState | None = None
+
+    def act(self, state: LargeState, goal: LargeState) -> Action | None:
+        """The inner policy's action, or None at the goal."""
+        self.last_seen = state
+        return None if state == self.goal else self.inner.act(state, goal)
+
+
+def execute_large(start: LargeState, goal: str | LargeState | Sequence[str], plan: PlanInput | None = None,
+                  rules: str | os.PathLike | None = None, planner: str | None = None, seed: int = 0,
+                  perception: str = "pose", perturb: bool = False, video: str | os.PathLike | None = None,
+                  progress: bool = False) -> ExecuteResult:
+    """Run a task of 7..10 cubes on the arm with lifted rules (``rules``) or ``planner="gn1"``.
+
+    Raises:
+        CsqlError: one line, before any physics, for more than ten cubes, a partial goal,
+            a plan (checked plans are for the enumerated world), BFS or a ground rule file.
+    """
+    from csql_sim.core.greedy_table import load_policy
+    from csql_sim.jobs.evaluate import NAMED_POLICIES
+    from csql_sim.sim.arm_state import check_arm_blocks, check_arm_policy, parse_arm_state
+    from csql_sim.sim.physical import check_perception
+    from csql_sim.sim.video import check_video_options
+
+    n = check_arm_blocks(start.n)
+    check_perception(perception)
+    if video is not None:
+        check_video_options(video, *VIDEO_SIZE, VIDEO_FPS)
+    if not isinstance(goal, (str, LargeState)):
+        raise CsqlError(f"past {MAX_BLOCKS} blocks the goal must be a configuration, not PDDL atoms")
+    end = goal if isinstance(goal, LargeState) else parse_arm_state(goal, n)
+    if plan is not None or (rules is None) == (planner is None):
+        raise CsqlError(f"past {MAX_BLOCKS} blocks give exactly one of lifted rules or planner='gn1' "
+                        f"(plans are checked on the enumerated world, up to {MAX_BLOCKS} blocks)")
+    if planner is not None and planner not in NAMED_POLICIES:
+        raise CsqlError(f"past {MAX_BLOCKS} blocks the planner must be one of {', '.join(NAMED_POLICIES)} "
+                        f"(BFS enumerates the world), got {planner!r}")
+    inner = NAMED_POLICIES[planner]() if planner is not None else load_policy(rules, n, progress=progress)
+    check_arm_policy(inner, n)
+    policy = LiftedGoalPolicy(inner, end)
+    params = {"objects": {LETTERS[i].lower(): LETTERS[i] for i in range(n)}, "seed": seed, "perception": perception,
+              "perturb": perturb, "video": None if video is None else os.fspath(video),
+              "rules": rules_source(rules), "planner": planner or "rules"}
+    source = {"kind": planner or "rules", "file": None if rules is None else os.fspath(rules)}
+    episode = _episode(start, end, policy, seed, perception, perturb, video, progress, cap=None)
+    final = final_state(episode, policy, n)
+    spec = LargeGoal(end)
+    reached = spec.satisfied(final)
+    reason = "" if reached else episode.reason or _unsatisfied(spec, final)
+    result = ExecuteResult(reached=reached, reason=reason, problem=f"{start.notation()} -> {end.notation()}",
+                           objects=spec.names, start=start.notation(), goal=spec, target=end.notation(),
+                           source=source, steps=policy_reports(episode),
+                           final=None if final is None else final.notation(), episode=episode, parameters=params)
+    if video is not None:
+        result.video = _write_video(episode, video, params)
+    return result
 
 
 def task_problem(start: str | State, goal: str | State | Sequence[str]) -> BlocksProblem:
@@ -241,10 +315,11 @@ def _plan_reason(bp: BlocksProblem, episode: Any, replay: PlanReplay, reports: l
     return _unsatisfied(bp, final, "the plan ended; ")
 
 
-def _unsatisfied(bp: BlocksProblem, final: State | None, prefix: str = "") -> str:
+def _unsatisfied(bp: BlocksProblem | LargeGoal, final: State | LargeState | None, prefix: str = "") -> str:
     if final is None:
         return f"{prefix}nothing was perceived"
-    return f"{prefix}the perceived state {final.notation()} does not satisfy {' '.join(bp.goal.unsatisfied(final))}"
+    goal = bp if isinstance(bp, LargeGoal) else bp.goal
+    return f"{prefix}the perceived state {final.notation()} does not satisfy {' '.join(goal.unsatisfied(final))}"
 
 
 def _episode(start: State, target: State, policy: Policy, seed: int, perception: str, perturb: bool,
@@ -289,5 +364,5 @@ def _file(path: str | os.PathLike | None) -> dict[str, Any] | None:
     return {"file": os.fspath(path), "sha256": file_sha256(path)}
 
 
-__all__ = ["ExecuteResult", "GoalSetPolicy", "PlanError", "PlanReplay", "StepReport", "execute_blocks",
-           "execute_problem", "execute_task", "task_problem"]
+__all__ = ["ExecuteResult", "GoalSetPolicy", "LargeGoal", "LiftedGoalPolicy", "PlanError", "PlanReplay", "StepReport",
+           "execute_blocks", "execute_large", "execute_problem", "execute_task", "task_problem"]

@@ -20,9 +20,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from csql_sim.core.goal_spec import GoalSpec
-from csql_sim.core.notation import parse_config
-from csql_sim.core.world import BLOCK_NAMES
+from csql_sim.core.goal_spec import GoalSpec, atom_text, holds, state_atoms
+from csql_sim.core.large_state import LETTERS, LargeState
+from csql_sim.sim.arm_state import parse_arm_state
 
 REPORT_FORMAT = "csql-sim execute report"
 REPORT_VERSION = 1
@@ -68,6 +68,41 @@ class StepReport:
         return f"step {self.step} ({line}{said})"
 
 
+class LargeGoal:
+    """A full goal of 7..10 cubes, with the :class:`~csql_sim.core.goal_spec.GoalSpec` calls a report makes.
+
+    (A GoalSpec lists the states that satisfy it, which past six blocks cannot be done.)
+    """
+
+    partial = False
+
+    def __init__(self, state: LargeState) -> None:
+        self.state = state
+        self.n = state.n
+        self.names = tuple(LETTERS[: state.n].lower())
+        self.states = (state,)
+
+    def satisfied(self, state: LargeState | None) -> bool:
+        """Whether ``state`` is the goal (None: nothing perceived)."""
+        return state is not None and state == self.state
+
+    def nearest(self, state: LargeState) -> LargeState:
+        """The goal state itself."""
+        return self.state
+
+    def atom_texts(self) -> list[str]:
+        """The atoms that pin the goal down, in PDDL form, sorted."""
+        return sorted(atom_text(a, self.names) for a in state_atoms(self.state))
+
+    def text(self) -> str:
+        """The goal in one line."""
+        return " ".join(self.atom_texts())
+
+    def unsatisfied(self, state: LargeState) -> list[str]:
+        """The goal's atoms that ``state`` violates."""
+        return sorted(atom_text(a, self.names) for a in state_atoms(self.state) if not holds(a, state))
+
+
 @dataclass(kw_only=True)
 class ExecuteResult:
     """The outcome of running a plan, a rule base or the planner on the simulated arm.
@@ -78,7 +113,7 @@ class ExecuteResult:
         problem: the problem's name (or the task, for a task given in notation).
         objects: the blocks' names; ``objects[i]`` is cube ``A + i``.
         start: the start state (notation).
-        goal: the goal.
+        goal: the goal (a :class:`LargeGoal` past six blocks).
         target: the goal state the executor ran to (the plan's end state, or the goal
             state nearest the start for a planner).
         source: what chose the actions: ``{"kind": "plan" | "rules" | "bfs", "file": ...}``.
@@ -94,7 +129,7 @@ class ExecuteResult:
     problem: str
     objects: tuple[str, ...]
     start: str
-    goal: GoalSpec
+    goal: GoalSpec | Any
     target: str
     source: dict[str, Any]
     steps: list[StepReport]
@@ -111,7 +146,7 @@ class ExecuteResult:
     @property
     def mapping(self) -> dict[str, str]:
         """Object name -> cube letter."""
-        return {name: BLOCK_NAMES[i] for i, name in enumerate(self.objects)}
+        return {name: LETTERS[i] for i, name in enumerate(self.objects)}
 
     @property
     def failed_step(self) -> StepReport | None:
@@ -173,7 +208,7 @@ class ExecuteResult:
             head.append(f"failed at {bad.where()}: {bad.status}; perceived {bad.perceived}"
                         + (f" ({bad.detail})" if bad.detail else ""))
         if not self.reached and self.final is not None:
-            missing = self.goal.unsatisfied(parse_config(self.final, self.blocks))
+            missing = self.goal.unsatisfied(parse_arm_state(self.final, self.blocks))
             if missing:
                 head.append(f"goal atoms not satisfied by the perceived state {self.final}: {' '.join(missing)}")
         return "\n".join(head + self.lines()[:-1])

@@ -14,27 +14,28 @@ from collections.abc import Sequence
 from typing import Any
 
 from csql_sim.core.ipc_plan import PlanStep
-from csql_sim.core.notation import parse_config
+from csql_sim.core.large_state import LargeState
 from csql_sim.core.world import State, WorldError
 from csql_sim.jobs.execute_report import StepReport
+from csql_sim.sim.arm_state import parse_arm_state
 
 BEFORE = "perceived before the step"
 """How a step's detail starts when perception diverged before the step was run (not after it)."""
 
 
-def final_state(episode: Any, policy: Any, n: int) -> State | None:
+def final_state(episode: Any, policy: Any, n: int) -> State | LargeState | None:
     """The last perceived state of an episode (None when perception failed at the end).
 
     After a success it is the executor's goal; otherwise what was perceived after the last
     action, or (no action ran) the state the policy was last asked in.
     """
     if episode.success:
-        return parse_config(episode.goal, n)
+        return parse_arm_state(episode.goal, n)
     if episode.reason.startswith("perception failed"):
         return None
     if episode.steps:
         try:
-            return parse_config(episode.steps[-1].perceived, n)
+            return parse_arm_state(episode.steps[-1].perceived, n)
         except WorldError:
             return None
     return policy.last_seen

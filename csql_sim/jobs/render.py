@@ -7,9 +7,9 @@ import os
 from pathlib import Path
 
 from csql_sim.core.policy import Policy
-from csql_sim.core.world import State
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
+from csql_sim.sim.arm_state import ArmState
 from csql_sim.sim.executor import EpisodeResult, run_physical_episode
 from csql_sim.sim.renderer import resolve_renderer
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
@@ -19,7 +19,7 @@ SIDECAR_FORMAT = "csql-sim video provenance"
 SIDECAR_VERSION = 1
 
 
-def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Policy | None = None,
+def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, policy: Policy | None = None,
                    seed: int = 0, width: int = 640, height: int = 480, fps: int = 30,
                    workers: int | None = None, perturb: bool = False, perception: str = "pose",
                    progress: bool = True, provenance_extra: dict | None = None,
@@ -31,10 +31,10 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
     a one-line OutputError (its text kept in the temporary folder).
 
     Args:
-        start: the start configuration.
+        start: the start configuration: a State (n <= 6) or a LargeState (7..10 cubes).
         goal: the goal configuration.
         out: the .mp4 or .gif to write.
-        policy: any Policy; the BFS planner when None.
+        policy: any Policy; the BFS planner when None (n <= 6; past six a lifted policy).
         seed: the episode's seed.
         width: frame width in pixels.
         height: frame height in pixels.
@@ -54,9 +54,9 @@ def render_episode(start: State, goal: State, out: str | os.PathLike, policy: Po
     renderer = resolve_renderer(renderer)  # an unusable --renderer fails before the episode runs
     from tqdm import tqdm
 
-    from csql_sim.core.search import distance
+    from csql_sim.sim.arm_state import arm_optimal_length
 
-    with tqdm(total=distance(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
+    with tqdm(total=arm_optimal_length(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
               leave=False) as bar:
         result = run_physical_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
                                       perception=perception, fps=fps, on_action=lambda _k: bar.update(),

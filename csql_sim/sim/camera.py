@@ -38,6 +38,27 @@ PERCEPTION_CAMERAS = (
 """Three views; each cube is located in the view that sees most of it."""
 RENDER_CAMERA = Camera(eye=(1.4, 0.6, 0.7), target=(0.3, 0.0, 0.3), fov=50.0, width=640, height=480)
 """The video view: the whole arm (base to raised hand) and the cubes, from the front right."""
+WIDE_PERCEPTION_CAMERAS = (
+    Camera(eye=(1.45, 0.0, 1.0), target=(0.42, 0.0, 0.12), fov=55.0, width=480, height=360),  # in front, further back
+    Camera(eye=(0.4, 1.25, 0.95), target=(0.42, 0.0, 0.12), fov=55.0, width=480, height=360),  # from the left
+    Camera(eye=(0.4, -1.25, 0.95), target=(0.42, 0.0, 0.12), fov=55.0, width=480, height=360),  # from the right
+)
+"""The views of 7..10 cubes (:func:`perception_cameras`): the whole arc of places, and a tower of ten
+at either end of it, in every view."""
+WIDE_RENDER_CAMERA = RENDER_CAMERA
+"""The video view of 7..10 cubes (:func:`render_camera`)."""
+
+
+def perception_cameras(n: int) -> tuple[Camera, ...]:
+    """The perception cameras of an n-cube scene: :data:`PERCEPTION_CAMERAS` for n <= 6."""
+    return PERCEPTION_CAMERAS if n <= 6 else WIDE_PERCEPTION_CAMERAS
+
+
+def render_camera(n: int) -> Camera:
+    """The video view of an n-cube scene: :data:`RENDER_CAMERA` for n <= 6."""
+    return RENDER_CAMERA if n <= 6 else WIDE_RENDER_CAMERA
+
+
 CAMERA_TOLERANCES = Tolerances(stack_z=0.012, stack_xy=0.025, table_z=0.012, hold_dist=0.03)
 """Camera estimates are coarser than poses: slightly wider tolerances."""
 

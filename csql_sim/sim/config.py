@@ -25,10 +25,19 @@ class PhysicsConfig:
 
 @dataclass(frozen=True)
 class LayoutConfig:
-    """Where towers of the start scene stand and where putdown may place a block."""
+    """Where towers of the start scene stand and where putdown may place a block.
+
+    Two shapes: a row (``arc_radius`` 0: start towers along y at ``tower_x``, putdown
+    spots on the ``free_x`` x ``free_y`` grid), or an arc (``arc_radius`` > 0: start
+    towers and putdown spots alike on ``arc_positions`` places ``arc_spacing`` apart on a
+    circle about the arm's base, so the forearm reaching one never sweeps over another).
+    """
 
     tower_x: float = 0.5  # x of the start towers, m
     tower_spacing: float = 0.12  # y distance between start towers, m
+    arc_radius: float = 0.0  # > 0: the arc layout's distance from the arm's base (z axis), m
+    arc_spacing: float = 0.095  # distance between neighbouring places on the arc, m
+    arc_positions: int = 11  # places on the arc (start slots and putdown spots), centred on the x axis
     free_x: tuple[float, ...] = (0.42, 0.50, 0.58)  # candidate putdown x, m
     free_y: tuple[float, ...] = (-0.24, -0.18, -0.12, -0.06, 0.0, 0.06, 0.12, 0.18, 0.24)  # m
     free_clearance: float = 0.085  # min xy distance of a putdown spot from any block, m
@@ -60,6 +69,10 @@ class ControlConfig:
     settle_steps: int = 150  # step cap while waiting for the scene to settle
     settle_min_steps: int = 8  # always step at least this long when settling
     home_joints: tuple[float, ...] = (0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785)  # rad
+    ik_model: bool = False  # solve IK on a kinematic copy of the arm, from the home pose turned to the target
+    ik_model_iterations: int = 300  # IK iterations on that copy (it starts from the home pose every time)
+    place_pause: float = 0.0  # > 0: a place stops this far above its goal before the last guarded descent, m
+    aim_column: bool = False  # stack onto the mean xy of the tower below, not onto its top cube alone
 
 
 @dataclass(frozen=True)
@@ -73,11 +86,60 @@ class SimConfig:
 
 DEFAULT_CONFIG = SimConfig()
 
+MAX_ARM_BLOCKS = 10
+"""The most cubes on the arm: the table layout (start towers side by side, putdown spots
+clear of them) and the Panda's reach (the carry height above a tower of ten) allow ten."""
+
+WIDE_LAYOUT = LayoutConfig(arc_radius=0.64, arc_spacing=0.16, arc_positions=10)
+"""The layout of 7..10 cubes: ten places 0.16 m apart on an arc 0.64 m from the arm's base (+-64 degrees).
+
+Ten start towers fit side by side, and with one cube in the hand at most nine places are
+taken, so a putdown always finds one. A row would not do: a tower of seven or more
+cubes in front of or behind a place is in the forearm's way when the hand goes down there.
+On the arc a tall neighbour stands beside the forearm's plane instead: 0.16 m keeps the
+forearm's housing (its widest part, on the anticlockwise side) clear of a tower of ten
+when the hand goes down to the table next to it, with room for the centimetre by which
+such a tower leans (at 0.14 m the housing cleared an upright tower by 12 mm and still
+toppled a leaning one)."""
+
+WIDE_PHYSICS = PhysicsConfig(table_half_extents=(0.45, 0.72, 0.02))
+"""The table of 7..10 cubes: wider (y within +-0.72 m), so the arc's ends are 0.14 m from its edge."""
+
+WIDE_CONFIG = SimConfig(physics=WIDE_PHYSICS, layout=WIDE_LAYOUT,
+                        control=ControlConfig(ik_model=True, move_steps=300, place_pause=0.012,
+                                              aim_column=True))
+"""The settings of a scene of 7..10 cubes (:func:`config_for`).
+
+Its arm solves inverse kinematics on a kinematic copy of itself, always from the home pose
+turned towards the target (``ControlConfig.ik_model``): every solution keeps the elbow up
+in the vertical plane through the target, so the forearm going down next to a tall tower
+stays clear of it. Solved from the arm's current joints instead (the six-cube setting),
+the redundant joints drift over a long episode and the forearm swings sideways into
+neighbouring towers. A free move may take 300 steps: from one end of the arc to the other
+the base turns by two radians. A place comes to rest 12 mm above its goal before the last
+guarded descent: at full reach the moving hand trails its path by about 3 mm towards the
+base, and a descent stopped by the contact left every cube of a tall tower that much
+further in (a tower of ten leaned by 2 cm). A stack aims at the middle of the tower below,
+not at its top cube: the camera's estimates lie 1.5 mm towards it, and aiming at each top
+cube in turn added that up level by level too."""
+
+
+def config_for(n: int) -> SimConfig:
+    """The default settings of an n-cube scene: :data:`DEFAULT_CONFIG` for n <= 6, else :data:`WIDE_CONFIG`."""
+    return DEFAULT_CONFIG if n <= 6 else WIDE_CONFIG
+
+
 COLOURS: tuple[tuple[float, float, float, float], ...] = (
-    (0.85, 0.15, 0.15, 1.0),  # A red
-    (0.15, 0.7, 0.2, 1.0),  # B green
-    (0.15, 0.3, 0.85, 1.0),  # C blue
-    (0.95, 0.8, 0.1, 1.0),  # D yellow
-    (0.6, 0.2, 0.75, 1.0),  # E purple
-    (0.95, 0.5, 0.1, 1.0),  # F orange
+    (0.85, 0.15, 0.15, 1.0),  # A red, hue 0
+    (0.15, 0.7, 0.2, 1.0),  # B green, hue 126
+    (0.15, 0.3, 0.85, 1.0),  # C blue, hue 227
+    (0.95, 0.8, 0.1, 1.0),  # D yellow, hue 49
+    (0.6, 0.2, 0.75, 1.0),  # E purple, hue 284
+    (0.95, 0.5, 0.1, 1.0),  # F orange, hue 28
+    (0.1, 0.75, 0.85, 1.0),  # G cyan, hue 188
+    (0.9, 0.15, 0.6, 1.0),  # H magenta, hue 324
+    (0.55, 0.85, 0.1, 1.0),  # I lime, hue 84
+    (0.1, 0.65, 0.45, 1.0),  # J teal, hue 158
 )
+"""The cubes' paint. Sorted by hue the ten paints are at least 21 degrees apart (orange to
+yellow), more than twice the segmentation's hue tolerance (rgbd.SegmentationLimits.hue)."""

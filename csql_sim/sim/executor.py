@@ -9,47 +9,47 @@ default). A mismatch is logged and the loop continues from the perceived state, 
 cap on actions. Success is :meth:`PhysicalWorld.reached`: the task's
 :meth:`~csql_sim.core.task.Task.is_success` on the perceived state, with the scene settled;
 it is never inferred from the plan.
+
+Up to six cubes the states are the enumerated world's, the messages the paper's form and
+the default world model the ground R-classifiers. For 7..10 cubes
+(:mod:`csql_sim.sim.arm_state`) the states are relational, the messages take the large
+form, the world model reads the lifted rules, optimal lengths come from the exact
+optimum (measuring only), and the policy must be lifted: BFS and ground rule bases are
+refused before the scene is built. What ``--perturb`` does is :mod:`csql_sim.sim.perturbation`.
 """
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-import numpy as np
-
-from csql_sim.core.message import action_code, format_state_message
 from csql_sim.core.policy import Policy
-from csql_sim.core.search import BfsPolicy, distance
+from csql_sim.core.search import BfsPolicy
 from csql_sim.core.task import Task
-from csql_sim.core.world import Action, BlocksWorld, State
+from csql_sim.core.world import Action
 from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.arm_state import (
+    ArmState,
+    Messages,
+    RelationalWorldModel,
+    arm_optimal_length,
+    check_arm_blocks,
+    check_arm_policy,
+    label,
+    to_arm_state,
+    world_model_for,
+)
+from csql_sim.sim.config import SimConfig
 from csql_sim.sim.perception import Perceived
+from csql_sim.sim.perturbation import PERTURBATION, Perturbation, PerturbationPlan, drop_hook, nudge
 from csql_sim.sim.physical import PhysicalWorld, SimError
-from csql_sim.sim.primitives import CarryHook, Status
+from csql_sim.sim.primitives import Status
 from csql_sim.sim.recording import Caption, Recorder, Recording
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 from csql_sim.sim.scene import Pose
 
-
-@dataclass(frozen=True)
-class Perturbation:
-    """What --perturb does to an episode (all draws from the episode's generator)."""
-
-    jitter_start: bool = True  # offset and rotate every cube of the start scene
-    nudge_probability: float = 0.5  # chance of one physical nudge before some action
-    nudge_force: float = 3.0  # N, horizontal, at the cube's centre
-    nudge_steps: int = 10  # steps the force acts
-    drop_probability: float = 0.5  # chance of opening the gripper during one carry
-    drop_window: tuple[float, float] = (0.02, 0.1)  # fractions of the carry (arm still slow) to open in
-    drop_clearance: float = 0.12  # m: open only where the cube falls clear of other cubes
-
-
-PERTURBATION = Perturbation()
 BLOCKED_PICK_TRIES = 2  # consecutive picks of a cube stopped by collisions before it is dragged clear
 
 
@@ -120,66 +120,55 @@ class EpisodeResult:
         return sum(s.sim_seconds for s in self.steps) / max(1, len(self.steps))
 
 
-def default_max_actions(start: State, goal: State) -> int:
+def default_max_actions(start: ArmState, goal: ArmState) -> int:
     """The step cap: room for recovery beyond the optimal plan."""
-    return 3 * distance(start, goal) + 12
+    return 3 * arm_optimal_length(start, goal) + 12
 
 
-@dataclass(frozen=True)
-class PerturbationPlan:
-    """Before which action (by its index in the episode) a nudge or a drop happens; -1: never."""
-
-    nudge_at: int = -1
-    drop_at: int = -1
-
-    @classmethod
-    def draw(cls, rng: np.random.Generator, optimal: int, perturbation: Perturbation) -> PerturbationPlan:
-        """Draw the plan from the episode's generator (nudge first, then drop)."""
-        nudge_at = drop_at = -1
-        if rng.random() < perturbation.nudge_probability:
-            nudge_at = int(rng.integers(max(1, optimal)))
-        if rng.random() < perturbation.drop_probability:
-            drop_at = int(rng.integers(max(1, optimal)))
-        return cls(nudge_at=nudge_at, drop_at=drop_at)
-
-
-def run_physical_episode(start: State, goal: State, policy: Policy | None = None, seed: int = 0,
+def run_physical_episode(start: ArmState, goal: ArmState, policy: Policy | None = None, seed: int = 0,
                          record: bool = False, perturb: bool = False, perception: str = "pose",
-                         max_actions: int | None = None, fps: int = 30, config: SimConfig = DEFAULT_CONFIG,
+                         max_actions: int | None = None, fps: int = 30, config: SimConfig | None = None,
                          perturbation: Perturbation = PERTURBATION,
-                         world_model: WorldModel | None = None,
+                         world_model: WorldModel | RelationalWorldModel | None = None,
                          on_action: Callable[[int], None] | None = None,
                          camera_noise: CameraNoise = NO_NOISE) -> EpisodeResult:
     """Execute ``policy`` from ``start`` to ``goal`` on the simulated arm.
 
     Args:
-        start: the start configuration (a held block is grasped for real).
+        start: the start configuration (a held block is grasped for real): a State for
+            n <= 6, a LargeState for 7..10 cubes (one of the other kind is converted).
         goal: the goal configuration.
-        policy: any Policy; the BFS planner when None.
+        policy: any Policy; the BFS planner when None (n <= 6 only: past six blocks the
+            policy must be lifted, anything with ``act(state, goal)``).
         seed: seeds the episode's only generator.
         record: keep every body's pose at ``fps`` frames per simulated second.
         perturb: jitter the start scene, maybe nudge a cube and maybe drop the held cube.
         perception: ``"pose"`` or ``"camera"``.
         max_actions: cap on executed actions (default: 3 x optimal + 12).
         fps: recording frame rate in simulated time.
-        config: scene settings.
+        config: scene settings (default: :func:`~csql_sim.sim.config.config_for` n).
         perturbation: what ``perturb`` does.
         world_model: predicts each next state and judges legality (default: the built-in
-            R-classifiers, :meth:`WorldModel.for_blocks`, built once for this episode).
+            R-classifiers, :meth:`WorldModel.for_blocks`, built once for this episode; past
+            six blocks the lifted rules, :class:`~csql_sim.sim.arm_state.RelationalWorldModel`).
         on_action: called with the number of actions executed after each one (progress).
         camera_noise: sensor noise of camera perception.
 
     Raises:
-        SimError: if the start state cannot be built.
+        SimError: if the start state cannot be built, the arm cannot take n cubes, or the
+            policy cannot plan for n (BFS or a ground rule base past six blocks).
     """
     if start.n != goal.n:
         raise SimError(f"start has {start.n} blocks but goal has {goal.n}")
+    check_arm_blocks(start.n)
+    check_arm_policy(policy, start.n)
+    start, goal = to_arm_state(start), to_arm_state(goal)
     task = Task(start, goal)
     cap = default_max_actions(start, goal) if max_actions is None else max_actions
     t_setup = time.perf_counter()
     with PhysicalWorld(start.n, seed, perception, config, camera_noise=camera_noise) as world:
         world.build(start, jitter=perturb and perturbation.jitter_start)
-        episode = Episode(task, world, policy or BfsPolicy(), world_model or WorldModel.for_blocks(start.n),
+        episode = Episode(task, world, policy or BfsPolicy(), world_model or world_model_for(start.n),
                           cap=cap, seed=seed, perturbation=perturbation if perturb else None,
                           fps=fps if record else None, on_action=on_action)
         episode.result.wall_seconds["setup"] = episode.t_loop - t_setup
@@ -201,12 +190,14 @@ class Episode:
         on_action: called with the number of actions executed after each one.
     """
 
-    def __init__(self, task: Task, world: PhysicalWorld, policy: Policy, world_model: WorldModel, *, cap: int,
+    def __init__(self, task: Task, world: PhysicalWorld, policy: Policy,
+                 world_model: WorldModel | RelationalWorldModel, *, cap: int,
                  seed: int, perturbation: Perturbation | None, fps: int | None,
                  on_action: Callable[[int], None] | None = None) -> None:
         self.task, self.world, self.policy, self.model, self.cap = task, world, policy, world_model, cap
-        self.goal_index = BlocksWorld.of(task.n).state_index(task.goal)
-        optimal = distance(task.start, task.goal)
+        self.messages = Messages(task.goal)
+        self.goal_index = self.messages.goal_index or 0  # the world model's goal argument (unused past six)
+        optimal = arm_optimal_length(task.start, task.goal)
         self.result = EpisodeResult(start=task.start.notation(), goal=task.goal.notation(), seed=seed,
                                     optimal_length=optimal)
         self.t_loop = time.perf_counter()
@@ -220,7 +211,7 @@ class Episode:
         self.recorder: Recorder | None = None
         if fps is not None:
             first = Caption(0, f"start {task.start.notation()}, goal {task.goal.notation()}",
-                            format_state_message(task.start, self.goal_index))
+                            self.messages.state(task.start))
             self.recorder = Recorder(world.scene, fps, first)
             world.add_step_hook(self.recorder)
 
@@ -241,7 +232,7 @@ class Episode:
                 return True
             result.reason = f"perception failed: {perceived.reason}"
             return False
-        message = format_state_message(state, self.goal_index)
+        message = self.messages.state(state)
         if result.steps:
             self._caption(Caption(len(result.steps), f"perceived {state.notation()}", message))
         if self.world.reached(perceived, self.task.goal):
@@ -265,7 +256,7 @@ class Episode:
         if self.recorder is not None:
             self.recorder.caption = caption
 
-    def _choose(self, state: State) -> Action | None:
+    def _choose(self, state: ArmState) -> Action | None:
         """The policy's action if the world model finds it legal; None (with the reason set) otherwise."""
         try:
             action = self.policy.act(state, self.task.goal)
@@ -273,7 +264,7 @@ class Episode:
             self.result.reason = f"policy failed: {exc}"
             return None
         if action is None or not self.model.is_legal(state, action, self.goal_index):
-            name = "no action" if action is None else action.name()
+            name = "no action" if action is None else label(action)
             self.result.reason = f"policy gave {name} in {state.notation()}"
             return None
         return action
@@ -282,18 +273,17 @@ class Episode:
         """Consecutive failed tries of this very action just before now."""
         attempt = 0
         for earlier in reversed(self.result.steps):
-            if earlier.action != action.name() or earlier.status.ok:
+            if earlier.action != label(action) or earlier.status.ok:
                 break
             attempt += 1
         return attempt
 
-    def _execute(self, state: State, message: str, action: Action, predicted: State) -> None:
+    def _execute(self, state: ArmState, message: str, action: Action, predicted: ArmState) -> None:
         """Run the primitive (with any planned perturbation), perceive, and record the step."""
         world, result, pert = self.world, self.result, self.perturbation
         k = len(result.steps)
-        hook = _drop_hook(world, action, pert, result.events) if pert and k == self.plan.drop_at else None
-        code = int(action_code(action, self.task.n), 36)
-        self._caption(Caption(k + 1, action.name(), format_state_message(state, self.goal_index, code)))
+        hook = drop_hook(world, action, pert, result.events) if pert and k == self.plan.drop_at else None
+        self._caption(Caption(k + 1, label(action), self.messages.state(state, action)))
         attempt = self._attempt(action)
         if action.is_pick and attempt >= BLOCKED_PICK_TRIES and "collision" in result.steps[-1].status.reason:
             fix = _recover(world, self.perceived, blocked_pick=action.block)  # make room around it
@@ -304,11 +294,11 @@ class Episode:
         t0 = world.scene.steps
         status = world.execute(action, hook, attempt)
         if pert and k == self.plan.nudge_at:
-            result.events.append(_nudge(world, world.rng, pert))
+            result.events.append(nudge(world, world.rng, pert))
         result.event_steps.extend([k] * (len(result.events) - len(result.event_steps)))
         self.perceived = world.perceive()
         seen = self.perceived.state.notation() if self.perceived.state is not None else self.perceived.reason
-        result.steps.append(StepRecord(action=action.name(), message=message, status=status,
+        result.steps.append(StepRecord(action=label(action), message=message, status=status,
                                        predicted=predicted.notation(), perceived=seen,
                                        sim_seconds=(world.scene.steps - t0) * world.config.physics.time_step))
         if self.on_action is not None:
@@ -341,56 +331,6 @@ def _recover(world: PhysicalWorld, perceived: Perceived, blocked_pick: int | Non
     why = perceived.reason if blocked_pick is None else "picks keep colliding with neighbours"
     return StepRecord(action=name, message=why, status=status, predicted="", perceived=seen,
                       sim_seconds=(world.scene.steps - t0) * world.config.physics.time_step, recovery=True)
-
-
-def _nudge(world: PhysicalWorld, rng: np.random.Generator, pert: Perturbation) -> str:
-    """Push a clear cube sideways with an external force (physics, not a reset).
-
-    A lone cube slides; a cube on top of a tower may be pushed off it onto the table.
-    """
-    state = world.perceive().state
-    if state is None:
-        return "nudge skipped: nothing perceived"
-    lone = [i for i in range(state.n) if state.is_clear(i)]
-    if not lone:
-        return "nudge skipped: no clear cube"
-    block = lone[int(rng.integers(len(lone)))]
-    scene = world.scene
-    pos = np.asarray(scene.block_pose(block).position)
-    others = [np.asarray(scene.block_pose(i).position) for i in range(state.n) if i != block]
-    nearest = min(others, key=lambda p: float(np.linalg.norm(p[:2] - pos[:2])))
-    away = math.atan2(pos[1] - nearest[1], pos[0] - nearest[0])
-    angle = away + rng.uniform(-math.pi / 4, math.pi / 4)
-    force = (pert.nudge_force * math.cos(angle), pert.nudge_force * math.sin(angle), 0.0)
-    body = scene.block_body(block)
-    for _ in range(pert.nudge_steps):
-        centre = scene.block_pose(block).position
-        scene.apply_force(body, force, centre)
-        scene.step()
-    world.settle()
-    return f"nudged {'ABCDEF'[block]} towards {math.degrees(angle):.0f} deg"
-
-
-def _drop_hook(world: PhysicalWorld, action: Action, pert: Perturbation, events: list[str]) -> CarryHook | None:
-    """A carry hook that opens the gripper once the carried cube is clear of the others."""
-    if action.is_pick:
-        return None
-    scene, panda = world.scene, world.panda
-    fired = [False]
-
-    def hook(fraction: float) -> None:
-        if fired[0] or not pert.drop_window[0] <= fraction <= pert.drop_window[1]:
-            return
-        pos = np.asarray(scene.block_pose(action.block).position)
-        for i in range(scene.n):
-            if i != action.block and np.linalg.norm(np.asarray(scene.block_pose(i).position)[:2] - pos[:2]) < \
-                    pert.drop_clearance:
-                return
-        panda.set_fingers(2 * scene.config.control.finger_open)
-        fired[0] = True
-        events.append(f"gripper opened while carrying {'ABCDEF'[action.block]}")
-
-    return hook
 
 
 __all__ = ["Episode", "EpisodeResult", "Perturbation", "PerturbationPlan", "SimError", "StepRecord",

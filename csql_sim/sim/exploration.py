@@ -18,7 +18,7 @@ import numpy as np
 from csql_sim.core.world import Action, State, all_states
 from csql_sim.discovery.world import Attempt
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
-from csql_sim.sim.executor import PERTURBATION, Perturbation, _nudge
+from csql_sim.sim.perturbation import PERTURBATION, Perturbation, nudge
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.recording import Caption, Recorder
 
@@ -85,7 +85,7 @@ class ArmWorld:
             self.recorder.still(round(self.recorder.recording.fps * CAPTION_HOLD))
         events: tuple[str, ...] = ()
         if self.perturb and self.rng.random() < self.nudge_probability:
-            events = (_nudge(self.world, self.rng, self.perturbation),)
+            events = (nudge(self.world, self.rng, self.perturbation),)
         return Attempt(status.ok, status.reason, (scene.steps - start) * self.config.physics.time_step, events,
                        status.refused)  # only a precondition refusal, never "did not move"
 

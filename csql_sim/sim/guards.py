@@ -20,7 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.world import BLOCK_NAMES, Action, ActionKind
+from csql_sim.core.world import Action, ActionKind
+from csql_sim.sim.arm_state import letter
 from csql_sim.sim.perception import Observation, Tolerances, gripper_closed_on_cube, holding, on, on_table
 from csql_sim.sim.primitives import CarryHook, Pick, Place, Status
 from csql_sim.sim.robot import Panda
@@ -35,21 +36,21 @@ def _on_top_of(obs: Observation, x: int, tol: Tolerances) -> int | None:
 def refusal(action: Action, obs: Observation, tol: Tolerances) -> str:
     """Why ``action``'s primitive must not start in ``obs``; empty when it may."""
     x = action.block
-    name = BLOCK_NAMES[x]
+    name = letter(x)
     if action.is_pick:
         if gripper_closed_on_cube(obs, tol) or any(holding(obs, i, tol) for i in range(len(obs.blocks))):
             return "hand already full"
         if action.kind is ActionKind.PICKUP and not on_table(obs, x, tol):
             return f"nothing to grasp: {name} is not on the table"
         if action.kind is ActionKind.UNSTACK and not on(obs, x, action.target, tol):
-            return f"nothing to grasp: {name} is not on {BLOCK_NAMES[action.target]}"
+            return f"nothing to grasp: {name} is not on {letter(action.target)}"
         top = _on_top_of(obs, x, tol)
         if top is not None:
-            return f"{BLOCK_NAMES[top]} is on top of {name}"
+            return f"{letter(top)} is on top of {name}"
     elif action.kind is ActionKind.STACK:
         top = _on_top_of(obs, action.target, tol)
         if top is not None:
-            return f"{BLOCK_NAMES[top]} is on top of {BLOCK_NAMES[action.target]}"
+            return f"{letter(top)} is on top of {letter(action.target)}"
     return ""
 
 
@@ -57,9 +58,9 @@ def missed_outcome(action: Action, obs: Observation, tol: Tolerances) -> str:
     """Why a put that reported success did not leave its cube where it should; empty if it did."""
     x = action.block
     if action.kind is ActionKind.PUTDOWN and not on_table(obs, x, tol):
-        return f"{BLOCK_NAMES[x]} did not come to rest on the table"
+        return f"{letter(x)} did not come to rest on the table"
     if action.kind is ActionKind.STACK and not on(obs, x, action.target, tol):
-        return f"{BLOCK_NAMES[x]} did not come to rest on {BLOCK_NAMES[action.target]}"
+        return f"{letter(x)} did not come to rest on {letter(action.target)}"
     return ""
 
 

@@ -2,7 +2,8 @@
 
 One small predicate per relation, each with named tolerances in :class:`Tolerances`.
 Both perception modes produce an :class:`Observation` (estimated cube centres and the
-gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.core.world.State`.
+gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.core.world.State`
+(n <= 6) or a :class:`~csql_sim.core.large_state.LargeState` (7..10 cubes).
 """
 
 from __future__ import annotations
@@ -13,7 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from csql_sim.core.message import format_state_message
-from csql_sim.core.world import BLOCK_NAMES, HAND, TABLE, BlocksWorld, State, WorldError
+from csql_sim.core.world import HAND, TABLE, WorldError
+from csql_sim.sim.arm_state import ArmState, Messages, arm_state, letter
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Scene, rotation_matrix
 
@@ -70,7 +72,7 @@ class Observation:
 class Perceived:
     """The result of interpreting an observation: a state, or the reason there is none."""
 
-    state: State | None
+    state: ArmState | None
     reason: str = ""
     stray: int | None = None  # a visible cube, not held, that rests flat nowhere (recovery can fix it)
 
@@ -162,7 +164,7 @@ def interpret(obs: Observation, tol: Tolerances = TOLERANCES) -> Perceived:
             support[x] = HAND
         elif obs.blocks[x].visible:
             if obs.blocks[x].position[2] < tol.off_table_z:
-                return Perceived(None, f"block {BLOCK_NAMES[x]} fell off the table")
+                return Perceived(None, f"block {letter(x)} fell off the table")
             support[x] = _resting_support(obs, x, tol)
     unplaced = [x for x in range(n) if support[x] is None]
     if len(unplaced) == 1 and HAND not in support and gripper_closed_on_cube(obs, tol):
@@ -174,16 +176,16 @@ def interpret(obs: Observation, tol: Tolerances = TOLERANCES) -> Perceived:
     if unplaced:
         x = unplaced[0]
         if not obs.blocks[x].visible:
-            return Perceived(None, f"block {BLOCK_NAMES[x]} is out of sight")
+            return Perceived(None, f"block {letter(x)} is out of sight")
         where = ", ".join(f"{v:.3f}" for v in obs.blocks[x].position)
-        return Perceived(None, f"block {BLOCK_NAMES[x]} is not resting flat anywhere (at {where})", stray=x)
+        return Perceived(None, f"block {letter(x)} is not resting flat anywhere (at {where})", stray=x)
     try:
-        state = State(tuple(int(s) for s in support if s is not None))
+        state = arm_state(tuple(int(s) for s in support if s is not None))
     except WorldError as exc:
         return Perceived(None, f"impossible scene: {exc}")
     for x in range(n):
         if state.support[x] != HAND and state.is_clear(x) != clear(obs, x, tol):
-            return Perceived(None, f"clear({BLOCK_NAMES[x]}) disagrees with on")
+            return Perceived(None, f"clear({letter(x)}) disagrees with on")
     return Perceived(state)
 
 
@@ -198,6 +200,12 @@ def settled(scene: Scene, panda: Panda, tol: Tolerances = TOLERANCES) -> bool:
     return True
 
 
-def state_message(state: State, goal: State, action_code: int = 0) -> str:
-    """The paper's state message of a perceived state with the goal's code."""
-    return format_state_message(state, BlocksWorld.of(state.n).state_index(goal), action_code)
+def state_message(state: ArmState, goal: ArmState, action_code: int = 0) -> str:
+    """The message of a perceived state: the paper's form with the goal's code (n <= 6), else the large form.
+
+    ``action_code`` fills the action slot of the paper's form; the large form's slot stays 0.
+    """
+    messages = Messages(goal)
+    if messages.goal_index is None:
+        return messages.state(state)
+    return format_state_message(state, messages.goal_index, action_code)

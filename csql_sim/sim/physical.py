@@ -8,10 +8,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from csql_sim.core.task import Task
-from csql_sim.core.world import BLOCK_NAMES, Action, State
-from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERAS, Camera
-from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.core.world import Action
+from csql_sim.sim.arm_state import ArmState, SimError, check_arm_blocks, letter
+from csql_sim.sim.camera import CAMERA_TOLERANCES, Camera, perception_cameras
+from csql_sim.sim.config import SimConfig, config_for
 from csql_sim.sim.guards import Guarded
 from csql_sim.sim.layout import place_towers
 from csql_sim.sim.perception import TOLERANCES, Observation, Perceived, Tolerances, interpret, observe_poses, settled
@@ -22,10 +22,6 @@ from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Pose, Scene
 
 PERCEPTION_MODES = ("pose", "camera")
-
-
-class SimError(CsqlError):
-    """A physical world that cannot be built or a bad simulation option."""
 
 
 def check_perception(perception: str) -> str:
@@ -44,11 +40,12 @@ class PhysicalWorld:
     """A scene with its Panda, the seeded generator and a perception mode.
 
     Args:
-        n: number of cubes.
+        n: number of cubes, 2..10; states are :class:`~csql_sim.core.world.State` records for
+            n <= 6 and :class:`~csql_sim.core.large_state.LargeState` records past six.
         seed: seeds the one generator used for putdown spots and perturbations.
         perception: ``"pose"`` (body poses) or ``"camera"`` (colour + depth images, rgbd.py).
-        config: scene settings.
-        cameras: the perception cameras.
+        config: scene settings (default: :func:`~csql_sim.sim.config.config_for` n).
+        cameras: the perception cameras (default: :func:`~csql_sim.sim.camera.perception_cameras` n).
         camera_noise: sensor noise of camera perception; drawn from a generator of its
             own (spawned from ``seed``), so noise never shifts the episode's other draws.
     """
@@ -56,8 +53,8 @@ class PhysicalWorld:
     n: int
     seed: int = 0
     perception: str = "pose"
-    config: SimConfig = DEFAULT_CONFIG
-    cameras: tuple[Camera, ...] = PERCEPTION_CAMERAS
+    config: SimConfig | None = None  # None: config_for(n), set in __post_init__
+    cameras: tuple[Camera, ...] | None = None  # None: perception_cameras(n), set in __post_init__
     camera_noise: CameraNoise = NO_NOISE
     scene: Scene = field(init=False)
     panda: Panda = field(init=False)
@@ -67,6 +64,9 @@ class PhysicalWorld:
 
     def __post_init__(self) -> None:
         check_perception(self.perception)
+        check_arm_blocks(self.n)
+        self.config = config_for(self.n) if self.config is None else self.config
+        self.cameras = perception_cameras(self.n) if self.cameras is None else self.cameras
         self.scene = Scene(self.n, self.config)
         self.panda = Panda(self.scene)
         self.rng = np.random.default_rng(self.seed)
@@ -82,7 +82,7 @@ class PhysicalWorld:
     def __exit__(self, *exc: object) -> None:
         self.close()
 
-    def build(self, state: State, jitter: bool = False) -> None:
+    def build(self, state: ArmState, jitter: bool = False) -> None:
         """Build ``state``: place the towers, settle, and grasp a held block for real.
 
         Raises:
@@ -124,7 +124,7 @@ class PhysicalWorld:
         """Whether every free cube is at rest now."""
         return settled(self.scene, self.panda)
 
-    def reached(self, perceived: Perceived, goal: State) -> bool:
+    def reached(self, perceived: Perceived, goal: ArmState) -> bool:
         """The success predicate of every physical episode: the task's, on what was perceived, once settled.
 
         :meth:`csql_sim.core.task.Task.is_success` decides from the perceived state (never the
@@ -160,7 +160,7 @@ class PhysicalWorld:
         if primitive is None:
             return None
         status = primitive(self.scene, self.panda, self.observe(), self.rng)
-        return f"{primitive.name}({BLOCK_NAMES[primitive.block]})", status
+        return f"{primitive.name}({letter(primitive.block)})", status
 
     def final_poses(self) -> tuple[Pose, ...]:
         """Every cube's pose now."""

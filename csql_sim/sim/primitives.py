@@ -14,9 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.world import BLOCK_NAMES, Action, ActionKind
+from csql_sim.core.world import Action, ActionKind
+from csql_sim.sim.arm_state import letter
+from csql_sim.sim.layout import putdown_spots, spot_yaw
 from csql_sim.sim.perception import Observation, settled, wrap_quarter
-from csql_sim.sim.robot import Panda
+from csql_sim.sim.robot import Panda, YawFit, row_fit
 from csql_sim.sim.scene import Scene
 
 
@@ -67,7 +69,7 @@ def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generato
     """A random table spot at least ``free_clearance`` from every other cube."""
     lay = scene.config.layout
     others = [b.position for i, b in enumerate(obs.blocks) if i != held]
-    spots = [(x, y) for x in lay.free_x for y in lay.free_y
+    spots = [(x, y) for x, y in putdown_spots(scene.config)
              if all(math.hypot(x - p[0], y - p[1]) >= lay.free_clearance for p in others)]
     if not spots:
         return None
@@ -113,15 +115,16 @@ def _conflicts(obs: Observation, x: float, y: float, z: float, yaw: float, exclu
 
 
 def choose_yaw(obs: Observation, x: float, y: float, z: float, cube_yaw: float, current: float,
-               exclude: set[int], opening: float, attempt: int = 0) -> float:
+               exclude: set[int], opening: float, attempt: int = 0, fit: YawFit = row_fit) -> float:
     """A gripper yaw aligned with a cube face (three choices, 90 degrees apart).
 
     Ranked by the cubes the open hand would hit, then by wrist rotation; ``attempt``
-    k > 0 (a retry after a failed grasp of the same cube) takes the next choice.
+    k > 0 (a retry after a failed grasp of the same cube) takes the next choice. ``fit``
+    keeps the wrist inside its range (:meth:`~csql_sim.sim.robot.Panda.wrist_fit`).
     """
     base = current + wrap_quarter(cube_yaw - current)
     options = [base, base + math.pi / 2, base - math.pi / 2]
-    options = [o for o in options if abs(o) <= 2.6]  # keep the wrist joint inside its range
+    options = [f for f in map(fit, options) if f is not None]
     ranked = sorted(options, key=lambda o: (_conflicts(obs, x, y, z, o, exclude, opening), abs(o - current)))
     return ranked[attempt % len(ranked)]
 
@@ -143,7 +146,8 @@ class Pick:
         x, y, z = target.position
         goal_z = z + self.offsets.grasp_above_centre
         opening = obs.size + self.offsets.grasp_opening_margin
-        yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block}, opening, self.attempt)
+        yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block}, opening, self.attempt,
+                         panda.wrist_fit(x, y))
         high = carry_height(obs, None, self.offsets)
         panda.open(opening)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
@@ -151,14 +155,14 @@ class Pick:
                                 guard=lambda: bool(panda.touching() - {body}))
         if arrived == "guard" and panda.ee_position()[2] - goal_z > self.offsets.descend_stop_early:
             panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
-            return Status(False, f"collision while descending onto {BLOCK_NAMES[self.block]}", scene.steps - start)
+            return Status(False, f"collision while descending onto {letter(self.block)}", scene.steps - start)
         if not panda.close(body):
             panda.open()
             panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
-            return Status(False, f"grasp of {BLOCK_NAMES[self.block]} missed", scene.steps - start)
+            return Status(False, f"grasp of {letter(self.block)} missed", scene.steps - start)
         panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
         if not panda.grips(body):
-            return Status(False, f"{BLOCK_NAMES[self.block]} slipped out while lifting", scene.steps - start)
+            return Status(False, f"{letter(self.block)} slipped out while lifting", scene.steps - start)
         return Status(True, "", scene.steps - start)
 
 
@@ -177,7 +181,7 @@ class Place:
         size = obs.size
         body = scene.block_body(self.block)
         if not panda.grips(body):
-            return Status(False, f"{BLOCK_NAMES[self.block]} is not in the gripper", 0, refused=True)
+            return Status(False, f"{letter(self.block)} is not in the gripper", 0, refused=True)
         held = obs.blocks[self.block]
         gp = np.asarray(obs.grasp_point)
         offset = np.asarray(held.position[:2]) - gp[:2]  # where the cube hangs relative to the grasp point
@@ -185,16 +189,20 @@ class Place:
             spot = free_spot(obs, self.block, scene, rng)
             if spot is None:
                 return Status(False, "no free spot on the table", 0)  # not a refusal: holding(x) holds
-            tx, ty, support_top, want = spot[0], spot[1], 0.0, held.yaw
+            tx, ty, support_top = spot[0], spot[1], 0.0
+            want = spot_yaw(scene.config, tx, ty, held.yaw)
         else:
             below = obs.blocks[self.onto]
             tx, ty = below.position[0], below.position[1]
+            if cc.aim_column:
+                tx, ty = column_centre(obs, self.onto, self.block)
             support_top = below.position[2] + size / 2
             want = below.yaw
         relative = wrap_quarter(held.yaw - panda.yaw)  # cube yaw in the gripper
         hang = gp[2] - held.position[2]  # grasp point above the cube centre
         goal_z = support_top + size / 2 + self.offsets.place_gap + hang
-        yaw = choose_yaw(obs, tx, ty, goal_z, want - relative, panda.yaw, {self.block, self.onto}, size)
+        yaw = choose_yaw(obs, tx, ty, goal_z, want - relative, panda.yaw, {self.block, self.onto}, size,
+                         fit=panda.wrist_fit(tx, ty))
         turn = yaw - panda.yaw
         c, s = math.cos(turn), math.sin(turn)
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
@@ -202,14 +210,28 @@ class Place:
         high = carry_height(obs, self.block, self.offsets)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps, during=carry_hook)
         if not panda.grips(body):
-            return Status(False, f"{BLOCK_NAMES[self.block]} dropped during the carry", scene.steps - start)
+            return Status(False, f"{letter(self.block)} dropped during the carry", scene.steps - start)
         others = {scene.bodies["table"]} | {scene.block_body(i) for i in range(scene.n) if i != self.block}
+        if cc.place_pause > 0:  # come to rest just above: the hand trails its path while it moves
+            panda.move_to((x, y, goal_z + cc.place_pause), yaw, cc.descend_speed, cc.descend_steps)
         panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
                       guard=lambda: bool(scene.contact_bodies(body) & others))
         panda.open()
         panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
         settle(scene, panda)
         return Status(True, "", scene.steps - start)
+
+
+def column_centre(obs: Observation, top: int, held: int, reach: float = 0.022) -> tuple[float, float]:
+    """The mean xy of cube ``top`` and the cubes under it (those within ``reach`` of it horizontally, lower).
+
+    Aiming a stack there, not at the top cube alone, keeps a small error of each placement
+    (the camera's estimate, the hand's) from adding up level by level into a leaning tower.
+    """
+    t = obs.blocks[top].position
+    column = [b.position for i, b in enumerate(obs.blocks) if i != held and b.visible
+              and math.hypot(b.position[0] - t[0], b.position[1] - t[1]) < reach and b.position[2] <= t[2] + 1e-6]
+    return float(np.mean([p[0] for p in column])), float(np.mean([p[1] for p in column]))
 
 
 def settle(scene: Scene, panda: Panda) -> int:

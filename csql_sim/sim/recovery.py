@@ -19,10 +19,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.world import BLOCK_NAMES
+from csql_sim.sim.arm_state import letter
 from csql_sim.sim.perception import Observation, Perceived
 from csql_sim.sim.primitives import CarryHook, Status, carry_height, free_spot, settle
-from csql_sim.sim.robot import Panda
+from csql_sim.sim.robot import Panda, YawFit, row_fit
 from csql_sim.sim.scene import Scene
 
 
@@ -41,8 +41,8 @@ class FlattenOffsets:
 FLATTEN_OFFSETS = FlattenOffsets()
 
 
-def grip_yaw(obs: Observation, block: int, current: float) -> float:
-    """Gripper yaw that closes the fingers along the cube's most horizontal axis."""
+def grip_yaw(obs: Observation, block: int, current: float, fit: YawFit = row_fit) -> float:
+    """Gripper yaw that closes the fingers along the cube's most horizontal axis (``fit``: the wrist's range)."""
     b = obs.blocks[block]
     if b.axes is None:
         return current
@@ -50,7 +50,7 @@ def grip_yaw(obs: Observation, block: int, current: float) -> float:
     h = axes[int(np.argmin(np.abs(axes[:, 2])))]
     yaw = math.atan2(-h[0], h[1])  # the fingers close along the hand's y axis: (-sin yaw, cos yaw)
     candidates = [yaw + k * math.pi for k in (-2, -1, 0, 1, 2)]
-    return min((y for y in candidates if abs(y) <= 2.6), key=lambda y: abs(y - current))
+    return min((y for y in candidates if fit(y) == y), key=lambda y: abs(y - current))
 
 
 class Flatten:
@@ -68,10 +68,10 @@ class Flatten:
         cc = scene.config.control
         off = self.offsets
         body = scene.block_body(self.block)
-        name = BLOCK_NAMES[self.block]
+        name = letter(self.block)
         x, y, z = obs.blocks[self.block].position
         goal_z = max(z + off.grasp_above_centre, off.min_grasp_height)
-        yaw = grip_yaw(obs, self.block, panda.yaw)
+        yaw = grip_yaw(obs, self.block, panda.yaw, panda.wrist_fit(x, y))
         high = carry_height(obs, None) + off.lift
         panda.open(off.grasp_opening)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
@@ -147,10 +147,11 @@ class Drag:
         body = scene.block_body(self.block)
         d = drag_direction(obs, self.block, off)
         if d is None:
-            return Status(False, f"nothing to drag {BLOCK_NAMES[self.block]} away from", 0)
+            return Status(False, f"nothing to drag {letter(self.block)} away from", 0)
         x, y, z = obs.blocks[self.block].position
         yaw = math.atan2(d[1], d[0])  # fingers close across the drag: the palm lies along it, away from the others
-        yaw = min((yaw + k * math.pi for k in (-1, 0, 1)), key=lambda v: abs(v - panda.yaw) if abs(v) <= 2.6 else 9.0)
+        fit = panda.wrist_fit(x, y)
+        yaw = min((yaw + k * math.pi for k in (-1, 0, 1)), key=lambda v: abs(v - panda.yaw) if fit(v) == v else 9.0)
         px, py = x + d[0] * off.contact_ahead, y + d[1] * off.contact_ahead
         below_top = z + obs.size / 2 - off.reach_below_top  # descend until the pads touch (never this low)
         high = carry_height(obs, None)
@@ -160,7 +161,7 @@ class Drag:
                       guard=lambda: bool(panda.touching()))
         if panda.touching() != {body}:
             panda.move_to((px, py, high), yaw, cc.descend_speed, cc.descend_steps)
-            return Status(False, f"could not press on {BLOCK_NAMES[self.block]}", scene.steps - start)
+            return Status(False, f"could not press on {letter(self.block)}", scene.steps - start)
         press_z = float(panda.ee_position()[2]) - off.press
         panda.move_to((px, py, press_z), yaw, cc.descend_speed / 3, cc.descend_steps)
         behind = panda.touching() - {body}  # brushed while pressing: the drag moves away from it

@@ -23,7 +23,7 @@ from functools import cache
 
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.client import quiet_output
-from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.config import SimConfig
 from csql_sim.sim.scene import Scene, projection_matrix, view_matrix
 
 RENDERERS = ("auto", "tiny", "egl")
@@ -50,7 +50,7 @@ def _warm_up(scene: Scene) -> None:
         scene.render(view, projection, 8, 8)
 
 
-def egl_scene(n: int, config: SimConfig = DEFAULT_CONFIG) -> Scene | None:
+def egl_scene(n: int, config: SimConfig | None = None) -> Scene | None:
     """A replay-only scene drawn by the EGL plugin (loaded quietly), or None if it does not load."""
     path = egl_plugin_path()
     if path is None:

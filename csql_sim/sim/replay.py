@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.config import SimConfig
 from csql_sim.sim.renderer import RendererError, egl_scene
 from csql_sim.sim.scene import Pose, Scene
 
@@ -30,7 +30,7 @@ def take_snapshot(scene: Scene) -> Snapshot:
                     joints=tuple(scene.joint_positions(scene.bodies["panda"], PANDA_JOINTS)))
 
 
-def replay_scene(n: int, config: SimConfig = DEFAULT_CONFIG, renderer: str = "tiny") -> Scene:
+def replay_scene(n: int, config: SimConfig | None = None, renderer: str = "tiny") -> Scene:
     """A scene for replay only: the bodies are posed from snapshots and never stepped.
 
     ``renderer`` (``"tiny"`` or ``"egl"``, see :mod:`csql_sim.sim.renderer`) draws its images.

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.camera import PERCEPTION_CAMERAS, Camera, capture, unproject
+from csql_sim.sim.camera import Camera, capture, perception_cameras, unproject
 from csql_sim.sim.config import COLOURS
 from csql_sim.sim.perception import BlockObs, Observation, wrap_quarter
 from csql_sim.sim.robot import Panda
@@ -263,18 +263,19 @@ def estimate_cube(points: np.ndarray, eyes: np.ndarray, size: float, rng: np.ran
     return BlockObs((float(centre[0]), float(centre[1]), float(centre[2])), tilt, yaw, axes=frame)
 
 
-def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] = PERCEPTION_CAMERAS,
+def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] | None = None,
                  noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None) -> Observation:
     """Camera-mode observation from colour and depth images only (plus the arm's proprioception).
 
     Args:
         scene: the physical scene (rendered, never read for poses).
         panda: the arm: grasp point and finger opening by proprioception.
-        cameras: the fixed perception cameras.
+        cameras: the fixed perception cameras (default: :func:`~csql_sim.sim.camera.perception_cameras` n).
         noise: sensor noise to add.
         rng: draws the noise and the RANSAC samples (a fixed generator when None).
     """
     rng = rng if rng is not None else np.random.default_rng(0)
+    cameras = perception_cameras(scene.n) if cameras is None else cameras
     size = scene.config.physics.cube_size
     hues = paint_hues(scene.n)
     clouds: list[list[np.ndarray]] = [[] for _ in range(scene.n)]

@@ -12,10 +12,24 @@ from csql_sim.sim.scene import Scene, Vec3, quaternion_from_euler
 ARM_JOINTS = (0, 1, 2, 3, 4, 5, 6)
 FINGER_JOINTS = (9, 10)
 EE_LINK = 11  # panda_grasptarget: between the fingertips
+KINEMATIC_BODY = 0  # the arm's body id in the scene's kinematic copy (its only body)
 LOWER = (-2.9671, -1.8326, -2.9671, -3.1416, -2.9671, -0.0873, -2.9671)
 UPPER = (2.9671, 1.8326, 2.9671, 0.0, 2.9671, 3.8223, 2.9671)
 
 Guard = Callable[[], bool]
+YawFit = Callable[[float], "float | None"]
+WRIST_YAW = 2.6  # rad: the gripper yaws the arm turns to when it solves IK from its own joints
+WRIST_MARGIN = 0.15  # rad: kept from the last joint's limits when the kinematic copy solves IK
+
+
+def last_joint(home: float, yaw: float, aim: float) -> float:
+    """The last joint's angle that turns the downward gripper to ``yaw`` when the base is turned to ``aim``."""
+    return home - yaw + aim
+
+
+def row_fit(yaw: float) -> float | None:
+    """``yaw`` if the wrist reaches it with the arm's own IK (|yaw| <= WRIST_YAW), else None."""
+    return yaw if abs(yaw) <= WRIST_YAW else None
 
 
 class Panda:
@@ -54,15 +68,49 @@ class Panda:
 
     # ------------------------------------------------------------ motion
 
+    def wrist_fit(self, x: float, y: float) -> YawFit:
+        """For a grasp above (x, y): the gripper yaw the wrist reaches for a wanted yaw (None: none).
+
+        Solving IK from its own joints the arm takes |yaw| <= WRIST_YAW (:func:`row_fit`);
+        with the kinematic copy (its base turned towards (x, y)) the last joint turns by
+        the yaw less that angle, and the same grasp turned by 180 degrees may fit instead.
+        """
+        if self.scene.kinematics is None:
+            return row_fit
+        aim = math.atan2(y, x)
+        low, high = LOWER[6] + WRIST_MARGIN, UPPER[6] - WRIST_MARGIN
+
+        def fit(yaw: float) -> float | None:
+            turns = [yaw + k * math.pi for k in (0, 1, -1, 2, -2)]
+            return next((t for t in turns if low <= last_joint(self.cc.home_joints[6], t, aim) <= high), None)
+
+        return fit
+
+
     def ik(self, position: Vec3, yaw: float) -> list[float]:
-        """Joint angles placing the grasp point at ``position``, pointing down, rotated by ``yaw``."""
+        """Joint angles placing the grasp point at ``position``, pointing down, rotated by ``yaw``.
+
+        Solved from the arm's current joints, or (``ControlConfig.ik_model``) on the scene's
+        kinematic copy of the arm, starting from the home pose turned towards the target.
+        """
         orn = quaternion_from_euler((math.pi, 0.0, yaw))
         rest = list(self.cc.home_joints)
         rest[6] = self.cc.home_joints[6] + yaw
-        q = self.scene.inverse_kinematics(
-            self.body, EE_LINK, position, orn, LOWER, UPPER, [u - lo for lo, u in zip(LOWER, UPPER, strict=True)],
-            rest, self.cc.ik_iterations, self.cc.ik_threshold)
-        return q[:7]
+        ranges = [u - lo for lo, u in zip(LOWER, UPPER, strict=True)]
+        model = self.scene.kinematics
+        if model is None:
+            q = self.scene.inverse_kinematics(self.body, EE_LINK, position, orn, LOWER, UPPER, ranges, rest,
+                                              self.cc.ik_iterations, self.cc.ik_threshold)
+            return q[:7]
+        start = list(self.cc.home_joints)
+        start[0] = math.atan2(position[1], position[0])
+        start[6] = last_joint(self.cc.home_joints[6], yaw, start[0])
+        for j, v in enumerate(start):
+            model.reset_joint(KINEMATIC_BODY, j, v)
+        q = model.inverse_kinematics(KINEMATIC_BODY, EE_LINK, position, orn, LOWER, UPPER, ranges, rest,
+                                     self.cc.ik_model_iterations, self.cc.ik_threshold)[:7]
+        q[6] -= 2 * math.pi * round((q[6] - start[6]) / (2 * math.pi))  # the same hand pose, near the start
+        return q
 
     def command_arm(self, q: list[float]) -> None:
         """Set joint position targets (velocity-capped motors)."""

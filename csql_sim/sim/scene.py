@@ -8,7 +8,8 @@ rendering is :mod:`csql_sim.sim.replay`'s. This module does not import pybullet.
 
 from __future__ import annotations
 
-from csql_sim.core.world import BLOCK_NAMES, check_n
+from csql_sim.core.large_state import LETTERS
+from csql_sim.sim.arm_state import check_arm_blocks
 from csql_sim.sim.client import (
     PhysicsClient,
     Pose,
@@ -19,26 +20,28 @@ from csql_sim.sim.client import (
     rotation_matrix,
     view_matrix,
 )
-from csql_sim.sim.config import COLOURS, DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.config import COLOURS, SimConfig, config_for
 
 TABLE_RGBA = (0.72, 0.6, 0.45, 1.0)
 FINGER_LINKS = (9, 10)
+PANDA_URDF = "franka_panda/panda.urdf"
 
 
 class Scene(PhysicsClient):
     """A pybullet world with its own DIRECT client: table, Panda and ``n`` cubes.
 
     Args:
-        n: number of cubes.
-        config: geometry, physics and control settings.
+        n: number of cubes, 2..10 (:data:`~csql_sim.sim.config.MAX_ARM_BLOCKS`).
+        config: geometry, physics and control settings (default: :func:`~csql_sim.sim.config.config_for` n).
         physics: False builds a replay-only scene for rendering (bodies, no stepping).
         renderer_plugin: (file, entry point) of a renderer plugin loaded before the bodies
             (:mod:`csql_sim.sim.renderer`); :attr:`opengl` tells whether it loaded.
     """
 
-    def __init__(self, n: int, config: SimConfig = DEFAULT_CONFIG, physics: bool = True,
+    def __init__(self, n: int, config: SimConfig | None = None, physics: bool = True,
                  renderer_plugin: tuple[str, str] | None = None) -> None:
-        self.n = check_n(n)
+        self.n = check_arm_blocks(n)
+        config = config_for(n) if config is None else config
         self.config = config
         self.replay_only = not physics  # replay scenes are posed, never stepped
         super().__init__(config.physics, renderer_plugin)
@@ -46,7 +49,17 @@ class Scene(PhysicsClient):
         self._load_table()
         self._load_panda()
         for i in range(n):
-            self._load_cube(BLOCK_NAMES[i], COLOURS[i])
+            self._load_cube(LETTERS[i], COLOURS[i])
+        self.kinematics: PhysicsClient | None = None  # the arm's kinematic copy (ControlConfig.ik_model)
+        if physics and config.control.ik_model:
+            self.kinematics = PhysicsClient(config.physics)
+            self.kinematics.load_fixed_urdf(PANDA_URDF)
+
+    def close(self) -> None:
+        """Disconnect the scene's client and the kinematic copy's (idempotent)."""
+        if self.kinematics is not None:
+            self.kinematics.close()
+        super().close()
 
     def _load_table(self) -> None:
         pc = self.config.physics
@@ -55,7 +68,7 @@ class Scene(PhysicsClient):
 
     def _load_panda(self) -> None:
         pc, cc = self.config.physics, self.config.control
-        body = self.load_fixed_urdf("franka_panda/panda.urdf")
+        body = self.load_fixed_urdf(PANDA_URDF)
         self.bodies["panda"] = body
         for link in FINGER_LINKS:
             self.set_link_dynamics(body, link, lateralFriction=pc.finger_friction,
@@ -80,7 +93,7 @@ class Scene(PhysicsClient):
 
     def block_body(self, i: int) -> int:
         """The body id of block ``i``."""
-        return self.bodies[BLOCK_NAMES[i]]
+        return self.bodies[LETTERS[i]]
 
     def pose(self, name: str) -> Pose:
         """The base pose of the named body."""

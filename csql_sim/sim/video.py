@@ -18,11 +18,11 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
-from csql_sim.core.world import BLOCK_NAMES
+from csql_sim.core.large_state import LETTERS
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file
 from csql_sim.infra.workers import worker_count, worker_pool
-from csql_sim.sim.camera import RENDER_CAMERA, Camera, capture
+from csql_sim.sim.camera import Camera, capture, render_camera
 from csql_sim.sim.config import COLOURS, SimConfig
 from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.renderer import close_quietly, resolve_renderer
@@ -82,7 +82,7 @@ def caption_image(rgb: np.ndarray, text: str, legend: int = 0) -> np.ndarray:
             x0, y0 = 4 + i * (box + 4), 4
             colour = tuple(int(255 * c) for c in COLOURS[i][:3])
             draw.rectangle((x0, y0, x0 + box, y0 + box), fill=colour, outline=(255, 255, 255))
-            draw.text((x0 + box / 2, y0 + box / 2), BLOCK_NAMES[i], fill=(255, 255, 255), font=font, anchor="mm",
+            draw.text((x0 + box / 2, y0 + box / 2), LETTERS[i], fill=(255, 255, 255), font=font, anchor="mm",
                       stroke_width=1, stroke_fill=(0, 0, 0))
     return np.asarray(img)
 
@@ -126,13 +126,14 @@ class ReplayRenderer:
         return self._scenes[key]
 
     def render(self, n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-               camera: Camera = RENDER_CAMERA, total: int = 0) -> list[np.ndarray]:
+               camera: Camera | None = None, total: int = 0) -> list[np.ndarray]:
         """Captioned RGB frames: the replay scene set to each frame's poses, seen by ``camera``.
 
         Captions read ``step k/K  <what>  <message>`` with K = ``total`` (the episode's
         actions); a legend in the top left tells the ``n`` cubes apart.
         """
         scene = self.scene(n, config)
+        camera = render_camera(n) if camera is None else camera
         out = []
         for frame in frames:
             apply_snapshot(scene, frame.poses, frame.joints)
@@ -174,7 +175,7 @@ def _open_writer(path: Path, fps: int, suffix: str):  # noqa: ANN202 - imageio's
 
 
 def write_video(recording: Recording, path: str | os.PathLike, width: int = 640, height: int = 480,
-                fps: int | None = None, workers: int | None = None, camera: Camera = RENDER_CAMERA,
+                fps: int | None = None, workers: int | None = None, camera: Camera | None = None,
                 progress: bool = True, renderer: str = "auto") -> Path:
     """Render ``recording`` and write it atomically (:func:`csql_sim.infra.files.atomic_output`) as .mp4 or .gif.
 
@@ -189,7 +190,7 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         height: frame height in pixels.
         fps: playback frame rate (default: the recording's).
         workers: rendering processes (default: every core; at most the cores and one per chunk of frames).
-        camera: the rendering view.
+        camera: the rendering view (default: :func:`~csql_sim.sim.camera.render_camera` of the cube count).
         progress: show a tqdm bar on stderr.
         renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
 
@@ -197,6 +198,7 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         The path written.
     """
     fps = fps or recording.fps
+    camera = render_camera(recording.n) if camera is None else camera
     out = check_video_options(path, width, height, fps)
     renderer = resolve_renderer(renderer)
     if not recording.frames:
