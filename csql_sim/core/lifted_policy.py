@@ -36,6 +36,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from csql_sim.core.large_state import LargeState
+from csql_sim.core.lifted_rule import read_versioned_json
 from csql_sim.core.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, target_goal
 from csql_sim.core.world import Action, State
 from csql_sim.infra.errors import CsqlError
@@ -58,6 +59,11 @@ class LiftedPolicyError(CsqlError):
     """A lifted Q-classifier file or line that does not follow the documented form."""
 
 
+def condition_holds(condition: str, bits: tuple[int, ...]) -> bool:
+    """Whether a condition (``1``, ``0``, ``#`` per atom) holds for a move's relations."""
+    return all(c == "#" or int(c) == b for c, b in zip(condition, bits, strict=True))
+
+
 @dataclass(frozen=True)
 class LiftedQClassifier:
     """One lifted Q-classifier (see the module docstring)."""
@@ -76,7 +82,7 @@ class LiftedQClassifier:
 
     def matches(self, bits: tuple[int, ...], kind: str) -> bool:
         """Whether the condition holds for a move with relations ``bits`` of kind ``kind``."""
-        return kind == self.kind and all(c == "#" or int(c) == b for c, b in zip(self.condition, bits, strict=True))
+        return kind == self.kind and condition_holds(self.condition, bits)
 
     @property
     def generality(self) -> int:
@@ -171,14 +177,7 @@ def dumps_lifted_policy(classifiers: Iterable[LiftedQClassifier], meta: dict) ->
 
 def loads_lifted_policy(text: str, source: str = "lifted Q-classifier file") -> LiftedPolicy:
     """The policy of a file's text; raises LiftedPolicyError naming the source and what is wrong."""
-    try:
-        doc = json.loads(text)
-    except ValueError as exc:
-        raise LiftedPolicyError(f"{source} is not JSON ({exc.__class__.__name__})") from None
-    if not isinstance(doc, dict) or doc.get("format") != LIFTED_Q_FORMAT:
-        raise LiftedPolicyError(f"{source} is not a {LIFTED_Q_FORMAT} file")
-    if doc.get("version") != LIFTED_Q_VERSION:
-        raise LiftedPolicyError(f"{source} has version {doc.get('version')!r}; this csql-sim reads {LIFTED_Q_VERSION}")
+    doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, LIFTED_Q_VERSION, LiftedPolicyError)
     if doc.get("atoms") != list(ATOMS):
         raise LiftedPolicyError(f"{source} names other atoms than this csql-sim's {', '.join(ATOMS)}")
     lines, meta = doc.get("classifiers"), doc.get("meta", {})

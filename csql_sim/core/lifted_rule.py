@@ -291,20 +291,26 @@ def dumps_lifted(rules: Iterable[LiftedRule], meta: dict) -> str:
     return json.dumps(doc, indent=2) + "\n"
 
 
+def read_versioned_json(text: str, source: str, fmt: str, version: int, error: type[CsqlError]) -> dict:
+    """A JSON object that names its format ``fmt`` and ``version``; else ``error`` in one line naming ``source``."""
+    try:
+        doc = json.loads(text)
+    except ValueError as exc:
+        raise error(f"{source} is not JSON ({exc.__class__.__name__})") from None
+    if not isinstance(doc, dict) or doc.get("format") != fmt:
+        raise error(f"{source} is not a {fmt} file")
+    if doc.get("version") != version:
+        raise error(f"{source} has version {doc.get('version')!r}; this csql-sim reads {version}")
+    return doc
+
+
 def loads_lifted(text: str, source: str = "lifted rule file") -> tuple[LiftedRule, ...]:
     """The rules of a lifted rule file's text.
 
     Raises:
         LiftedRuleError: one line naming the source and what is wrong.
     """
-    try:
-        doc = json.loads(text)
-    except ValueError as exc:
-        raise LiftedRuleError(f"{source} is not JSON ({exc.__class__.__name__})") from None
-    if not isinstance(doc, dict) or doc.get("format") != LIFTED_FORMAT:
-        raise LiftedRuleError(f"{source} is not a {LIFTED_FORMAT} file")
-    if doc.get("version") != LIFTED_VERSION:
-        raise LiftedRuleError(f"{source} has version {doc.get('version')!r}; this csql-sim reads {LIFTED_VERSION}")
+    doc = read_versioned_json(text, source, LIFTED_FORMAT, LIFTED_VERSION, LiftedRuleError)
     rules = doc.get("rules")
     if not isinstance(rules, list) or not all(isinstance(r, str) for r in rules):
         raise LiftedRuleError(f"{source}: 'rules' must be a list of lifted rules, one string each")

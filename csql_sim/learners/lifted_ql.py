@@ -39,7 +39,7 @@ import numpy as np
 from csql_sim.core.goal_relations import well_placed
 from csql_sim.core.large_state import LargeState
 from csql_sim.core.lifted_model import LiftedWorldModel
-from csql_sim.core.lifted_policy import LiftedPolicy, LiftedQClassifier
+from csql_sim.core.lifted_policy import LiftedPolicy, LiftedQClassifier, condition_holds
 from csql_sim.core.lifted_rule import BLOCKS_WORLD
 from csql_sim.core.move_relations import ATOMS, Move, MoveRelations, after, pick_action, put_action, target_goal
 from csql_sim.core.state_count import sample_state
@@ -111,7 +111,7 @@ class _Rule:
     split: dict[int, list[float]] = field(default_factory=dict)
 
     def matches(self, bits: tuple[int, ...], kind: str) -> bool:
-        return kind == self.kind and all(c == "#" or int(c) == b for c, b in zip(self.condition, bits, strict=True))
+        return kind == self.kind and condition_holds(self.condition, bits)
 
     def update(self, advantage: float, bits: tuple[int, ...], beta: float) -> None:
         """One update of the advantage and its error (MAM: plain averages for the first 1/beta updates)."""
