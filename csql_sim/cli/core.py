@@ -116,7 +116,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
     large = large_blocks(args)
     if large is not None:  # past six blocks: relational states, lifted policies (cli/large_plan.py)
         return plan_large(args, large)
-    policy = select_policy(args, args.blocks, large=False)
+    policy = select_policy(args, args.blocks)
     n = policy.blocks or args.blocks
     if args.pairs is not None:
         if args.start or args.goal:

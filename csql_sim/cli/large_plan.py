@@ -47,7 +47,6 @@ from csql_sim.core.optimum import optimal_length
 from csql_sim.core.pairs import check_large_pairs, stream_large_pairs
 from csql_sim.core.policy import Policy
 from csql_sim.core.relational_rollout import RelationalPolicy, RelationalRollout, rollout_relational
-from csql_sim.core.state_count import state_count
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS, Action
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.provenance import provenance
@@ -132,11 +131,11 @@ def read_large_task(start: str, goal: str | None, n: int | None) -> tuple[LargeS
 # ---------------------------------------------------------------- the planner
 
 
-def select_policy(args: argparse.Namespace, n: int | None, large: bool) -> Policy | RelationalPolicy:
+def select_policy(args: argparse.Namespace, n: int | None) -> Policy | RelationalPolicy:
     """The policy of ``--planner`` and ``--rules`` for a job of ``n`` blocks.
 
-    Past six blocks (``large``) BFS is refused (it enumerates the world) and so is a rule
-    file whose policy is ground (for one n): only lifted rules and ``gn1`` plan there.
+    Past six blocks only lifted rules and ``gn1`` plan: :func:`load_policy` refuses BFS and
+    ground rule files there.
     """
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
@@ -145,19 +144,7 @@ def select_policy(args: argparse.Namespace, n: int | None, large: bool) -> Polic
         raise CsqlError(f"--planner {planner} does not read --rules {args.rules!r}; give one of them")
     if planner == "gn1":
         return Gn1Policy()
-    if not large:
-        return load_policy(args.rules if planner == "rules" else None, n, progress=show_progress(args))
-    if planner == "bfs":
-        raise CsqlError(f"BFS enumerates every state ({state_count(n):,} at {n} blocks) and plans only up to "
-                        f"{MAX_BLOCKS} blocks; give --planner gn1 or --rules FILE with lifted rules")
-    hint = f"past {MAX_BLOCKS} blocks plan with lifted rules, which hold for any n, or with --planner gn1"
-    try:
-        policy = load_policy(args.rules, n, progress=show_progress(args))
-    except CsqlError as exc:
-        raise CsqlError(f"{exc} ({hint})") from None
-    if getattr(policy, "blocks", None) is not None or policy.name == "bfs":
-        raise CsqlError(f"rule file {args.rules!r} holds ground rules for {policy.blocks} blocks; {hint}")
-    return policy
+    return load_policy(args.rules if planner == "rules" else None, n, progress=show_progress(args))
 
 
 # ---------------------------------------------------------------- plans
@@ -181,11 +168,11 @@ def plan_large(args: argparse.Namespace, n: int) -> int:
         if args.start or args.goal:
             raise CsqlError("--pairs plans many pairs; do not give --start or --goal")
         k = check_large_pairs(args.pairs, n)  # refused before any rule file is read
-        return _plan_pairs(args, select_policy(args, n, large=True), n, k)
+        return _plan_pairs(args, select_policy(args, n), n, k)
     if not args.start:
         raise CsqlError("plan needs --start and --goal (or --pairs K)")
     start, goal = read_large_task(args.start, args.goal, args.blocks)
-    policy = select_policy(args, start.n, large=True)
+    policy = select_policy(args, start.n)
     return _plan_one(args, policy, start, goal)
 
 

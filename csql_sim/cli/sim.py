@@ -78,7 +78,7 @@ def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[Stat
 
 def arm_policy(args: argparse.Namespace, n: int) -> object:
     """The policy of ``--planner`` and ``--rules`` for n cubes (past six blocks: lifted only)."""
-    return select_policy(args, n, large=n > MAX_BLOCKS)
+    return select_policy(args, n)
 
 
 def pairs_arg(text: str) -> str | int:

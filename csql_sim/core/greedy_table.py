@@ -23,7 +23,8 @@ from csql_sim.core.rulebase_npz import read_arrays, to_arrays
 from csql_sim.core.rulebase_shards import is_sharded
 from csql_sim.core.search import BfsPolicy, greedy_argmax
 from csql_sim.core.sharded_policy import ShardedPolicy
-from csql_sim.core.world import Action, BlocksWorld, State
+from csql_sim.core.state_count import state_count
+from csql_sim.core.world import MAX_BLOCKS, Action, BlocksWorld, State
 from csql_sim.infra.errors import CsqlError
 
 
@@ -110,6 +111,9 @@ def _value(meta: dict) -> str:
     return value
 
 
+LIFTED_HINT = "past six blocks plan with lifted rules (--rules FILE), which hold for any n, or with --planner gn1"
+
+
 def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: bool = False) -> Policy:
     """The greedy policy of a rule base from ``csql-sim train``, or BFS when ``path`` is None.
 
@@ -120,13 +124,30 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: 
             header before its classifiers are parsed).
         progress: show a bar while a large rule file is parsed.
 
+    Past six blocks (``n`` > 6) only a lifted file will do: BFS and ground rule files,
+    which enumerate the world, are refused in one line.
+
     Raises:
         CsqlError: if the file is missing, corrupt, foreign, or for another number of blocks.
     """
+    large = n is not None and n > MAX_BLOCKS
     if path is None:
+        if large:
+            raise CsqlError(f"BFS enumerates every state ({state_count(n):,} at {n} blocks) and plans only up to "
+                            f"{MAX_BLOCKS} blocks; {LIFTED_HINT}")
         return BfsPolicy()
     if is_lifted_policy(path):  # lifted Q-classifiers: any number of blocks (core/lifted_policy.py)
         return load_lifted_policy(path)
+    try:
+        return _load_ground(path, n, progress)
+    except CsqlError as exc:
+        if large:  # a ground rule file is for one n <= 6: its header says which, before anything is parsed
+            raise CsqlError(f"{exc}; {LIFTED_HINT}") from None
+        raise
+
+
+def _load_ground(path: str | os.PathLike, n: int | None, progress: bool) -> Policy:
+    """The greedy policy of a ground rule file: sharded, goal form, or index form (YAML or npz)."""
     if is_sharded(path):  # a directory from goal-sharded training, read shard by shard
         return ShardedPolicy.open(path, n)
     if is_goal_form(path):  # generalized Q-classifiers: the default hierarchy's answers (core/default_hierarchy.py)

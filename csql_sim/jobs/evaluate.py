@@ -2,18 +2,14 @@
 
 Up to six blocks the pairs come from the enumerated world (all of them, or a seeded
 sample) and the policy is BFS or a rule file. For 7..10 cubes (the arm's limit) the
-states are relational: ``pairs`` = K samples K pairs uniformly by counting
-(:func:`csql_sim.core.state_count.sample_pairs`, a Generator from the sample seed),
-``"all"`` is refused naming the pair count, the policy must be lifted (a lifted rule file
-from :func:`~csql_sim.core.greedy_table.load_policy`, or the named baseline ``gn1``), and
-optimal lengths come from :func:`csql_sim.core.optimum.optimal_length` (measuring only).
+states are relational, K pairs are drawn by counting (:mod:`csql_sim.core.pairs`), the
+policy is lifted (lifted rules or ``gn1``) and optimal lengths are the exact optimum's.
 """
 
 from __future__ import annotations
 
 import json
 import os
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -23,21 +19,16 @@ import numpy as np
 from csql_sim import __version__
 from csql_sim.core.greedy_table import GreedyTable, load_policy
 from csql_sim.core.notation import parse_config
-from csql_sim.core.pairs import check_sample_size, pair_count, selected_pairs
+from csql_sim.core.pairs import check_large_pairs, check_sample_size, pair_count, selected_pairs, stream_large_pairs
 from csql_sim.core.policy import Policy
 from csql_sim.core.sharded_policy import GoalColumns, ShardedPolicy
-from csql_sim.core.state_count import pair_count as large_pair_count
-from csql_sim.core.state_count import sample_pairs
 from csql_sim.core.world import MAX_BLOCKS, BlocksWorld, all_states
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance, rules_source
 from csql_sim.infra.workers import worker_count
-from csql_sim.learners.gn1 import Gn1Policy
-
-NAMED_POLICIES: dict[str, Callable[[], Any]] = {"gn1": Gn1Policy}
-"""Baseline policies by name (``--planner gn1``): lifted, for any number of blocks."""
+from csql_sim.learners.gn1 import NAMED_POLICIES
 
 
 @dataclass(frozen=True)
@@ -191,13 +182,8 @@ def make_specs(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: in
 
 
 def _sampled_specs(n: int, pairs: str | int, seeds: int, sample_seed: int) -> list[EpisodeSpec]:
-    """Past six blocks: K pairs drawn uniformly by counting, never all of them."""
-    count = large_pair_count(n)
-    if pairs == "all":
-        raise CsqlError(f"--pairs all at {n} blocks would run {count:,} pairs ({count:.2e}); give --pairs K")
-    if not isinstance(pairs, int) or isinstance(pairs, bool) or not 1 <= pairs <= count:
-        raise CsqlError(f"--pairs must be 'all' or 1..{count:,} for {n} blocks, got {pairs!r}")
-    drawn = sample_pairs(n, pairs, np.random.default_rng(sample_seed))
+    """Past six blocks: K pairs drawn uniformly by counting (:func:`check_large_pairs` refuses ``all``)."""
+    drawn = stream_large_pairs(n, check_large_pairs(pairs, n), sample_seed)
     return [EpisodeSpec(start=s.notation(), goal=g.notation(), seed=r * seeds + k)
             for r, (s, g) in enumerate(drawn) for k in range(seeds)]
 
@@ -287,17 +273,11 @@ class PolicyData:
             if rules is not None:
                 raise CsqlError(f"give a rule file or the named policy {named!r}, not both")
             return cls(n, named=named)
+        table = load_policy(rules, n, progress=progress)  # past six blocks, lifted rules only
         if rules is None:
-            if n > MAX_BLOCKS:
-                raise CsqlError(f"BFS enumerates the world and plans only up to {MAX_BLOCKS} blocks; for {n} cubes "
-                                f"give lifted rules (--rules FILE) or the gn1 baseline (--planner gn1)")
             return cls(n)
-        table = load_policy(rules, n, progress=progress)
         if getattr(table, "blocks", 0) is None:  # lifted rules: any number of blocks
             return cls(n, lifted=table)
-        if n > MAX_BLOCKS:
-            raise CsqlError(f"rule file {os.fspath(rules)!r} holds ground rules for {getattr(table, 'blocks', '?')} "
-                            f"blocks; for {n} cubes give lifted rules or the gn1 baseline (--planner gn1)")
         if isinstance(table, ShardedPolicy):
             wanted = tuple(sorted(set(goals)))
             columns = np.ascontiguousarray(table.columns(wanted))

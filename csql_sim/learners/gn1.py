@@ -76,3 +76,7 @@ class Gn1Policy:
 
 def _relational(state: LargeState | State) -> LargeState:
     return state if isinstance(state, LargeState) else LargeState.from_state(state)
+
+
+NAMED_POLICIES = {"gn1": Gn1Policy}
+"""Baseline policies by name (``--planner gn1``): lifted, for any number of blocks."""
