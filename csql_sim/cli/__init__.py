@@ -16,6 +16,7 @@ input, which :func:`main` prints as one line before exiting with status 2.
 from __future__ import annotations
 
 import argparse
+import io
 import os
 import signal
 import sys
@@ -62,6 +63,29 @@ class _GuardedStdout:
     def __getattr__(self, name: str) -> Any:
         return getattr(self._stream, name)
 
+
+class _ClosedStdout(io.TextIOBase):
+    """Standard output when the command was started with it closed (``>&-``): text is counted, not written.
+
+    The command runs to its end (its files are written); :func:`main` then reports in one
+    line that what it printed was lost, with exit status 2, as ``ls >&-`` does.
+    """
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.lost = 0
+
+    def writable(self) -> bool:  # noqa: D102
+        return True
+
+    def write(self, text: str) -> int:  # noqa: D102
+        self.lost += len(text)
+        return len(text)
+
+    def fileno(self) -> int:  # noqa: D102
+        raise io.UnsupportedOperation("standard output is closed")
+
+
 SUBCOMMAND_MODULES = (core, learn, lifted, sim, demo, discover, pddl_cmd, execute, generalize)
 
 
@@ -88,12 +112,15 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script; returns the exit status."""
+    closed = _reserve_standard_streams()
     args = build_parser().parse_args(argv)
     with _on_sigterm_raise(), _guarded_stdout():
         try:
             plan_outputs(args)
             status = int(args.func(args) or 0)
             sys.stdout.flush()
+            if closed is not None and closed.lost:
+                raise StdoutError(f"standard output is closed: {closed.lost:,} characters of output were lost")
             return status
         except CsqlError as exc:
             print(f"csql-sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
@@ -112,6 +139,29 @@ def main(argv: list[str] | None = None) -> int:
             _close_progress_bars()
             print(f"csql-sim: interrupted{_note(exc)}", file=sys.stderr)
             return 130
+
+
+def _reserve_standard_streams() -> _ClosedStdout | None:
+    """Make a closed stdin, stdout or stderr (``>&-``) harmless; the stand-in for a closed stdout, if any.
+
+    Each closed descriptor 0-2 is opened on ``/dev/null``, so that no file the command
+    opens takes its number (a C library or a child process writing to "stdout" would
+    write into it). A closed stderr becomes ``/dev/null`` (the exit status still tells);
+    a closed stdout becomes a :class:`_ClosedStdout`, whose text is counted, not written.
+    """
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            null = os.open(os.devnull, os.O_RDWR)
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w")  # noqa: SIM115 (for the life of the process)
+    if sys.stdout is None:
+        sys.stdout = _ClosedStdout()
+    return sys.stdout if isinstance(sys.stdout, _ClosedStdout) else None
 
 
 def _note(exc: KeyboardInterrupt) -> str:

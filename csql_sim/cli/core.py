@@ -105,6 +105,9 @@ def declare_plan(args: argparse.Namespace, outputs: Outputs) -> None:
     """``plan`` reads ``--rules`` (no output may be that file) and may write ``--plan-out``."""
     outputs.input(args.rules, "rule file")
     if args.plan_out is not None:
+        if args.pairs is not None or args.all:
+            raise CsqlError("--plan-out writes the plan of one --start/--goal task; it does not go with "
+                            f"{'--all' if args.all else '--pairs'} (use --json for the plans of many pairs)")
         outputs.file(args.plan_out, "plan file", "pddl", option="--plan-out")
 
 

@@ -24,7 +24,7 @@ def declare_discover(args: argparse.Namespace, outputs: Outputs) -> None:
         if args.blocks < MIN_LIFTED_BLOCKS:
             raise CsqlError(f"--lifted needs --blocks {MIN_LIFTED_BLOCKS} or more: with {args.blocks} blocks "
                             f"the induced conditions are shorter than the schemas (see csql_sim.discovery.lifting)")
-        outputs.file(args.lifted, "lifted rule file", "json", option="--lifted")
+        outputs.file(args.lifted, "lifted rule file", "rules", option="--lifted")
 
 
 def cmd_discover(args: argparse.Namespace) -> int:

@@ -114,13 +114,16 @@ def cmd_train(args: argparse.Namespace) -> int:
     from csql_sim.learners.training import train_learner
 
     train_shards.settle(args)
+    out = None  # every refusal of the run comes before the estimate, so that --dry-run refuses it too
+    if train_shards.sharded(args):
+        out = train_shards.check_directory(args)
+    elif args.backend != "processes" or args.address is not None:
+        raise CsqlError("--backend ray trains shards of goals: give --shards K (one engine runs here)")
     status = train_shards.check_estimate(args)
     if status is not None:  # --dry-run
         return status
-    if train_shards.sharded(args):
-        return train_shards.run(args)
-    if args.backend != "processes" or args.address is not None:
-        raise CsqlError("--backend ray trains shards of goals: give --shards K (one engine runs here)")
+    if out is not None:
+        return train_shards.run(args, out)
 
     domain = None
     if args.domain:

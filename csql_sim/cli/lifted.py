@@ -24,7 +24,7 @@ def _sizes(text: str) -> tuple[int, ...]:
 
 def declare(args: argparse.Namespace, outputs: Outputs) -> None:
     """One lifted Q-classifier file written."""
-    outputs.file(args.out, "lifted Q-classifier file", "json")
+    outputs.file(args.out, "lifted Q-classifier file", "rules")
 
 
 def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:

@@ -131,13 +131,12 @@ def check_directory(args: argparse.Namespace) -> Path:
     return out
 
 
-def run(args: argparse.Namespace) -> int:
-    """``train`` into a sharded rule base: the shards on the backend, each saved as it comes back."""
+def run(args: argparse.Namespace, out: Path) -> int:
+    """``train`` into the sharded rule base ``out`` (:func:`check_directory`): shards saved as they come back."""
     from csql_sim.core.rulebase_shards import read_manifest
     from csql_sim.learners.params import default_trials, resolve_params
     from csql_sim.learners.shards import ShardRun, default_shards, train_sharded
 
-    out = check_directory(args)
     params = resolve_params("cs-ql", getattr(args, "resume_params", None) or args.params, args.blocks)
     trials = default_trials(args.blocks) if args.trials is None else args.trials
     shards = args.shards or default_shards(args.blocks)

@@ -39,20 +39,17 @@ from csql_sim.core.large_state import LargeState
 from csql_sim.core.lifted_rule import read_versioned_json
 from csql_sim.core.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, target_goal
 from csql_sim.core.world import Action, State
+from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_text_file
-from csql_sim.infra.outputs import read_head
 
-LIFTED_Q_FORMAT = "csql-sim lifted q-classifiers"
+LIFTED_Q_FORMAT = formats.LIFTED_Q
 LIFTED_Q_VERSION = 1
 MAX_LIFTED_Q_BYTES = 1 << 20
 MAX_CLASSIFIERS = 4096
 _NUM = r"(-?\d+(?:\.\d+)?)"
 _LINE = re.compile(r"Q ([01#]+) move\(\?x,\?d\)->(table|block)\s+advantage=" + _NUM +
             r"\s+error=(\d+(?:\.\d+)?)\s+experience=(\d+)")
-
-
-_HEAD = re.compile(rb'\s*\{\s*"format"\s*:\s*"' + LIFTED_Q_FORMAT.encode() + rb'"')
 
 
 class LiftedPolicyError(CsqlError):
@@ -199,8 +196,7 @@ def load_lifted_policy(path: str | os.PathLike) -> LiftedPolicy:
 
 def is_lifted_policy(path: str | os.PathLike) -> bool:
     """Whether ``path`` is a regular file that says it is a lifted Q-classifier file (first bytes)."""
-    head = read_head(path)
-    return head is not None and _HEAD.match(head) is not None
+    return formats.sniff(path) == LIFTED_Q_FORMAT
 
 
 __all__ = ["LiftedPolicy", "LiftedQClassifier", "dumps_lifted_policy", "is_lifted_policy", "load_lifted_policy",

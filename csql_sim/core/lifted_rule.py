@@ -40,6 +40,7 @@ from dataclasses import dataclass
 from csql_sim.core.message import action_code, format_action_message, layout
 from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
 from csql_sim.core.world import BLOCK_NAMES, HAND, TABLE, Action, ActionKind, check_n
+from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_text_file
 
@@ -280,7 +281,7 @@ def apply_output(rule: LiftedRule, support: tuple[int, ...], binding: dict[str, 
 
 # ---------------------------------------------------------------- the lifted rule file
 
-LIFTED_FORMAT = "csql-sim lifted rules"
+LIFTED_FORMAT = formats.LIFTED_RULES
 LIFTED_VERSION = 1
 MAX_LIFTED_BYTES = 1 << 20
 

@@ -39,10 +39,11 @@ from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import parse_r_classifier
 from csql_sim.core.rulebase_yaml import RuleBase, check_meta, check_strings
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import MAX_YAML_DEPTH, InputFileError, read_bytes_file, write_atomic
 
-FORMAT = "csql-sim rule base (npz)"
+FORMAT = formats.RULE_BASE_NPZ
 VERSION = 1
 FLOATS = ("q", "strength", "age", "error")
 MAX_FILE_BYTES = 256 * 1024 * 1024

@@ -33,13 +33,14 @@ from pathlib import Path
 import numpy as np
 
 from csql_sim.core.rulebase_yaml import RuleBaseError
+from csql_sim.infra import formats
 from csql_sim.infra.files import write_atomic
 
-FORMAT = "csql-sim-shards"
+FORMAT = formats.SHARDS
 VERSION = 1
-MANIFEST = "manifest.json"
+MANIFEST = formats.SHARD_MANIFEST
 REPORT = "run-report.json"
-MAGIC = b"CSQL-SHARD\n"
+MAGIC = formats.SHARD_MAGIC + b"\n"
 ARRAYS = (("first", "<i8"), ("born", "<i8"), ("q", "<f8"), ("error", "<f8"))
 ALIGN = 64
 MAX_HEADER = 4096

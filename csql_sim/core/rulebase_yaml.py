@@ -49,10 +49,11 @@ from csql_sim.core.message import MessageError, layout, parse_action_message, pa
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import parse_r_classifier, r_classifier_problem
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import MAX_YAML_DEPTH, InputFileError, load_yaml, read_text_file
 
-FORMAT = "csql-sim rule base"
+FORMAT = formats.RULE_BASE
 VERSION = 2
 MAX_FILE_BYTES = 16 * 1024 * 1024
 """Largest rule file read (an n=4 base is about 4.5 MB)."""

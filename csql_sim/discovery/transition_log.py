@@ -16,11 +16,12 @@ from collections.abc import Iterable
 from pathlib import Path
 
 from csql_sim.discovery.induction import Experience
+from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import InputFileError, read_text_file, write_atomic
 
 MAX_FILE_BYTES = 64 * 1024 * 1024  # about 400,000 transitions
-FORMAT = "csql-sim transitions"
+FORMAT = formats.TRANSITIONS
 VERSION = 1
 
 

@@ -10,7 +10,10 @@ A command declares every file it will write (its ``--out``, ``--json``, ``--log`
 * an existing file at a DEFAULT path (one the user did not name): never replaced unless
   ``--overwrite`` is given;
 * an existing file at a path the user named that is not a csql-sim output of the same
-  kind (:func:`is_ours`), unless ``--overwrite`` is given.
+  kind (:func:`is_ours`), unless ``--overwrite`` is given;
+* a trained model or rule file of any kind, or a file inside a sharded rule base's
+  directory (:func:`csql_sim.infra.formats.model_kind`), as the path of a report, a picture,
+  a video or a log: never, even with ``--overwrite``.
 
 Paths are compared after resolving: the same file when ``os.path.samefile`` says so (both
 exist), otherwise when their resolved absolute paths are equal.
@@ -19,76 +22,41 @@ exist), otherwise when their resolved absolute paths are equal.
 from __future__ import annotations
 
 import os
-import re
-import stat
-import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from csql_sim.infra import files
+from csql_sim.infra import files, formats
 from csql_sim.infra.files import OutputError, write_target
+from csql_sim.infra.formats import read_head
 
-HEAD_BYTES = 4096
-"""How much of an existing file is read to recognise it."""
-KINDS = {"rules": "rule file", "transitions": "transition log", "json": "JSON report", "png": "PNG picture",
+KINDS = {"rules": "rule file or model", "transitions": "transition log", "json": "JSON report", "png": "PNG picture",
          "video": "video", "csv": "CSV table", "pddl": "PDDL file"}
-"""The kinds of output and their names in messages."""
+"""The kinds of output and their names in messages; "rules" covers every model format (:mod:`.formats`)."""
 PDDL_HEADER = "; csql-sim"
 """The first characters of every PDDL file the tool writes (a PDDL comment)."""
 PNG_TAG = b"csql-sim"
 """Found in a PNG's text chunk (``Software``) when the tool drew it."""
-_JSON_FORMAT = re.compile(rb'\A\s*\{\s*"format"\s*:\s*"(csql-sim [^"\\]*)"')
-_YAML_FORMAT = re.compile(rb"\A(?:\s*#[^\n]*\n)*\s*format:\s*['\"]?csql-sim rule base\b")
-_NPZ_HEADER = "csql-sim rule base"
-
-
-def read_head(path: str | os.PathLike) -> bytes | None:
-    """The first :data:`HEAD_BYTES` bytes of a regular file, or None (not one, unreadable)."""
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except OSError:
-        return None
-    try:
-        return os.read(fd, HEAD_BYTES) if stat.S_ISREG(os.fstat(fd).st_mode) else None
-    except OSError:
-        return None
-    finally:
-        os.close(fd)
-
-
-def _npz_is_rules(path: Path) -> bool:
-    """Whether a zip file is an npz rule base: its ``header`` array names the format."""
-    try:
-        with zipfile.ZipFile(path) as archive, archive.open("header.npy") as member:
-            header = member.read(1 << 16)
-    except (OSError, KeyError, zipfile.BadZipFile, RuntimeError, ValueError):
-        return False
-    return any(_NPZ_HEADER.encode(codec) in header for codec in ("utf-32-le", "utf-32-be", "utf-8"))
 
 
 def identify(path: str | os.PathLike) -> str | None:
     """The kind of csql-sim output a file is, read from its first bytes; None if not one.
 
-    Rule files (YAML ``format: csql-sim rule base`` or an npz with that header), transition
-    logs and JSON reports (``{"format": "csql-sim ..."`` first), PDDL files (first line
-    :data:`PDDL_HEADER`) and PNGs (a text chunk with :data:`PNG_TAG`) say so themselves;
-    videos and CSV tables do not (see :func:`is_ours`).
+    Rule files and models (every format of :data:`formats.MODEL_FORMATS`), transition
+    logs and JSON reports name their format (:func:`formats.sniff`); PDDL files start with
+    :data:`PDDL_HEADER` and PNGs carry :data:`PNG_TAG` in a text chunk; videos and CSV
+    tables do not say (see :func:`is_ours`).
     """
-    target = Path(path)
-    head = read_head(target)
+    head = read_head(path)
     if head is None:
         return None
     if head.startswith(b"\x89PNG"):
         return "png" if PNG_TAG in head else None
-    if head.startswith(b"PK"):
-        return "rules" if _npz_is_rules(target) else None
     if head.startswith(PDDL_HEADER.encode()):
         return "pddl"
-    found = _JSON_FORMAT.match(head)
-    if found:
-        name = found.group(1).decode("utf-8", "replace")
-        return "transitions" if name == "csql-sim transitions" else "rules" if name.startswith(_NPZ_HEADER) else "json"
-    return "rules" if _YAML_FORMAT.match(head) else None
+    name = formats.sniff(path)
+    if name is None or not name.startswith("csql-sim"):
+        return None
+    return "rules" if name in formats.MODEL_FORMATS else "transitions" if name == formats.TRANSITIONS else "json"
 
 
 def is_ours(path: str | os.PathLike, kind: str, sidecar: str | os.PathLike | None = None) -> bool:
@@ -213,7 +181,13 @@ class Outputs:
         """An existing file is replaced only if asked, or if it is ours and the user named it."""
         assert out.kind is not None
         target = write_target(out.path)
-        if self.overwrite or not target.exists():
+        if not target.exists():
+            return
+        model = formats.model_kind(target) if out.kind != "rules" else None
+        if model is not None:
+            raise OutputError(f"{out.what} {out.shown} is {model}; a model is never replaced by a {KINDS[out.kind]}, "
+                              f"even with --overwrite (give another {out.option})")
+        if self.overwrite:
             return
         if out.default:
             raise OutputError(f"{out.what} {out.shown} already exists (the default {out.option}); "
