@@ -1,15 +1,19 @@
-"""Gymnasium ids of the package's two environments, registered without import side effects.
+"""Gymnasium ids of the package's two environments: registered when :mod:`csql_sim.envs` is imported.
 
-``import csql_sim`` registers nothing. The ids are registered by :func:`register_envs`,
-which Gymnasium's plugin entry point (group ``gymnasium.envs`` in ``pyproject.toml``)
-calls where Gymnasium still loads plugins (0.26-0.29); Gymnasium 1.0 dropped plugin
-loading, so there call it once yourself::
+Gymnasium 1.x's convention (the one ``ale_py`` follows) is that importing an environment
+package's module registers its ids::
 
-    import gymnasium
-    from csql_sim.envs.registration import register_envs
+    import gymnasium as gym
+    import csql_sim.envs
 
-    register_envs()  # idempotent; entry points are strings: nothing heavy is imported
-    env = gymnasium.make("csql_sim/BlocksWorld-v0", blocks=4, render_mode="ansi")
+    gym.register_envs(csql_sim.envs)
+    env = gym.make("csql_sim/BlocksWorld-v0", blocks=4, render_mode="ansi")
+
+``gym.make("csql_sim.envs:csql_sim/BlocksWorld-v0")`` imports the module itself. The ids
+are strings (entry points): nothing heavy is imported until an environment is made.
+``import csql_sim`` alone registers nothing. Gymnasium 0.26-0.29 also load the plugin
+entry point (group ``gymnasium.envs`` in ``pyproject.toml``), which calls
+:func:`register_envs` (idempotent).
 
 Keyword arguments: ``blocks`` (2..6), ``rules`` (a rule file for the dynamics or, on the
 arm, the action mask), ``render_mode``, ``max_steps``; on the arm also ``perception``

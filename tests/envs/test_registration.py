@@ -36,6 +36,39 @@ def test_register_envs_registers_both_ids_without_pybullet():
     assert done.returncode == 0, done.stderr
 
 
+def _python(code):
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
+                          check=False)
+    assert done.returncode == 0, done.stderr
+    return done.stdout
+
+
+def test_importing_the_envs_module_registers_both_ids_as_gymnasium_1x_expects():
+    """``import csql_sim.envs; gym.register_envs(csql_sim.envs); gym.make(id)``, in a fresh interpreter."""
+    _python("import sys, gymnasium as gym, csql_sim.envs; gym.register_envs(csql_sim.envs); "
+            f"env = gym.make({BLOCKS_WORLD_ID!r}, blocks=4); env.reset(seed=0); "
+            f"assert {PANDA_BLOCKS_ID!r} in gym.registry; "
+            "assert 'pybullet' not in sys.modules, 'pybullet imported'")
+
+
+def test_the_module_colon_id_form_imports_and_makes():
+    out = _python("import sys, gymnasium as gym; "
+                  f"env = gym.make('csql_sim.envs:{BLOCKS_WORLD_ID}', blocks=3); obs, _ = env.reset(seed=1); "
+                  "print(obs); assert 'pybullet' not in sys.modules")
+    assert out.startswith("S") and len(out.strip()) == 16  # the paper's 3-block state message
+
+
+@pytest.mark.parametrize("env_id", [BLOCKS_WORLD_ID, PANDA_BLOCKS_ID])
+def test_check_env_passes_without_a_warning(env_id):
+    """Gymnasium's own checker on both environments, with every warning raised while it runs an error."""
+    code = ("import warnings, gymnasium as gym, csql_sim.envs; from gymnasium.utils.env_checker import check_env\n"
+            "with warnings.catch_warnings():\n"
+            "    warnings.simplefilter('error')\n"
+            f"    env = gym.make({env_id!r}); check_env(env.unwrapped); env.close()\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False)
+    assert done.returncode == 0, done.stderr
+
+
 def test_gymnasium_plugin_entry_point_is_installed_and_registers():
     """The ``gymnasium.envs`` entry point (loaded by Gymnasium 0.26-0.29) names register_envs."""
     from importlib.metadata import entry_points
