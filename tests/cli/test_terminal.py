@@ -1,5 +1,6 @@
 """Progress bars only on a terminal; the interrupt message on a line of its own."""
 
+import contextlib
 import fcntl
 import os
 import pty
@@ -78,3 +79,24 @@ def test_interrupted_is_on_its_own_line_after_a_progress_bar(tmp_path, argv, bar
     text = seen.decode(errors="replace")
     assert [line for line in screen_lines(text) if "csql-sim" in line] == ["csql-sim: interrupted"], repr(text[-300:])
     assert "Traceback" not in text and list(tmp_path.iterdir()) == []
+
+
+def test_an_inherited_ignored_sigint_is_kept_and_sigterm_still_stops(tmp_path):
+    """Started with SIGINT ignored (a shell's background job), the CLI keeps ignoring it, as Unix tools do."""
+    proc = subprocess.Popen([sys.executable, "-m", "csql_sim", "train", "--trials", "1000000000", "--out", "r.yaml",
+                             "--quiet"], cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_IGN))
+    try:
+        time.sleep(4.0)  # into training
+        assert proc.poll() is None, proc.communicate()
+        proc.send_signal(signal.SIGINT)
+        time.sleep(1.5)
+        assert proc.poll() is None  # ignored, as inherited
+        proc.send_signal(signal.SIGTERM)
+        out, err = proc.communicate(timeout=60)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+    assert proc.returncode == 143 and err.startswith("csql-sim: terminated") and err.count("\n") == 1, err
+    assert os.listdir(tmp_path) == []
