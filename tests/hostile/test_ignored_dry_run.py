@@ -1,4 +1,4 @@
-"""Class 6 of issue 27 (silently wrong or ignored): ``--dry-run`` runs the run's own checks; ``--plan-out`` with ``--pairs``.
+"""Class 6 of issue 27 (silently wrong or ignored): `--dry-run` runs the run's checks; `--plan-out` with `--pairs`.
 
 Cases ``est-blocks6-npz`` and ``est-blocks6-ltql``: the estimate said the job fits (exit 0)
 where the real run refuses it; ``plan-planout-pairs``: ``--plan-out`` was silently ignored
