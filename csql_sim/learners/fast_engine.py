@@ -17,9 +17,12 @@ from __future__ import annotations
 
 import functools
 import os
+import signal
 import sys
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any, TypeVar
 
 import numpy as np
 
@@ -52,6 +55,58 @@ STEPS_PER_CALL = 250_000
 (it pauses between trials, so plus those under way): some 50 ms at 5 million steps a second."""
 COMPENSATED_SUM = sys.version_info >= (3, 12)
 """Python 3.12 made ``sum()`` of floats compensated; the kernels follow the running Python."""
+HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+"""The signals whose Python handlers :func:`call_kernel` holds back while a kernel is called."""
+R = TypeVar("R")
+
+
+class _Held:
+    """Stands in for a Python signal handler during a kernel call: records the signal; once inactive, passes it on."""
+
+    def __init__(self, handler: Callable[[int, Any], Any]) -> None:
+        self.handler, self.signals, self.active = handler, [], True
+
+    def __call__(self, signum: int, frame: Any) -> None:
+        if self.active:
+            self.signals.append(signum)
+        else:  # left in place by an interrupted restore: behave as the handler
+            self.handler(signum, frame)
+
+    def __getattr__(self, name: str) -> Any:  # the handler's marks (e.g. the command line's after-fork test)
+        if name == "handler":  # not set yet
+            raise AttributeError(name)
+        return getattr(self.handler, name)
+
+
+def call_kernel(kernel: Callable[..., R], *args: Any) -> R:
+    """``kernel(*args)`` with the Python handlers of SIGINT and SIGTERM run only once it has returned.
+
+    Calling a kernel that takes a ``numpy.random.Generator`` runs Python code inside numba's
+    unboxing of it (``ctypes.cast``), whose result numba does not check: a handler raising
+    there (Ctrl-C's KeyboardInterrupt, the command line's Terminated) made it read through
+    a NULL pointer, a segmentation fault. So for the call a stand-in that records the signal
+    replaces each Python handler; a recorded signal is raised again once the handlers are
+    back, and interrupts between two calls as before. Handlers run in the main thread only:
+    elsewhere the kernel is called as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        return kernel(*args)
+    held: list[tuple[int, _Held]] = []
+    try:
+        for signum in HELD_SIGNALS:
+            handler = signal.getsignal(signum)
+            if callable(handler):  # not SIG_DFL, SIG_IGN or a handler set outside Python (None)
+                held.append((signum, _Held(handler)))
+                signal.signal(signum, held[-1][1])
+        return kernel(*args)
+    finally:
+        for _, stand_in in held:
+            stand_in.active = False
+        for signum, stand_in in held:
+            signal.signal(signum, stand_in.handler)
+        for _, stand_in in held:
+            for signum in stand_in.signals:
+                signal.raise_signal(signum)
 
 
 @dataclass(frozen=True)
@@ -175,7 +230,7 @@ class FastCSQL(Learner):
         stop, reported = min(chunk, trials), 0
         while True:
             budget = int(ctr[fk.T]) + STEPS_PER_CALL
-            status = fk.run_trials(plan, stop, budget, self.rng, self.kernel, steps, values)
+            status = call_kernel(fk.run_trials, plan, stop, budget, self.rng, self.kernel, steps, values)
             done = int(ctr[fk.K])
             if on_trial is not None:
                 for k in range(reported, min(done, trials)):
@@ -191,7 +246,7 @@ class FastCSQL(Learner):
     def run_trial(self, start: int, goal: int, temperature: float, cap: int | None = None) -> int:
         """One trial; returns its steps."""
         cap = self.params.step_cap if cap is None else cap
-        steps, _, _ = fk.trial(start, goal, temperature, cap, True, 0.0, self.rng, self.kernel)
+        steps, _, _ = call_kernel(fk.trial, start, goal, temperature, cap, True, 0.0, self.rng, self.kernel)
         return int(steps)
 
     @property
@@ -241,7 +296,7 @@ class FastCSQL(Learner):
         count, width = self.count, len(self.kernel.goals)
         goals = max(1, STEPS_PER_CALL // (count * count))
         for g in range(0, width, goals):
-            fk.sweep_pass(plan_eta, self.rng, self.kernel, g, min(g + goals, width))
+            call_kernel(fk.sweep_pass, plan_eta, self.rng, self.kernel, g, min(g + goals, width))
 
     # -- export ------------------------------------------------------------------------
     def q_arrays(self) -> dict[str, np.ndarray]:

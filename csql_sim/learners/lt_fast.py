@@ -27,7 +27,7 @@ from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.rulebase import RuleBase, dumps, is_npz
 from csql_sim.core.rulebase_npz import arrays_to_bytes
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.fast_engine import COMPENSATED_SUM, fk
+from csql_sim.learners.fast_engine import COMPENSATED_SUM, call_kernel, fk
 from csql_sim.learners.learner import BATCH, TEST_EVERY, Curve, Learner
 from csql_sim.learners.params import TabularParams
 
@@ -131,7 +131,7 @@ class FastTabularQ(Learner):
         stop, reported = min(chunk, trials), 0
         while True:
             budget = int(ctr[lk.T]) + STEPS_PER_CALL
-            status = lk.run_trials(plan, stop, budget, self.rng, self.kernel, steps, values)
+            status = call_kernel(lk.run_trials, plan, stop, budget, self.rng, self.kernel, steps, values)
             done = int(ctr[lk.K])
             if on_trial is not None:
                 for k in range(reported, min(done, trials)):
