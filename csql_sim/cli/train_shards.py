@@ -54,6 +54,8 @@ def settle(args: argparse.Namespace) -> None:
 def adopt_manifest(args: argparse.Namespace) -> None:
     """``--resume``: continue with what the directory was started with; a different option given is refused."""
     from csql_sim.core import rulebase_shards as rs
+    from csql_sim.infra.provenance import plain
+    from csql_sim.learners.params import resolve_params
 
     if not rs.is_sharded(args.out):
         raise CsqlError(f"--resume: {args.out} holds no sharded rule base to continue")
@@ -64,13 +66,13 @@ def adopt_manifest(args: argparse.Namespace) -> None:
             raise CsqlError(f"--resume: {args.out} was started with --{option} {manifest.get(key)}, not {given}; "
                             "give the same options or none")
         setattr(args, option, manifest.get(key))
-    if args.params is not None:
-        from csql_sim.infra.provenance import plain
-        from csql_sim.learners.params import resolve_params
-
-        if plain(resolve_params("cs-ql", args.params, args.blocks)) != manifest.get("params"):
-            raise CsqlError(f"--resume: {args.out} was started with other parameters than {args.params}")
-    args.resume_params = manifest.get("params")
+    try:  # the manifest's parameters must make CS-QL parameters (read_manifest checked the other fields)
+        resolve_params("cs-ql", manifest["params"], args.blocks)
+    except CsqlError as exc:
+        raise CsqlError(f"{Path(args.out) / rs.MANIFEST}: field 'params': {exc}") from None
+    if args.params is not None and plain(resolve_params("cs-ql", args.params, args.blocks)) != manifest["params"]:
+        raise CsqlError(f"--resume: {args.out} was started with other parameters than {args.params}")
+    args.resume_params = manifest["params"]
 
 
 def check_estimate(args: argparse.Namespace) -> int | None:
@@ -118,9 +120,11 @@ def check_directory(args: argparse.Namespace) -> Path:
     if args.resume:
         if not rs.is_sharded(out):
             raise CsqlError(f"--resume: {args.out} holds no sharded rule base to continue")
+        rs.check_own_files(out)  # a link or folder in place of a shard: never written through
         return out
     if out.exists() and not out.is_dir():
         raise CsqlError(f"--out {args.out} is a file; a sharded rule base is a directory")
+    rs.check_own_files(out)
     if out.is_dir() and any(out.iterdir()):
         ours = rs.is_sharded(out) and all(rs.is_own_file(p) for p in out.iterdir())
         if not ours and not args.overwrite:
@@ -135,8 +139,11 @@ def run(args: argparse.Namespace, out: Path) -> int:
     """``train`` into the sharded rule base ``out`` (:func:`check_directory`): shards saved as they come back."""
     from csql_sim.core.rulebase_shards import read_manifest
     from csql_sim.learners.params import default_trials, resolve_params
-    from csql_sim.learners.shards import ShardRun, default_shards, train_sharded
+    from csql_sim.learners.shards import ShardRun, default_shards, read_reports, train_sharded
 
+    problem = read_reports(out)[1]
+    if problem is not None:  # the reports are not part of the rule base: say so, then replace them
+        print(f"csql-sim: warning: {problem}; this run's report replaces it", file=sys.stderr)
     params = resolve_params("cs-ql", getattr(args, "resume_params", None) or args.params, args.blocks)
     trials = default_trials(args.blocks) if args.trials is None else args.trials
     shards = args.shards or default_shards(args.blocks)

@@ -30,6 +30,7 @@ version 1, with the atoms named, the classifiers as lines and the run's provenan
 from __future__ import annotations
 
 import json
+import math
 import os
 import re
 from collections.abc import Iterable
@@ -47,6 +48,8 @@ LIFTED_Q_FORMAT = formats.LIFTED_Q
 LIFTED_Q_VERSION = 1
 MAX_LIFTED_Q_BYTES = 1 << 20
 MAX_CLASSIFIERS = 4096
+MAX_EXPERIENCE_DIGITS = 18
+"""A classifier's experience (updates) fits in 18 digits; longer is a corrupt or hostile file."""
 _NUM = r"(-?\d+(?:\.\d+)?)"
 _LINE = re.compile(r"Q ([01#]+) move\(\?x,\?d\)->(table|block)\s+advantage=" + _NUM +
             r"\s+error=(\d+(?:\.\d+)?)\s+experience=(\d+)")
@@ -104,7 +107,13 @@ def parse_lifted_q(line: str) -> LiftedQClassifier:
         raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: expected 'Q <condition> move(?x,?d)->table|block "
                                 "advantage=A error=R experience=N'")
     cond, kind, advantage, error, experience = found.groups()
-    return LiftedQClassifier(cond, kind, float(advantage), float(error), int(experience))
+    if len(experience) > MAX_EXPERIENCE_DIGITS:
+        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: experience has {len(experience):,} digits "
+                                f"(at most {MAX_EXPERIENCE_DIGITS})")
+    numbers = float(advantage), float(error)
+    if not all(math.isfinite(x) for x in numbers):
+        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: advantage and error must be finite numbers")
+    return LiftedQClassifier(cond, kind, *numbers, int(experience))
 
 
 def most_specific(classifiers: Iterable[LiftedQClassifier], bits: tuple[int, ...], kind: str

@@ -42,7 +42,7 @@ from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule
 from csql_sim.core.world import BLOCK_NAMES, HAND, TABLE, Action, ActionKind, check_n
 from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import read_text_file
+from csql_sim.infra.files import InputFileError, load_json, read_text_file
 
 X, Y = "?x", "?y"
 """The variables: the block moved, and the block it comes from or goes onto."""
@@ -295,9 +295,9 @@ def dumps_lifted(rules: Iterable[LiftedRule], meta: dict) -> str:
 def read_versioned_json(text: str, source: str, fmt: str, version: int, error: type[CsqlError]) -> dict:
     """A JSON object that names its format ``fmt`` and ``version``; else ``error`` in one line naming ``source``."""
     try:
-        doc = json.loads(text)
-    except ValueError as exc:
-        raise error(f"{source} is not JSON ({exc.__class__.__name__})") from None
+        doc = load_json(text, source)  # bounded nesting and digits: one line, never a RecursionError
+    except InputFileError as exc:
+        raise error(str(exc)) from None
     if not isinstance(doc, dict) or doc.get("format") != fmt:
         raise error(f"{source} is not a {fmt} file")
     if doc.get("version") != version:

@@ -104,8 +104,13 @@ class BlocksProblem:
 
 
 def name_key(name: str) -> list:
-    """Sort key of object names: case-insensitive, digit runs compared as numbers (``b2`` < ``b10``)."""
-    return [int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name.lower())]
+    """Sort key of object names: case-insensitive, digit runs compared as numbers (``b2`` < ``b10``).
+
+    A digit run is compared by its length without leading zeros, then its digits: the order
+    of numbers, without converting them (a 5,000-digit name would exceed Python's limit).
+    """
+    return [(len(part.lstrip("0")), part.lstrip("0")) if part.isdigit() else part
+            for part in re.split(r"(\d+)", name.lower())]
 
 
 def read_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = None) -> BlocksProblem:

@@ -26,7 +26,6 @@ from __future__ import annotations
 import io
 import json
 import os
-import re
 import zipfile
 from pathlib import Path
 
@@ -41,7 +40,7 @@ from csql_sim.core.rulebase_yaml import RuleBase, check_meta, check_strings
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
 from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import MAX_YAML_DEPTH, InputFileError, read_bytes_file, write_atomic
+from csql_sim.infra.files import MAX_YAML_DEPTH, InputFileError, load_json, read_bytes_file, write_atomic
 
 FORMAT = formats.RULE_BASE_NPZ
 VERSION = 1
@@ -54,7 +53,6 @@ ARRAYS = ("header", "kind", "condition", "action", *FLOATS)
 MAX_HEADER_CHARS = 1024 * 1024
 """Longest JSON header read (a trained file's is about 1 kB); it may nest at most
 :data:`~csql_sim.infra.files.MAX_YAML_DEPTH` levels, as YAML rule files."""
-_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 
 
 def to_bytes(rulebase: RuleBase) -> bytes:
@@ -154,8 +152,8 @@ def peek_meta(path: str | os.PathLike) -> dict:
             raw = np.lib.format.read_array(member, allow_pickle=False)
         if raw.ndim != 0 or raw.dtype.kind != "U" or raw.dtype.itemsize // 4 > MAX_HEADER_CHARS:
             return {}
-        meta = json.loads(str(raw[()])).get("meta")
-    except (OSError, KeyError, ValueError, AttributeError, zipfile.BadZipFile, RuntimeError, RecursionError):
+        meta = load_json(str(raw[()]), os.fspath(path), max_depth=MAX_YAML_DEPTH).get("meta")
+    except (OSError, KeyError, ValueError, AttributeError, zipfile.BadZipFile, RuntimeError):
         return {}
     return meta if isinstance(meta, dict) else {}
 
@@ -192,27 +190,16 @@ def _check_bytes(strings: np.ndarray, name: str, width: int, source: str, error:
                     f"not a message character")
 
 
-def _json_depth(text: str) -> int:
-    """How deep the lists and objects of a JSON text nest (brackets inside strings do not count)."""
-    marks = np.frombuffer(re.sub(r"[^\[\]{}]", "", _JSON_STRING.sub("", text)).encode("ascii"), np.uint8)
-    if not len(marks):
-        return 0
-    return int(np.cumsum(np.where((marks == ord("[")) | (marks == ord("{")), 1, -1)).max())
-
-
 def _header(raw: np.ndarray, source: str, error: type[Exception]) -> dict:
     if raw.ndim != 0 or raw.dtype.kind != "U":
         raise error(f"{source}: the npz header is not JSON text")
     if raw.dtype.itemsize // 4 > MAX_HEADER_CHARS:
         raise error(f"{source}: the npz header is {raw.dtype.itemsize // 4:,} characters, above the "
                     f"{MAX_HEADER_CHARS:,}-character limit")
-    text = str(raw[()])
-    if _json_depth(text) > MAX_YAML_DEPTH:
-        raise error(f"{source}: the npz header nests deeper than {MAX_YAML_DEPTH} levels")
     try:
-        header = json.loads(text)
-    except (ValueError, TypeError, RecursionError):
-        raise error(f"{source}: the npz header is not JSON") from None
+        header = load_json(str(raw[()]), f"{source}: the npz header", max_depth=MAX_YAML_DEPTH)
+    except InputFileError as exc:
+        raise error(str(exc)) from None
     if not isinstance(header, dict) or header.get("format") != FORMAT:
         raise error(f"{source}: not a csql-sim npz rule base (missing format {FORMAT!r})")
     if header.get("version") != VERSION:

@@ -33,8 +33,9 @@ from pathlib import Path
 import numpy as np
 
 from csql_sim.core.rulebase_yaml import RuleBaseError
+from csql_sim.core.state_count import state_count
 from csql_sim.infra import formats
-from csql_sim.infra.files import write_atomic
+from csql_sim.infra.files import InputFileError, load_json, read_json_file, write_atomic
 
 FORMAT = formats.SHARDS
 VERSION = 1
@@ -44,6 +45,10 @@ MAGIC = formats.SHARD_MAGIC + b"\n"
 ARRAYS = (("first", "<i8"), ("born", "<i8"), ("q", "<f8"), ("error", "<f8"))
 ALIGN = 64
 MAX_HEADER = 4096
+MAX_MANIFEST_BYTES = 1 << 26
+MAX_BLOCKS = 7
+"""The most blocks a sharded rule base may be for (7: the estimate's; training and reading stop at 6)."""
+_OWN_NAME = re.compile(r"shard-\d{5}\.bin|" + re.escape(MANIFEST) + "|" + re.escape(REPORT))
 
 
 @dataclass(frozen=True)
@@ -127,7 +132,9 @@ def read_shard(path: Path, index: int, sha256: str | None, nodes: int | None = N
     try:
         if not head.startswith(MAGIC):
             raise ValueError("no shard header")
-        header = json.loads(line)
+        header = load_json(line.decode("utf-8"), "its header")
+        if not isinstance(header, dict):
+            raise ValueError("its header is not a JSON object")
         if header.get("format") != FORMAT or header.get("version") != VERSION or header.get("shard") != index:
             raise ValueError("another format, version or shard")
         start = -(-(len(MAGIC) + len(line) + 1) // ALIGN) * ALIGN
@@ -167,8 +174,30 @@ def _check_layout(arrays: ShardArrays, header: dict, nodes: int | None) -> None:
 
 def is_own_file(path: Path) -> bool:
     """Whether ``path`` is one of the files a sharded rule base's directory holds (a regular file, our name)."""
-    ours = path.name in (MANIFEST, REPORT) or re.fullmatch(r"shard-\d{5}\.bin", path.name) is not None
-    return ours and path.is_file() and not path.is_symlink()
+    return _OWN_NAME.fullmatch(path.name) is not None and path.is_file() and not path.is_symlink()
+
+
+def check_own_files(directory: Path) -> None:
+    """Refuse, before any write, a link, folder or device named as one of the directory's own files.
+
+    The tool replaces its files there atomically and never writes through a link: a link
+    named ``shard-00000.bin`` (or a folder so named) is the user's, refused in one line.
+
+    Raises:
+        RuleBaseError: naming the entry and what it is.
+    """
+    try:
+        entries = sorted(os.scandir(directory), key=lambda e: e.name)
+    except (FileNotFoundError, NotADirectoryError):
+        return
+    except OSError as exc:
+        raise RuleBaseError(f"cannot list {directory}: {exc.strerror or exc}") from None
+    for entry in entries:
+        if _OWN_NAME.fullmatch(entry.name) and not entry.is_file(follow_symlinks=False):
+            kind = "a symbolic link" if entry.is_symlink() else "a folder" if entry.is_dir(follow_symlinks=False) \
+                else "a device, pipe or socket"
+            raise RuleBaseError(f"{Path(directory) / entry.name} is {kind}, not a regular file; refusing to write "
+                                "through or replace it (remove it, or give another --out)")
 
 
 def is_sharded(path: str | os.PathLike) -> bool:
@@ -178,34 +207,97 @@ def is_sharded(path: str | os.PathLike) -> bool:
 
 
 def write_manifest(directory: Path, manifest: dict) -> Path:
-    """Write ``manifest.json`` atomically (sorted keys: the same content, the same bytes)."""
-    return write_atomic(directory / MANIFEST, json.dumps(manifest, indent=1, sort_keys=True) + "\n")
+    """Write ``manifest.json`` atomically (sorted keys: the same content, the same bytes); a link there is replaced."""
+    return write_atomic(directory / MANIFEST, json.dumps(manifest, indent=1, sort_keys=True) + "\n", follow_links=False)
 
 
 def read_manifest(directory: Path) -> dict:
-    """The manifest of ``directory``, checked for format and version.
+    """The manifest of ``directory``, every field checked (:func:`check_manifest`).
 
     Raises:
-        RuleBaseError: one line naming the file, if it is missing, not JSON or foreign.
+        RuleBaseError: one line naming the file (and the field), if it is missing, not
+            JSON (or nested too deep), foreign or has a field of the wrong type or value.
     """
     path = directory / MANIFEST
     try:
-        if path.stat().st_size > 1 << 26:
-            raise RuleBaseError(f"{path} is too large for a manifest")
-        manifest = json.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise RuleBaseError(f"cannot read {path}: {exc.strerror or exc}") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise RuleBaseError(f"{path} is not a sharded rule base's manifest: {exc}") from None
+        manifest = read_json_file(path, MAX_MANIFEST_BYTES, "manifest")
+    except InputFileError as exc:
+        raise RuleBaseError(str(exc)) from None
     if not isinstance(manifest, dict) or manifest.get("format") != FORMAT:
         raise RuleBaseError(f"{path} is not a sharded rule base's manifest (format {FORMAT!r})")
     if manifest.get("version") != VERSION:
-        raise RuleBaseError(f"{path} has version {manifest.get('version')!r}; this csql-sim reads version {VERSION}")
-    for key, kind in (("blocks", int), ("shards", int), ("count", int), ("complete", bool), ("files", list),
-                      ("r_classifiers", list)):
-        if not isinstance(manifest.get(key), kind) or isinstance(manifest.get(key), bool) != (kind is bool):
-            raise RuleBaseError(f"{path}: field {key!r} is missing or not a {kind.__name__}")
+        raise RuleBaseError(f"{path} has version {_shown(manifest.get('version'))}; this csql-sim reads version "
+                            f"{VERSION}")
+    check_manifest(manifest, path)
     return manifest
+
+
+def _shown(value: object) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _bad(path: Path, field: str, value: object, what: str) -> RuleBaseError:
+    return RuleBaseError(f"{path}: field {field!r} must be {what}, got {_shown(value)}")
+
+
+def _whole(value: object, low: int, high: int | None = None) -> bool:
+    return type(value) is int and value >= low and (high is None or value <= high)
+
+
+def check_manifest(manifest: dict, path: Path) -> None:
+    """Check every field that reading or ``train --resume`` uses: types, ranges, and each shard entry.
+
+    Raises:
+        RuleBaseError: naming ``path`` and the first field that is missing or wrong.
+    """
+    for key, low, high in (("blocks", 2, MAX_BLOCKS), ("seed", 0, None), ("trials", 0, None)):
+        if not _whole(manifest.get(key), low, high):
+            raise _bad(path, key, manifest.get(key), f"an integer {low}..{high}" if high else f"an integer >= {low}")
+    count = state_count(manifest["blocks"])
+    if manifest.get("count") != count or type(manifest.get("count")) is not int:
+        raise _bad(path, "count", manifest.get("count"), f"{count} (the states of {manifest['blocks']} blocks)")
+    if not _whole(manifest.get("shards"), 1, count):
+        raise _bad(path, "shards", manifest.get("shards"), f"an integer 1..{count}")
+    if manifest.get("method") != "cs-ql":
+        raise _bad(path, "method", manifest.get("method"), "'cs-ql'")
+    if not isinstance(manifest.get("params"), dict):
+        raise _bad(path, "params", manifest.get("params"), "an object")
+    rules = manifest.get("r_classifiers")
+    if not isinstance(rules, list) or not all(isinstance(r, list) and len(r) == 2 and all(isinstance(x, str) for x in r)
+                                              for r in rules):
+        raise _bad(path, "r_classifiers", rules, "a list of [condition, action] pairs")
+    files = manifest.get("files")
+    if not isinstance(files, list) or len(files) > manifest["shards"]:
+        raise _bad(path, "files", files, f"a list of at most {manifest['shards']} shard entries")
+    seen: set[int] = set()
+    for k, entry in enumerate(files):
+        _check_entry(path, k, entry, manifest, seen)
+    if type(manifest.get("complete")) is not bool or manifest["complete"] != (len(seen) == manifest["shards"]):
+        raise _bad(path, "complete", manifest.get("complete"), f"{len(seen) == manifest['shards']} "
+                   f"({len(seen)} of {manifest['shards']} shards listed)")
+
+
+def _check_entry(path: Path, k: int, entry: object, manifest: dict, seen: set[int]) -> None:
+    """One entry of the manifest's ``files``: its shard (once each), file name, SHA-256, goals, counts."""
+    field = f"files[{k}]"
+    if not isinstance(entry, dict):
+        raise _bad(path, field, entry, "an object")
+    shard = entry.get("shard")
+    if not _whole(shard, 0, manifest["shards"] - 1) or shard in seen:
+        raise _bad(path, f"{field}.shard", shard, f"a shard 0..{manifest['shards'] - 1} listed once")
+    seen.add(shard)
+    if entry.get("file") != shard_name(shard):
+        raise _bad(path, f"{field}.file", entry.get("file"), repr(shard_name(shard)))
+    sha = entry.get("sha256")
+    if not (isinstance(sha, str) and re.fullmatch(r"[0-9a-f]{64}", sha)):
+        raise _bad(path, f"{field}.sha256", sha, "64 hexadecimal digits")
+    goals = list(goal_range(manifest["count"], manifest["shards"], shard))
+    if entry.get("goals") != goals:
+        raise _bad(path, f"{field}.goals", entry.get("goals"), str(goals))
+    for key in ("q_classifiers", "clock"):
+        if not _whole(entry.get(key), 0):
+            raise _bad(path, f"{field}.{key}", entry.get(key), "an integer >= 0")
 
 
 def goal_range(count: int, shards: int, index: int) -> tuple[int, int]:
@@ -237,9 +329,6 @@ class ShardedRuleBase:
         entries = {e.get("shard"): e for e in manifest["files"] if isinstance(e, dict)}
         if sorted(k for k in entries if isinstance(k, int)) != list(range(self.shards)):
             raise RuleBaseError(f"{directory / MANIFEST}: the shard list does not match {self.shards} shards")
-        for k, e in entries.items():
-            if not (isinstance(e.get("sha256"), str) and re.fullmatch(r"[0-9a-f]{64}", e["sha256"])):
-                raise RuleBaseError(f"{directory / MANIFEST}: shard {k} has no SHA-256")
         self.entries = entries
         self.verified: set[int] = set()  # shards whose SHA-256 was checked in this process
         self.shard = functools.lru_cache(maxsize=8)(self._shard)

@@ -9,6 +9,7 @@ candidates of a state come from the manifest's R-classifiers (their world model)
 
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
@@ -18,7 +19,7 @@ from csql_sim.core.policy import NoRuleError
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import r_classifiers
 from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.rulebase_shards import ShardedRuleBase, greedy_ranks
+from csql_sim.core.rulebase_shards import MANIFEST, ShardedRuleBase, greedy_ranks
 from csql_sim.core.rulebase_yaml import RuleBaseError
 from csql_sim.core.world import Action, BlocksWorld, State
 from csql_sim.core.world_model import WorldModel
@@ -48,6 +49,11 @@ class ShardedPolicy:
         built_in = [[r.condition, r.action] for r in r_classifiers(self.n)]
         if base.manifest["r_classifiers"] != built_in:  # sharded training uses the built-in ones only
             raise RuleBaseError(f"{base.directory}: the manifest's R-classifiers are not the {self.n}-block world's")
+        unit = base.manifest["params"].get("age_unit", 10_000.0)  # read_manifest checked params is an object
+        if type(unit) not in (int, float) or not 0 < unit < math.inf:
+            raise RuleBaseError(f"{base.directory / MANIFEST}: field 'params': age_unit must be a positive number, "
+                                f"got {str(unit)[:20]!r}")
+        self.age_unit = float(unit)
         self.model = WorldModel.for_blocks(self.n)
         self.legal = self.model.table.legal
 
@@ -92,7 +98,7 @@ def path_rulebase(policy: ShardedPolicy, start: State, goal: State) -> RuleBase:
     one step per state; each state's Q-classifiers for ``goal`` come from the goal's shard.
     """
     base, world, n = policy.base, policy.world, policy.n
-    unit = float(base.manifest.get("params", {}).get("age_unit", 10_000.0))
+    unit = policy.age_unit
     g = world.state_index(goal)
     arrays, column = base.column(g)
     out: list = list(r_classifiers(n))

@@ -15,10 +15,11 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
+from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
 from csql_sim.discovery.induction import Experience
 from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import InputFileError, read_text_file, write_atomic
+from csql_sim.infra.files import InputFileError, load_json, read_text_file, write_atomic
 
 MAX_FILE_BYTES = 64 * 1024 * 1024  # about 400,000 transitions
 FORMAT = formats.TRANSITIONS
@@ -54,12 +55,18 @@ def load(path: str | os.PathLike) -> tuple[int, list[Experience]]:
     except InputFileError as exc:
         raise TransitionLogError(str(exc)) from None
     rows = text.splitlines()
-    try:
-        head = json.loads(rows[0]) if rows else {}
-        if head.get("format") != FORMAT or head.get("version") != VERSION:
+    try:  # each line through the guarded reader: bounded nesting and digits, one line naming the file
+        head = load_json(rows[0], f"{path} line 1") if rows else {}
+        if not isinstance(head, dict) or head.get("format") != FORMAT or head.get("version") != VERSION:
             raise TransitionLogError(f"{path} is not a version-{VERSION} {FORMAT!r} file")
+        n = head.get("blocks")
+        if type(n) is not int or not MIN_BLOCKS <= n <= MAX_BLOCKS:
+            raise TransitionLogError(f"{path}: 'blocks' must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {str(n)[:20]!r}")
         out = [Experience(r["before"], r["action"], r["after"], bool(r["ok"]), r.get("reason", ""), r.get("refused"))
-               for r in map(json.loads, rows[1:])]
-    except (json.JSONDecodeError, KeyError, TypeError, AttributeError) as exc:
-        raise TransitionLogError(f"{path}: corrupt transition log ({exc})") from None
-    return int(head["blocks"]), out
+               for r in (load_json(row, f"{path} line {k}") for k, row in enumerate(rows[1:], 2))]
+    except InputFileError as exc:
+        raise TransitionLogError(str(exc)) from None
+    except (KeyError, TypeError, AttributeError) as exc:
+        raise TransitionLogError(f"{path}: corrupt transition log ({exc.__class__.__name__}: {str(exc)[:80]})") \
+            from None
+    return n, out

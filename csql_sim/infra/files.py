@@ -4,12 +4,16 @@ Every command that writes checks its outputs with :func:`check_output_file` or
 :func:`check_output_folder` before any long work, writes with :func:`write_atomic`
 (temporary file in the target's folder, then a rename) and, when a write fails at the end
 anyway, keeps what it computed with :func:`write_or_keep`. Every file the tool reads comes
-through :func:`read_text_file` (regular files only, size-capped) and YAML through
-:func:`load_yaml` (no aliases, bounded nesting).
+through :func:`read_text_file` (regular files only, size-capped), YAML through
+:func:`load_yaml` and JSON through :func:`load_json` (bounded nesting, checked before the
+parser runs): these live in :mod:`csql_sim.infra.reading` and are imported from here too.
 
 Device nodes, pipes and sockets are never outputs: ``--out /dev/null`` is refused with a
 one-line error (exit 2) instead of being replaced by a regular file. An output that is a
-symbolic link is written through: the file it points to is replaced, the link is kept.
+symbolic link is written through: the file it points to is replaced, the link is kept;
+a command's own files inside its output folder are written with ``follow_links=False``
+(a link there is replaced, never written through). Folders a write creates for its file
+are removed again when the write fails or is interrupted (if they are still empty).
 
 Temporary files are named ``.<name>.csql-sim-<pid>-<random>.tmp<suffix>`` beside their
 target. They are removed when the write fails or the process is interrupted (the CLI
@@ -20,7 +24,6 @@ the process that made it is gone (:func:`remove_stale_temporaries`).
 
 from __future__ import annotations
 
-import errno
 import os
 import stat
 import tempfile
@@ -29,28 +32,25 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-import yaml
-
 from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.reading import MAX_JSON_DEPTH as MAX_JSON_DEPTH
+from csql_sim.infra.reading import MAX_YAML_DEPTH as MAX_YAML_DEPTH
+from csql_sim.infra.reading import InputFileError as InputFileError
+from csql_sim.infra.reading import load_json as load_json
+from csql_sim.infra.reading import load_yaml as load_yaml
+from csql_sim.infra.reading import read_bytes_file as read_bytes_file
+from csql_sim.infra.reading import read_json_file as read_json_file
+from csql_sim.infra.reading import read_text_file as read_text_file
+from csql_sim.infra.reading import reason as _reason
 
 RUN_STARTED = time.time()
 """When this process imported the module: temporary files older than this may be stale."""
 TEMP_TAG = "csql-sim-"
 """The mark of our temporary files: ``.<name>.csql-sim-<pid>-<random>.tmp<suffix>``."""
-MAX_YAML_DEPTH = 32
-"""The deepest nesting of lists and mappings a YAML input may have (rule files use 3)."""
 
 
 class OutputError(CsqlError):
     """An output path that cannot be written (a folder, a device, a read-only folder)."""
-
-
-class InputFileError(CsqlError):
-    """An input file that is missing, not a regular file, too large or not valid YAML."""
-
-
-def _reason(exc: OSError) -> str:
-    return exc.strerror or errno.errorcode.get(exc.errno or 0, exc.__class__.__name__)
 
 
 def _mode(path: Path, shown: str, what: str) -> int | None:
@@ -124,8 +124,15 @@ def check_output_folder(path: str | os.PathLike, what: str = "output folder") ->
     return target
 
 
-def _refuse_special(target: Path) -> None:
-    if target.exists() and not target.is_dir() and not target.is_file():
+def _refuse_special(target: Path, follow_links: bool = True) -> None:
+    """Refuse a folder, device, pipe or socket at ``target`` (a link itself is fine when not following)."""
+    try:
+        mode = target.stat().st_mode if follow_links else target.lstat().st_mode
+    except OSError:
+        return
+    if stat.S_ISDIR(mode):
+        raise OutputError(f"{str(target)!r} is a folder, not a regular file; refusing to replace it")
+    if not (stat.S_ISREG(mode) or stat.S_ISLNK(mode)):
         raise OutputError(f"{str(target)!r} is a device, pipe or socket, not a regular file; refusing to replace it")
 
 
@@ -194,38 +201,81 @@ def _publish(tmp: Path, target: Path) -> None:
     os.replace(tmp, target)
 
 
+def _missing_folders(folder: Path) -> list[Path]:
+    """``folder`` and its ancestors that do not exist yet (the ones a write creates), deepest first."""
+    missing, probe = [], folder
+    while not os.path.lexists(probe) and probe != probe.parent:
+        missing.append(probe)
+        probe = probe.parent
+    return missing
+
+
+def remove_folders(created: list[Path]) -> None:
+    """Remove the folders a failed write created (deepest first), each only while it is empty."""
+    for folder in created:
+        try:
+            folder.rmdir()
+        except OSError:
+            return
+
+
 @contextmanager
-def atomic_output(path: str | os.PathLike) -> Iterator[Path]:
+def atomic_output(path: str | os.PathLike, *, follow_links: bool = True) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; on success it is renamed onto ``path``.
 
     The caller writes the temporary file by any means (an encoder, a plotting library);
     it keeps the target's suffix, so writers that pick a format by suffix still work.
     If the block raises (SIGTERM included, see :mod:`csql_sim.cli`), the temporary file is
-    removed and ``path`` is left as it was. On success the file is synced to disk and gets
-    the permissions an ordinary new file would (0666 less the umask), not mkstemp's 0600,
-    before the rename. A path that is a device, pipe or socket is refused (OutputError)
-    rather than replaced by a regular file; a symbolic link is written through
-    (:func:`write_target`). Stale temporary files of the same output are removed first.
+    removed, ``path`` is left as it was and the folders created for it are removed again
+    (while empty). On success the file is synced to disk and gets the permissions an
+    ordinary new file would (0666 less the umask), not mkstemp's 0600, before the rename.
+    A path that is a folder, device, pipe or socket is refused (OutputError) rather than
+    replaced; a symbolic link is written through (:func:`write_target`), or with
+    ``follow_links=False`` replaced by the new file. Stale temporary files of the same
+    output are removed first.
     """
-    target = write_target(path)
-    _refuse_special(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    remove_stale_temporaries(target)
-    fd, name = tempfile.mkstemp(prefix=f".{target.name}.{TEMP_TAG}{os.getpid()}-", suffix=f".tmp{target.suffix}",
-                                dir=target.parent)
-    os.close(fd)
-    tmp = Path(name)
+    target = write_target(path) if follow_links else Path(path)
+    _refuse_special(target, follow_links)
+    created, tmp = _missing_folders(target.parent), None
     try:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        remove_stale_temporaries(target)
+        fd, name = tempfile.mkstemp(prefix=f".{target.name}.{TEMP_TAG}{os.getpid()}-",
+                                    suffix=f".tmp{target.suffix}", dir=target.parent)
+        os.close(fd)
+        tmp = Path(name)
         yield tmp
         _publish(tmp, target)
     except BaseException:
-        tmp.unlink(missing_ok=True)
+        if tmp is not None:
+            tmp.unlink(missing_ok=True)
+        else:  # a signal inside mkstemp, after it made the file but before it named it
+            _remove_own_temporaries(target)
+        remove_folders(created)
         raise
 
 
-def write_atomic(path: str | os.PathLike, data: str | bytes) -> Path:
-    """Write ``data`` (text as UTF-8) to ``path``; a crash leaves either the old file or the new one."""
-    with atomic_output(path) as tmp:
+def _remove_own_temporaries(target: Path) -> None:
+    """Remove this process's temporary files of ``target`` (named as :func:`atomic_output` names them)."""
+    prefix, suffix = f".{target.name}.{TEMP_TAG}{os.getpid()}-", f".tmp{target.suffix}"
+    try:
+        entries = list(os.scandir(target.parent))
+    except OSError:
+        return
+    for entry in entries:
+        if entry.name.startswith(prefix) and entry.name.endswith(suffix):
+            try:
+                os.unlink(entry.path)
+            except OSError:
+                pass
+
+
+def write_atomic(path: str | os.PathLike, data: str | bytes, *, follow_links: bool = True) -> Path:
+    """Write ``data`` (text as UTF-8) to ``path``; a crash leaves either the old file or the new one.
+
+    With ``follow_links=False`` a symbolic link at ``path`` is replaced, not written through.
+    """
+    with atomic_output(path, follow_links=follow_links) as tmp:
         tmp.write_bytes(data.encode("utf-8") if isinstance(data, str) else data)
     return Path(path)
 
@@ -283,83 +333,3 @@ def write_or_keep(outputs: list[tuple[str | os.PathLike, str | bytes]]) -> list[
     if lost:
         where.append(f"no copy of {', '.join(lost)} could be kept either")
     raise OutputError(f"cannot write {first[0]!r} ({first[1]}); {'; '.join(where)}")
-
-
-def read_text_file(path: str | os.PathLike, max_bytes: int, what: str = "file") -> str:
-    """Read a UTF-8 regular file of at most ``max_bytes`` bytes.
-
-    Devices (``/dev/zero``), pipes and folders are refused without reading, and so is a
-    file larger than the cap (before reading it).
-
-    Raises:
-        InputFileError: one line naming the file and the problem.
-    """
-    data = read_bytes_file(path, max_bytes, what)
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise InputFileError(f"{os.fspath(path)}: not UTF-8 text (byte {exc.start})") from None
-
-
-def read_bytes_file(path: str | os.PathLike, max_bytes: int, what: str = "file") -> bytes:
-    """:func:`read_text_file`'s guarded read, for binary content (an ``.npz`` rule base)."""
-    shown = os.fspath(path)
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except FileNotFoundError:
-        raise InputFileError(f"{shown}: no such {what}") from None
-    except OSError as exc:
-        raise InputFileError(f"{shown}: cannot read {what} ({_reason(exc)})") from None
-    info = os.fstat(fd)
-    if not stat.S_ISREG(info.st_mode) or info.st_size > max_bytes:
-        os.close(fd)
-        if stat.S_ISREG(info.st_mode):
-            raise InputFileError(f"{shown}: {info.st_size:,} bytes, above the {max_bytes:,}-byte limit for a {what}")
-        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "a device, pipe or socket"
-        raise InputFileError(f"{shown}: {kind}, not a regular {what}")
-    with os.fdopen(fd, "rb") as fh:
-        try:
-            data = fh.read(max_bytes + 1)
-        except OSError as exc:
-            raise InputFileError(f"{shown}: cannot read {what} ({_reason(exc)})") from None
-    if len(data) > max_bytes:
-        raise InputFileError(f"{shown}: above the {max_bytes:,}-byte limit for a {what}")
-    return data
-
-
-_C_LOADER = getattr(yaml, "CSafeLoader", None)
-_OPEN = (yaml.SequenceStartEvent, yaml.MappingStartEvent)
-_CLOSE = (yaml.SequenceEndEvent, yaml.MappingEndEvent)
-
-
-def _check_events(text: str, source: str, max_depth: int) -> None:
-    """Refuse aliases and deep nesting from the parser's events, before any node is built."""
-    depth = 0
-    for event in yaml.parse(text, Loader=_C_LOADER or yaml.SafeLoader):
-        if isinstance(event, yaml.AliasEvent):
-            line = event.start_mark.line + 1 if event.start_mark else "?"
-            raise InputFileError(f"{source}: YAML aliases (*{event.anchor}) are not allowed (line {line})")
-        if isinstance(event, _OPEN):
-            depth += 1
-            if depth > max_depth:
-                line = event.start_mark.line + 1 if event.start_mark else "?"
-                raise InputFileError(f"{source}: YAML nested deeper than {max_depth} levels (line {line})")
-        elif isinstance(event, _CLOSE):
-            depth -= 1
-
-
-def load_yaml(text: str, source: str, max_depth: int = MAX_YAML_DEPTH) -> object:
-    """Parse YAML safely: plain data only, no aliases, at most ``max_depth`` levels deep.
-
-    Uses libyaml when PyYAML has it (about five times faster than the pure-Python loader).
-
-    Raises:
-        InputFileError: one line naming ``source`` and, where known, the line.
-    """
-    try:
-        _check_events(text, source, max_depth)
-        return yaml.load(text, Loader=_C_LOADER or yaml.SafeLoader)  # noqa: S506 (a safe loader)
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" at line {mark.line + 1}" if mark is not None else ""
-        raise InputFileError(f"{source}: not valid YAML{where} (truncated or corrupt?)") from None

@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import os
 import resource
 import sys
 import time
@@ -36,12 +37,14 @@ from csql_sim.core.transition_table import true_table
 from csql_sim.core.world import BlocksWorld
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import write_atomic
+from csql_sim.infra.files import read_json_file, write_atomic
 from csql_sim.infra.provenance import plain, provenance
 from csql_sim.infra.workers import worker_count
 from csql_sim.learners.fast_engine import FastCSQL, ModelArrays, world_model
 from csql_sim.learners.params import CSQLParams
 
+MAX_REPORT_BYTES = 1 << 24
+"""The largest run-report file read back (each run adds about 1 kB)."""
 SHARDS_BY_BLOCKS = {6: 64, 7: 512}
 """Shards by default (one engine below 6 blocks; at 6: 110 goals per shard, a 45 MB file, a worker of about 0.6 GB)."""
 
@@ -229,12 +232,11 @@ def _resumable(run: ShardRun, fresh: dict) -> tuple[dict, set[int]]:
         raise CsqlError(f"--resume: {run.out} was trained with other {', '.join(differ)}; "
                         "give the same options or another --out")
     good = set()
-    for entry in old["files"]:
-        k = entry.get("shard") if isinstance(entry, dict) else None
-        path = run.out / rs.shard_name(k) if isinstance(k, int) and 0 <= k < run.shards else None
-        if path is not None and path.is_file() and rs.file_sha256(path) == entry.get("sha256"):
-            good.add(k)
-    fresh["files"] = [e for e in old["files"] if isinstance(e, dict) and e.get("shard") in good]
+    for entry in old["files"]:  # read_manifest checked each entry's shard, file name and SHA-256
+        path = run.out / rs.shard_name(entry["shard"])
+        if rs.is_own_file(path) and rs.file_sha256(path) == entry["sha256"]:
+            good.add(entry["shard"])
+    fresh["files"] = [e for e in old["files"] if e["shard"] in good]
     return fresh, good
 
 
@@ -248,6 +250,8 @@ def train_sharded(run: ShardRun, progress: bool = False,
     """
     manifest = manifest_for(run)
     done: set[int] = set()
+    rs.check_own_files(run.out)  # a link or folder named as one of our files: refused before any write
+    previous = read_reports(run.out)[0]
     if run.resume:
         manifest, done = _resumable(run, manifest)
         manifest["complete"] = len(manifest["files"]) == run.shards
@@ -265,7 +269,7 @@ def train_sharded(run: ShardRun, progress: bool = False,
         if isinstance(outcome, TaskFailure):
             failures.append(f"shard {k}: {outcome.reason}")
             return k
-        path = write_atomic(run.out / rs.shard_name(k), rs.shard_bytes(k, outcome.arrays))
+        path = write_atomic(run.out / rs.shard_name(k), rs.shard_bytes(k, outcome.arrays), follow_links=False)
         lo, hi = rs.goal_range(manifest["count"], run.shards, k)
         manifest["files"] = sorted([*manifest["files"], {
             "shard": k, "file": path.name, "sha256": rs.file_sha256(path), "goals": [lo, hi],
@@ -280,7 +284,8 @@ def train_sharded(run: ShardRun, progress: bool = False,
     map_tasks(train_shard, jobs, run.backend, setup=install_model, setup_args=(shared,), progress=progress,
               desc=f"shards ({run.n} blocks)", unit="shard", on_result=save)
     report = run_report(run, outcomes, time.perf_counter() - began, resumed=sorted(done))
-    _append_report(run.out, report)
+    write_atomic(run.out / rs.REPORT, json.dumps({"format": "csql-sim shard run reports", "version": 1,
+                                                  "runs": [*previous, report]}, indent=1) + "\n", follow_links=False)
     if failures:
         raise CsqlError(f"{len(failures)} shard(s) failed ({failures[0]}); {run.out} is incomplete: "
                         "rerun with --resume")
@@ -316,15 +321,18 @@ def run_report(run: ShardRun, outcomes: dict[int, ShardOutcome], wall: float, re
             "shard_seconds": {str(k): round(o.seconds, 3) for k, o in sorted(outcomes.items())}}
 
 
-def _append_report(directory: Path, report: dict) -> None:
-    """Add ``report`` to the directory's run reports (kept beside the rule base, not part of it)."""
-    path = directory / rs.REPORT
-    runs: list = []
-    try:
-        old = json.loads(path.read_text(encoding="utf-8"))
-        runs = old.get("runs", []) if isinstance(old, dict) else []
-    except (OSError, ValueError):
-        runs = []
-    write_atomic(path, json.dumps({"format": "csql-sim shard run reports", "version": 1,
-                                   "runs": [*runs, report]}, indent=1) + "\n")
+def read_reports(directory: Path) -> tuple[list, str | None]:
+    """The run reports kept beside a rule base, and why the file was set aside if it cannot be read (else None).
 
+    The reports are not part of the rule base: an unreadable file (corrupt, nested too
+    deep) is replaced by the next run's report rather than stopping the run.
+    """
+    path = directory / rs.REPORT
+    if not os.path.lexists(path):
+        return [], None
+    try:
+        old = read_json_file(path, MAX_REPORT_BYTES, "run report")
+    except CsqlError as exc:
+        return [], str(exc)
+    runs = old.get("runs") if isinstance(old, dict) else None
+    return (runs, None) if isinstance(runs, list) else ([], f"{path} is not a list of run reports")

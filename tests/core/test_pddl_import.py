@@ -206,3 +206,10 @@ def test_the_test_problems_are_the_generators(tmp_path):
     for plan in DATA.glob("*.plan"):
         bp = read_problem(plan.with_suffix(".pddl"), DATA / "domain.pddl")
         assert bp.goal.satisfied(check_plan(bp.start, read_plan(plan, bp.index, bp.n, bp.actions))[-1])
+
+
+def test_object_names_sort_as_numbers_without_converting_them():
+    from csql_sim.core.pddl_import import name_key
+
+    huge = "c" + "9" * 5000  # past Python's 4,300-digit limit for int()
+    assert sorted(["b10", "b2", "B1", huge, "a"], key=name_key) == ["a", "B1", "b2", "b10", huge]

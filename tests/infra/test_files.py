@@ -254,3 +254,49 @@ def test_a_copy_that_cannot_be_kept_whole_is_not_kept(tmp_path, monkeypatch):
     with pytest.raises(OutputError, match="No space left on device.*no copy of r.yaml could be kept"):
         write_or_keep([(tmp_path / "out" / "r.yaml", "x" * 1000)])
     assert list((tmp_path / "tmp").iterdir()) == [] and list((tmp_path / "out").iterdir()) == []
+
+
+def test_atomic_output_removes_the_folders_it_created_when_the_write_fails(tmp_path):
+    import pytest
+
+    from csql_sim.infra.files import atomic_output
+
+    (tmp_path / "old").mkdir()
+    with pytest.raises(KeyboardInterrupt), atomic_output(tmp_path / "old" / "new" / "sub" / "out.json") as tmp:
+        tmp.write_text("half")
+        raise KeyboardInterrupt
+    assert [p.name for p in tmp_path.iterdir()] == ["old"] and list((tmp_path / "old").iterdir()) == []
+
+
+def test_write_atomic_without_following_links_replaces_the_link_not_its_target(tmp_path):
+    import pytest
+
+    from csql_sim.infra.files import OutputError
+
+    (tmp_path / "victim").write_text("precious")
+    os.symlink("victim", tmp_path / "ours.bin")
+    write_atomic(tmp_path / "ours.bin", "new", follow_links=False)
+    assert (tmp_path / "victim").read_text() == "precious"
+    assert not (tmp_path / "ours.bin").is_symlink() and (tmp_path / "ours.bin").read_text() == "new"
+    (tmp_path / "folder.bin").mkdir()
+    with pytest.raises(OutputError, match="folder.bin"):
+        write_atomic(tmp_path / "folder.bin", "new", follow_links=False)
+
+
+def test_load_json_bounds_nesting_and_digits_before_parsing():
+    import json
+
+    import pytest
+
+    from csql_sim.infra.files import InputFileError, load_json
+
+    refused = ("[" * 100_000, '{"a": ' * 100_000, "[" * 33 + "]" * 33, "[" + "9" * 5000 + "]", "[-" + "1" * 1001 + "]")
+    for text in refused:
+        with pytest.raises(InputFileError, match=r"^src\b") as exc:
+            load_json(text, "src")
+        assert "\n" not in str(exc.value)
+    for text in ("[" * 32 + "]" * 32, '["' + "[" * 40 + '\\"[[["]'):  # brackets inside strings do not count
+        assert load_json(text, "src") == json.loads(text)
+    assert load_json("[" + "9" * 1000 + "]", "src") == [int("9" * 1000)]
+    with pytest.raises(InputFileError, match="src is not JSON"):
+        load_json('"\\"' * 50_000, "src")  # many unterminated strings: still linear
