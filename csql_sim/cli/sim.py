@@ -14,7 +14,6 @@ from csql_sim.cli.args import (
     add_overwrite,
     add_quiet,
     add_renderer_argument,
-    add_seed,
     add_workers,
     backend_from_args,
     blocks_arg,
@@ -26,8 +25,15 @@ from csql_sim.cli.args import (
     warn_workers,
 )
 from csql_sim.cli.core import read_task_for_rules
-from csql_sim.cli.large_plan import read_large_task, select_policy
+from csql_sim.cli.large_plan import large_blocks, read_large_task, select_policy
 from csql_sim.cli.output import default_path, emit
+from csql_sim.cli.sim_options import (
+    DISCOVERY_BLOCKS,
+    DISCOVERY_TRANSITIONS,
+    NO_NOISE,
+    check_evaluate_options,
+    check_render_options,
+)
 from csql_sim.core.large_state import MAX_LARGE, LargeState
 from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
@@ -57,21 +63,17 @@ def arm_blocks_arg(text: str) -> int:
 def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[State | LargeState, State | LargeState]:
     """The task of ``render``: as ``plan`` reads it up to six blocks, else a task of 7..10 cubes.
 
-    Past six blocks the start and goal are configurations with letters A-J or large state
-    messages (:func:`csql_sim.cli.large_plan.read_large_task`); more than ten cubes are
-    refused with one line (the table and the reach).
+    The start decides which, as for ``plan`` (:func:`csql_sim.cli.large_plan.large_blocks`):
+    a configuration of more than six blocks or a large state message is read with letters
+    A-J or as a large message (:func:`csql_sim.cli.large_plan.read_large_task`), so an error
+    in the goal names the goal; more than ten cubes are refused with one line (the table
+    and the reach).
     """
-    try:
+    if large_blocks(argparse.Namespace(blocks=None, start=start, pairs=None)) is None:
         return read_task_for_rules(start, goal, None, rules)
-    except CsqlError as small:
-        try:
-            s, g = read_large_task(start, goal, None)
-        except CsqlError:
-            raise small from None
-        if s.n <= MAX_BLOCKS:
-            raise small from None
     from csql_sim.sim.arm_state import check_arm_blocks
 
+    s, g = read_large_task(start, goal, None)
     check_arm_blocks(s.n)
     return s, g
 
@@ -124,6 +126,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     from csql_sim.sim.rgbd import CameraNoise
     from csql_sim.sim.video import check_video_options, video_frame_count
 
+    check_render_options(args)
     if args.discovery:
         return render_discovery(args)
     if not args.start:
@@ -168,12 +171,16 @@ def render_discovery(args: argparse.Namespace) -> int:
     from csql_sim.infra.files import write_atomic
     from csql_sim.infra.provenance import provenance
     from csql_sim.jobs.discover import record_discovery
+    from csql_sim.jobs.job_memory import check_discovery
     from csql_sim.jobs.render import sidecar_path, sidecar_record
     from csql_sim.sim.video import check_video_options, video_frame_count, write_video
 
     if args.start or args.goal or args.rules:
         raise CsqlError("render --discovery takes no --start, --goal or --rules")
-    check_video_options(args.out, args.width, args.height, args.fps)
+    out = check_video_options(args.out, args.width, args.height, args.fps)
+    args.blocks = args.blocks or DISCOVERY_BLOCKS
+    args.transitions = args.transitions or DISCOVERY_TRANSITIONS
+    check_discovery(args.transitions, args.blocks, args.fps, args.width, args.height, out.suffix.lower() == ".gif")
     warn_workers(args.workers)
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
@@ -182,7 +189,7 @@ def render_discovery(args: argparse.Namespace) -> int:
         name = parse_action_message(t.action, args.blocks).name()
         print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
     path = write_video(recording, args.out, args.width, args.height, args.fps, args.workers,
-                       progress=show_progress(args))
+                       progress=show_progress(args), renderer=args.renderer)
     frames = video_frame_count(recording, args.fps)
     record = provenance(command="render --discovery", blocks=args.blocks, seed=args.seed,
                         transitions=args.transitions, perception=args.perception, perturb=args.perturb,
@@ -197,6 +204,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import provenance
     from csql_sim.jobs.evaluate import evaluate
 
+    check_evaluate_options(args)
     if args.problems is not None or args.plans is not None or args.domain is not None:
         return _evaluate_problems(args)
     warn_workers(args.workers)
@@ -235,6 +243,10 @@ def _evaluate_problems(args: argparse.Namespace) -> int:
         raise CsqlError("--planner gn1 plans pairs; with --problems give --plans DIR, --rules FILE or nothing (BFS)")
     if args.plot is not None:
         raise CsqlError("--plot draws pairs; it does not apply to --problems")
+    if args.plans is not None and args.planner is not None:
+        raise CsqlError(f"--plans DIR runs the plans it holds; --planner {args.planner} does not apply")
+    if args.plans is None:
+        _named_planner(args)  # --planner rules needs --rules, --planner bfs reads none
     runs = evaluate_problems(args.problems, plans=args.plans, rules=args.rules,
                              planner="bfs" if args.plans is None and args.rules is None else None,
                              domain=args.domain, seed=args.seed, perception=args.perception, perturb=args.perturb,
@@ -264,9 +276,10 @@ def _planner_arg(p: argparse.ArgumentParser) -> None:
 
 
 def _noise_arg(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--camera-noise", type=camera_noise_arg, default=(0.0, 0.0), metavar="MM[,LEVELS]",
+    p.add_argument("--camera-noise", type=camera_noise_arg, default=NO_NOISE, metavar="MM[,LEVELS]",
                    help="camera perception noise: depth standard deviation in mm along the optical axis, "
-                        "optionally colour standard deviation in 8-bit levels (e.g. 1.5,4; default none)")
+                        "optionally colour standard deviation in 8-bit levels (e.g. 1.5,4; default none); "
+                        "with --perception camera")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -291,8 +304,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_renderer_argument(p)
     p.add_argument("--discovery", action="store_true",
                    help="show a discovery episode instead: random attempts, failed ones captioned as such")
-    p.add_argument("--transitions", type=positive_int, default=16, help="attempts in --discovery (default 16)")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks in --discovery (default 3)")
+    p.add_argument("--transitions", type=positive_int, default=None,
+                   help=f"attempts in --discovery (default {DISCOVERY_TRANSITIONS})")
+    p.add_argument("--blocks", type=blocks_arg, default=None,
+                   help=f"number of blocks in --discovery (default {DISCOVERY_BLOCKS})")
     add_overwrite(p)
     p.set_defaults(func=cmd_render, declare=declare_render)
 
@@ -300,14 +315,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rules", type=path_arg,
                    help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
     _planner_arg(p)
-    p.add_argument("--blocks", type=arm_blocks_arg, default=3,
+    p.add_argument("--blocks", type=arm_blocks_arg, default=None,
                    help=f"number of cubes, 2..{MAX_ARM_BLOCKS} (default 3); past {MAX_BLOCKS} the states are "
                         f"relational and the policy lifted (--planner gn1, or lifted --rules)")
-    p.add_argument("--pairs", type=pairs_arg, default="all",
+    p.add_argument("--pairs", type=pairs_arg, default=None,
                    help=f"'all' (default; up to {MAX_BLOCKS} blocks) or a sample size K (past {MAX_BLOCKS} blocks "
                         f"drawn uniformly by counting)")
-    add_seed(p, "seed of the sample of pairs")
-    p.add_argument("--seeds", type=positive_int, default=1, help="episodes per pair (default 1)")
+    p.add_argument("--seed", type=seed_arg, default=None,
+                   help="seed of the sample of --pairs K, or of each episode with --problems (default 0)")
+    p.add_argument("--seeds", type=positive_int, default=None, help="episodes per pair (default 1)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (default pose)")
     _noise_arg(p)

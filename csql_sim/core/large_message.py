@@ -113,8 +113,9 @@ def _supports(message: str, start: int, n: int) -> list[int]:
 
 
 def _configuration(message: str, on: int, n: int) -> LargeState:
+    supports = tuple(_supports(message, on, n))  # its MessageError (a WorldError) names the message already
     try:
-        state = LargeState(tuple(_supports(message, on, n)))
+        state = LargeState(supports)
     except WorldError as exc:
         raise MessageError(f"malformed message {message!r}: {exc}") from None
     if message[on + n] != _hand(state):

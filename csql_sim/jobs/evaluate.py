@@ -18,32 +18,20 @@ import numpy as np
 
 from csql_sim import __version__
 from csql_sim.core.greedy_table import GreedyTable, load_policy
-from csql_sim.core.notation import parse_config
-from csql_sim.core.pairs import check_large_pairs, check_sample_size, pair_count, selected_pairs, stream_large_pairs
 from csql_sim.core.policy import Policy
 from csql_sim.core.sharded_policy import GoalColumns, ShardedPolicy
-from csql_sim.core.world import MAX_BLOCKS, BlocksWorld, all_states
-from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
+from csql_sim.infra.backends import Backend, TaskFailure, map_tasks, ray_session
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance, rules_source
 from csql_sim.infra.workers import worker_count
+from csql_sim.jobs.episodes import Episodes, EpisodeSpec, batches, plan_episodes
+from csql_sim.jobs.episodes import make_specs as make_specs  # re-exported: the episodes of an evaluation
+from csql_sim.jobs.job_memory import check_episodes
 from csql_sim.learners.gn1 import NAMED_POLICIES
 
-
-@dataclass(frozen=True)
-class EpisodeSpec:
-    """One physical episode to run.
-
-    Attributes:
-        start: start configuration (notation).
-        goal: goal configuration (notation).
-        seed: the episode's seed.
-    """
-
-    start: str
-    goal: str
-    seed: int
+BATCH_EPISODES = 4096
+"""Episodes handed to the workers at once: the specs are drawn a batch at a time, never all listed."""
 
 
 @dataclass(frozen=True)
@@ -155,37 +143,6 @@ class EvalReport:
         for f in self.failures:
             lines.append(f"FAILED start={f['start']} goal={f['goal']} seed={f['seed']}: {f['reason']}")
         return "\n".join(lines)
-
-
-def make_specs(n: int, pairs: str | int = "all", seeds: int = 1, sample_seed: int = 0) -> list[EpisodeSpec]:
-    """Ordered (start, goal) pairs of distinct states, each with seeds 0..seeds-1.
-
-    A sample of K pairs costs O(K) (:mod:`csql_sim.core.pairs`): the pairs are never all listed,
-    and the sample is the one the enumerating version drew.
-
-    Args:
-        n: number of blocks.
-        pairs: ``"all"`` or the size of a seeded random sample of pairs.
-        seeds: episodes per pair; episode k of the pair of rank i has seed ``i * seeds + k``.
-        sample_seed: seeds the sample of pairs.
-    """
-    if seeds < 1:
-        raise CsqlError(f"--seeds must be a positive integer, got {seeds}")
-    if n > MAX_BLOCKS:
-        return _sampled_specs(n, pairs, seeds, sample_seed)
-    states = all_states(n)
-    if pairs != "all":
-        check_sample_size(pairs, pair_count(len(states)))
-    # every episode gets its own seed (pair rank x seeds + k), so perturbations differ across pairs
-    return [EpisodeSpec(start=states[s].notation(), goal=states[g].notation(), seed=r * seeds + k)
-            for r, s, g in selected_pairs(len(states), pairs, sample_seed) for k in range(seeds)]
-
-
-def _sampled_specs(n: int, pairs: str | int, seeds: int, sample_seed: int) -> list[EpisodeSpec]:
-    """Past six blocks: K pairs drawn uniformly by counting (:func:`check_large_pairs` refuses ``all``)."""
-    drawn = stream_large_pairs(n, check_large_pairs(pairs, n), sample_seed)
-    return [EpisodeSpec(start=s.notation(), goal=g.notation(), seed=r * seeds + k)
-            for r, (s, g) in enumerate(drawn) for k in range(seeds)]
 
 
 class EpisodeRunner:
@@ -341,8 +298,9 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         planner: a named baseline policy instead of a rule file (``"gn1"``).
 
     Raises:
-        CsqlError: bad perception mode, camera noise, rule file, policy, number of cubes or
-            pairs, before any episode.
+        CsqlError: bad perception mode, camera noise (or noise without camera perception), rule file,
+            policy, number of cubes or pairs, or more episodes than their summaries' memory allows
+            (:func:`csql_sim.jobs.job_memory.check_episodes`), before any episode.
     """
     from csql_sim.sim.arm_state import check_arm_blocks
     from csql_sim.sim.physical import check_perception
@@ -351,18 +309,18 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
     check_arm_blocks(n)
     check_perception(perception)  # bad options fail once, here, not in every episode
     CameraNoise(*camera_noise)
-    specs = make_specs(n, pairs, seeds, sample_seed=seed)
-    goals = () if n > MAX_BLOCKS else tuple(BlocksWorld.of(n).state_index(parse_config(s.goal)) for s in specs)
+    if perception != "camera" and any(camera_noise):  # pose perception takes no images: the noise would be lost
+        raise CsqlError(f"camera noise {tuple(camera_noise)} needs perception 'camera', not {perception!r}")
+    episodes = plan_episodes(n, pairs, seeds, sample_seed=seed)  # checked and counted, none listed
+    check_episodes(episodes.count, episodes.pair_total, seeds)  # every summary must fit, or no episode runs
+    goals = episodes.goal_indices() if rules is not None else ()
     policy = PolicyData.read(rules, n, progress=progress, goals=goals, named=planner)  # the one read
     backend = backend or Backend()
     if workers is not None:
         backend = Backend(backend.kind, workers, backend.address)
     setup_args = (policy, n, perturb, perception, tuple(camera_noise))
-    results = map_tasks(_run_in_worker, specs, backend, setup=_init_worker, setup_args=setup_args,
-                        progress=progress, desc="episodes", unit="ep")
-    report = summarise([_failed(spec, r.reason) if isinstance(r, TaskFailure) else r
-                        for spec, r in zip(specs, results, strict=True)])
-    used = worker_count(backend.workers, len(specs)) if backend.kind == "processes" else None
+    report = summarise(run_episodes(episodes, backend, setup_args, progress))
+    used = worker_count(backend.workers, episodes.count) if backend.kind == "processes" else None
     report.config = {
         "rules": rules_source(rules), "blocks": n, "perception": perception, "perturb": perturb,
         "camera_noise": list(camera_noise),
@@ -370,6 +328,35 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
         "address": backend.address, "version": __version__, **({"planner": planner} if planner else {}),
     }
     return report
+
+
+def run_episodes(episodes: Episodes, backend: Backend, setup_args: tuple, progress: bool) -> list[EpisodeSummary]:
+    """Every episode's summary, in order: the specs go to the workers :data:`BATCH_EPISODES` at a time.
+
+    The first episode starts as soon as its batch is drawn; each summary depends on its spec
+    alone, so the order of the batches and the number of workers change nothing. A local Ray
+    instance is started once for all the batches.
+    """
+    from contextlib import ExitStack
+
+    from tqdm import tqdm
+
+    out: list[EpisodeSummary] = []
+    with ExitStack() as stack:
+        if backend.kind == "ray":
+            stack.enter_context(ray_session(backend, announce=progress))
+        bar = stack.enter_context(tqdm(total=episodes.count, desc="episodes", unit="ep", disable=not progress))
+
+        def tick(_: int, result: object) -> object:
+            bar.update(1)
+            return result
+
+        for batch in batches(episodes, BATCH_EPISODES):
+            results = map_tasks(_run_in_worker, batch, backend, setup=_init_worker, setup_args=setup_args,
+                                on_result=tick)
+            out.extend(_failed(spec, r.reason) if isinstance(r, TaskFailure) else r
+                       for spec, r in zip(batch, results, strict=True))
+    return out
 
 
 def _failed(spec: EpisodeSpec, reason: str) -> EpisodeSummary:

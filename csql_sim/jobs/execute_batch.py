@@ -5,7 +5,9 @@ with :func:`~csql_sim.jobs.execute.execute_problem`: with its plan file from a p
 folder (``<stem>.plan``, ``<stem>.soln`` or ``<stem>.pddl.soln``, as Fast Downward and
 pyperplan name them), or with a rule base or the BFS planner. A problem whose plan is
 refused (a step that is not applicable, an unrepresentable problem) is a failed row with
-the refusal as its reason, so one bad plan does not hide the others' results.
+the refusal as its reason, so one bad plan does not hide the others' results; so is a
+``*.pddl`` that cannot be read (a folder, a pipe, a device, a dangling link, a file too
+large), read only through the guarded reader, which refuses those without reading them.
 """
 
 from __future__ import annotations
@@ -14,7 +16,9 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
+from csql_sim.core.pddl_import import MAX_PDDL_BYTES
 from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import InputFileError, read_text_file
 from csql_sim.infra.provenance import provenance
 from csql_sim.jobs.execute import execute_problem
 
@@ -41,12 +45,26 @@ class ProblemRun:
     reason: str
 
 
-def problem_files(folder: str | os.PathLike) -> list[Path]:
-    """The problem files of ``folder``, sorted (domain files are skipped)."""
+def problem_files(folder: str | os.PathLike) -> list[tuple[Path, str | None]]:
+    """The problem files of ``folder``, sorted (domain files are skipped), each with why it cannot be read.
+
+    Each ``*.pddl`` is read with the guarded reader (:func:`csql_sim.infra.files.read_text_file`:
+    regular files only, at most :data:`~csql_sim.core.pddl_import.MAX_PDDL_BYTES`). One that
+    cannot be read (a folder, a pipe, a device, a dangling link, a file too large) is kept
+    with the reader's one-line reason (None for a readable file): it becomes a failed row.
+    """
     root = Path(folder)
     if not root.is_dir():
         raise CsqlError(f"--problems {os.fspath(folder)!r} is not a folder")
-    found = [p for p in sorted(root.glob("*.pddl")) if "(define (domain" not in p.read_text(errors="replace").lower()]
+    found = []
+    for path in sorted(root.glob("*.pddl")):
+        try:
+            text = read_text_file(path, MAX_PDDL_BYTES, "PDDL problem")
+        except InputFileError as exc:
+            found.append((path, str(exc)))
+            continue
+        if "(define (domain" not in text.lower():
+            found.append((path, None))
     if not found:
         raise CsqlError(f"--problems {os.fspath(folder)!r} holds no PDDL problem (*.pddl)")
     return found
@@ -70,12 +88,16 @@ def evaluate_problems(folder: str | os.PathLike, plans: str | os.PathLike | None
     if (plans is None) == (rules is None and planner is None):
         raise CsqlError("--problems needs exactly one of --plans DIR, --rules FILE or --planner bfs")
     files = problem_files(folder)
-    if plans is not None:
-        chosen = {p: plan_file(p, plans) for p in files}  # every plan found before any physics
+    if plans is not None:  # every plan found before any physics (an unreadable problem needs none)
+        chosen = {p: plan_file(p, plans) for p, unreadable in files if unreadable is None}
     from tqdm import tqdm
 
     runs = []
-    for problem in tqdm(files, desc="problems", unit="problem", disable=not progress, leave=False, delay=1.0):
+    for problem, unreadable in tqdm(files, desc="problems", unit="problem", disable=not progress, leave=False,
+                                    delay=1.0):
+        if unreadable is not None:
+            runs.append(ProblemRun(problem.name, None, False, 0, f"refused: {unreadable}"))
+            continue
         plan = chosen[problem] if plans is not None else None
         try:
             result = execute_problem(problem, domain, plan=plan, rules=rules, planner=planner, seed=seed,
