@@ -3,8 +3,9 @@
 :func:`worker_pool` is the one way the tool starts processes (experiment cycles, evaluation
 episodes, video frames). Its workers
 
-* ignore SIGINT: a Ctrl-C reaches the main process only, which then terminates them (the
-  pool's own shutdown would wait for every queued task);
+* ignore SIGINT, from their start (they start with it blocked): a Ctrl-C reaches the main
+  process only, which then terminates them (the pool's own shutdown would wait for every
+  queued task);
 * exit when the main process dies, even by SIGKILL: on Linux the kernel sends them
   SIGKILL (``prctl(PR_SET_PDEATHSIG)``); elsewhere, and as a fallback, a watchdog thread
   polls the parent's pid twice a second.
@@ -28,7 +29,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Future, ProcessPoolExecutor
 from contextlib import contextmanager
 from multiprocessing.context import BaseContext
 
@@ -77,6 +78,7 @@ def _initialize(parent: int, initializer: Callable[..., object] | None, initargs
 def stop_pool(pool: ProcessPoolExecutor) -> None:
     """Cancel queued tasks and end every worker now (SIGTERM, then SIGKILL after a second)."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
+    results = getattr(pool, "_result_queue", None)  # shutdown() drops it
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         if process.is_alive():
@@ -87,6 +89,49 @@ def stop_pool(pool: ProcessPoolExecutor) -> None:
         if process.is_alive():
             process.kill()
             process.join(STOP_SECONDS)
+    _end_result_pipe(results)
+
+
+def _end_result_pipe(results: object) -> None:
+    """Close this process's writing end of a pool's result pipe (``results``), once its workers are gone.
+
+    A worker killed while sending a result (a chunk of video frames is megabytes) leaves half
+    a message in the pipe: the pool's manager thread read the start and waited for the rest
+    for ever, and so did the interpreter, which joins that thread at exit. With no writer
+    left, the read fails (EOF): the manager thread marks the pool broken and ends.
+    """
+    writer = getattr(results, "_writer", None)
+    if writer is not None:
+        try:
+            writer.close()
+        except OSError:
+            pass
+
+
+@contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """Block SIGINT in this thread: a Ctrl-C meanwhile stays pending and is delivered at the end."""
+    if not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    previous = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+class _WorkerPool(ProcessPoolExecutor):
+    """A pool whose workers start with SIGINT blocked (they inherit the mask of the thread that submits).
+
+    A spawned worker imports for seconds before :func:`die_with_parent` ignores SIGINT: a
+    Ctrl-C then printed a KeyboardInterrupt traceback from the worker. Workers start only in
+    ``submit`` (``map`` calls it); the parent gets a Ctrl-C sent meanwhile once it returns.
+    """
+
+    def submit(self, fn: Callable[..., object], /, *args: object, **kwargs: object) -> Future:  # noqa: D102
+        with _sigint_blocked():
+            return super().submit(fn, *args, **kwargs)
 
 
 @contextmanager
@@ -99,8 +144,8 @@ def worker_pool(workers: int, initializer: Callable[..., object] | None = None,
     ``mp_context`` chooses how workers start (default: the platform's; the EGL renderer
     needs ``spawn``).
     """
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_initialize,
-                               initargs=(os.getpid(), initializer, initargs), mp_context=mp_context)
+    pool = _WorkerPool(max_workers=workers, initializer=_initialize,
+                       initargs=(os.getpid(), initializer, initargs), mp_context=mp_context)
     try:
         yield pool
     except BaseException:

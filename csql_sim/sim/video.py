@@ -3,14 +3,17 @@
 Poses are recorded during simulation (see :mod:`csql_sim.sim.recording`); frames are
 rendered afterwards by worker processes, each with its own DIRECT client and a replay
 scene whose bodies are set to the recorded poses, drawn by the TinyRenderer or pybullet's
-EGL plugin (:mod:`csql_sim.sim.renderer`).
+EGL plugin (:mod:`csql_sim.sim.renderer`). The frames are encoded by the writers of
+:mod:`csql_sim.sim.video_writers` (ffmpeg with timeouts, Pillow), whose failures are one line.
 """
 
 from __future__ import annotations
 
 import multiprocessing
 import os
+from collections import deque
 from collections.abc import Iterator
+from concurrent.futures import Future
 from pathlib import Path
 
 import imageio.v2 as imageio
@@ -28,10 +31,12 @@ from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.renderer import close_quietly, resolve_renderer
 from csql_sim.sim.replay import apply_snapshot, replay_scene
 from csql_sim.sim.scene import Scene
+from csql_sim.sim.video_writers import EncoderError, FfmpegWriter, GifWriter
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
 HOLD_SECONDS = 0.5  # the last frame is repeated this long
+CHUNKS_IN_FLIGHT = 2  # chunks per rendering worker submitted ahead of the one the encoder waits for
 
 
 class VideoError(CsqlError):
@@ -166,12 +171,9 @@ def _chunks(frames: list[Frame], size: int) -> list[list[Frame]]:
     return [frames[i:i + size] for i in range(0, len(frames), size)]
 
 
-def _open_writer(path: Path, fps: int, suffix: str):  # noqa: ANN202 - imageio's writer type
-    """An imageio writer for ``path`` in the format of ``suffix`` (.mp4: libx264, .gif)."""
-    if suffix == ".mp4":
-        return imageio.get_writer(path, fps=fps, codec="libx264", quality=7, macro_block_size=1,
-                                  format="FFMPEG", ffmpeg_params=["-preset", "ultrafast"])
-    return imageio.get_writer(path, format="GIF", mode="I", duration=1000.0 / fps, loop=0)
+def _open_writer(path: Path, fps: int, suffix: str) -> FfmpegWriter | GifWriter:
+    """The writer of ``path`` in the format of ``suffix`` (.mp4: ffmpeg's libx264, .gif: Pillow)."""
+    return FfmpegWriter(path, fps) if suffix == ".mp4" else GifWriter(path, fps)
 
 
 def write_video(recording: Recording, path: str | os.PathLike, width: int = 640, height: int = 480,
@@ -220,12 +222,19 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
                 for _ in range(hold_frames(fps)):
                     writer.append_data(last)
             verify_video(tmp, suffix, video_frame_count(recording, fps), out)
-    except OSError as exc:  # a file or encoder (ffmpeg) error: many lines, keep the first
-        raise VideoError(f"cannot write video {str(out)!r} ({_first_line(exc)})") from None
+    except (OSError, EncoderError) as exc:  # a full disk, an encoder that failed or stopped
+        raise VideoError(f"cannot write video {str(out)!r} ({_reason(exc)})") from None
     finally:
         rendered.close()  # ends the rendering workers if the encoder failed
         bar.close()
     return out
+
+
+def _reason(exc: OSError | EncoderError) -> str:
+    """Why a write failed, in a few words: an OSError's own text (no errno), else the first line."""
+    if isinstance(exc, OSError) and exc.strerror:
+        return exc.strerror
+    return _first_line(exc)
 
 
 def _first_line(exc: BaseException) -> str:
@@ -300,7 +309,12 @@ def _check_mp4_boxes(path: Path) -> None:
 
 def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, height: int, camera: Camera,
                 workers: int, renderer: str) -> Iterator[list[np.ndarray]]:
-    """Render chunks in order, in ``workers`` processes (or in-process for one worker)."""
+    """Render chunks in order, in ``workers`` processes (or in-process for one worker).
+
+    At most :data:`CHUNKS_IN_FLIGHT` chunks per worker are queued or rendered ahead of the
+    encoder (not every frame of the video at once). Futures are never cancelled here: when
+    the encoder fails or on Ctrl-C, the pool is stopped (:func:`~csql_sim.infra.workers.stop_pool`).
+    """
     n, config, total = recording.n, recording.config, recording.actions
     if workers <= 1:
         replay = ReplayRenderer(renderer)
@@ -310,9 +324,13 @@ def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, hei
         finally:
             replay.close()
         return
-    k = len(chunks)
     # EGL workers are spawned: a process that has started EGL (llvmpipe's threads) cannot fork safely
     context = multiprocessing.get_context("spawn") if renderer == "egl" else None
     with worker_pool(workers, _init_render_worker, (renderer,), mp_context=context) as pool:
-        yield from pool.map(_render_in_worker, [n] * k, [config] * k, chunks, [width] * k, [height] * k,
-                            [camera] * k, [total] * k)
+        pending: deque[Future] = deque()
+        for chunk in chunks:
+            pending.append(pool.submit(_render_in_worker, n, config, chunk, width, height, camera, total))
+            if len(pending) >= CHUNKS_IN_FLIGHT * workers:
+                yield pending.popleft().result()
+        while pending:
+            yield pending.popleft().result()
