@@ -21,3 +21,56 @@ def test_readme_library_example_runs(tmp_path, monkeypatch, capsys):
 def test_docs_do_not_import_the_cli():
     for doc in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
         assert "csql_sim.cli" not in doc.read_text(), doc.name
+
+
+def _commands():
+    """Each subcommand's parser, by name (from the CLI's own argparse parser)."""
+    import argparse
+
+    from csql_sim.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return sub.choices
+
+
+def _code(text):
+    """The code in a Markdown text: fenced blocks and inline spans."""
+    blocks = re.findall(r"```[a-z]*\n(.*?)```", text, re.S)
+    rest = re.sub(r"```[a-z]*\n.*?```", "", text, flags=re.S)
+    return [*blocks, *re.findall(r"`([^`\n]+)`", rest)]
+
+
+def _invocations(text):
+    """``(command, [--options])`` for every ``csql-sim COMMAND ...`` written in the code of a Markdown text."""
+    found = []
+    for code in _code(text):
+        code = code.replace("\\\n", " ")
+        for match in re.finditer(r"(?<![\"'\w])csql-sim ([a-z][a-z-]*)([^\n|;#>&]*)", code):
+            found.append((match.group(1), re.findall(r"(?<![\w-])(--[a-z][a-z0-9-]*)", match.group(2))))
+    return found
+
+
+def test_every_command_and_option_the_docs_name_exists():
+    """README.md and docs/*.md name only commands and options that ``--help`` has (issue 28)."""
+    from csql_sim.cli.args import DeprecatedAlias
+
+    commands = _commands()
+    wrong = []
+    for doc in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        for command, options in _invocations(doc.read_text()):
+            if command not in commands:
+                wrong.append(f"{doc.name}: csql-sim {command}")
+                continue
+            known = commands[command]._option_string_actions
+            wrong += [f"{doc.name}: csql-sim {command} {o}" for o in options if o not in known]
+            wrong += [f"{doc.name}: csql-sim {command} {o} (deprecated)" for o in options
+                      if isinstance(known.get(o), DeprecatedAlias)]
+        for command, word in re.findall(r"csql-sim (show|prune) ([^-\s`][^\s`]*)", doc.read_text()):
+            wrong.append(f"{doc.name}: csql-sim {command} {word} (the positional rule file is deprecated)")
+    assert wrong == []
+
+
+def test_the_readme_names_every_command():
+    named = {command for command, _ in _invocations((ROOT / "README.md").read_text())}
+    assert set(_commands()) - named == set()

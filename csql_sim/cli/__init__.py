@@ -9,6 +9,8 @@ input, which :func:`main` prints as one line before exiting with status 2.
 * checks every output of the command before it runs (:func:`csql_sim.cli.output.plan_outputs`);
 * turns SIGTERM into an exception (:class:`Terminated`), so that temporary files are
   removed and worker processes stopped as on Ctrl-C (exit status 143);
+* prints every error as one line, ``csql-sim <command>: error: ...`` (``csql-sim: error:``
+  without a command);
 * turns a failed write to stdout (``> /dev/full``) into one line (exit status 2), and
   writes what stdout's encoding cannot show as backslash escapes instead of failing.
 """
@@ -26,7 +28,8 @@ from contextlib import contextmanager
 from typing import Any
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, sim
+from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, rulefile, sim
+from csql_sim.cli.args import say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
 
@@ -86,7 +89,7 @@ class _ClosedStdout(io.TextIOBase):
         raise io.UnsupportedOperation("standard output is closed")
 
 
-SUBCOMMAND_MODULES = (core, learn, lifted, sim, demo, discover, pddl_cmd, execute, generalize)
+SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, execute, generalize)
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -123,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
                 raise StdoutError(f"standard output is closed: {closed.lost:,} characters of output were lost")
             return status
         except CsqlError as exc:
-            print(f"csql-sim: error: {' '.join(str(exc).split())}", file=sys.stderr)
+            say(args, "error", str(exc))
             if isinstance(exc, StdoutError):
                 _silence_stdout()
             return 2

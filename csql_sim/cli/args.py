@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
@@ -65,12 +66,71 @@ def show_progress(args: argparse.Namespace) -> bool:
     return not getattr(args, "quiet", False) and sys.stderr.isatty()
 
 
-def warn_workers(workers: int | None) -> None:
+def prefix(args: argparse.Namespace | None) -> str:
+    """``csql-sim <command>``: how every line the command line says about a command starts."""
+    command = getattr(args, "command", None)
+    return f"csql-sim {command}" if command else "csql-sim"
+
+
+def say(args: argparse.Namespace | None, kind: str, text: str) -> None:
+    """One line on stderr: ``csql-sim <command>: <kind>: <text>`` (``kind``: ``error`` or ``warning``)."""
+    print(f"{prefix(args)}: {kind}: {' '.join(str(text).split())}", file=sys.stderr)
+
+
+def warn_workers(args: argparse.Namespace) -> None:
     """One warning line on stderr when ``--workers`` asks for more processes than cores."""
-    cores = os.cpu_count() or 1
+    cores, workers = os.cpu_count() or 1, getattr(args, "workers", None)
     if workers is not None and workers > cores:
-        print(f"csql-sim: warning: --workers {workers} is more than the {cores} cores; using {cores}",
+        say(args, "warning", f"--workers {workers} is more than the {cores} cores; using {cores}")
+
+
+class DeprecatedAlias(argparse.Action):
+    """An old spelling of an option, kept until :data:`ALIASES_UNTIL`: stores into the new one's dest and warns once.
+
+    Args:
+        new: the option that replaces it, named in the warning.
+    """
+
+    def __init__(self, option_strings: list[str], dest: str, new: str, **kwargs: object) -> None:
+        super().__init__(option_strings, dest, **kwargs)
+        self.new = new
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:  # noqa: D102
+        if option_string is None and values is None:  # an optional positional not given: argparse still calls
+            setattr(namespace, self.dest, values)
+            return
+        old = option_string or f"the positional {self.metavar or self.dest}"
+        print(f"{parser.prog}: warning: {old} is deprecated and goes in {ALIASES_UNTIL}; use {self.new}",
               file=sys.stderr)
+        setattr(namespace, self.dest, values)
+
+
+ALIASES_UNTIL = "0.3.0"
+"""The release that drops the deprecated spellings (the CHANGELOG lists them)."""
+PLANNERS = ("bfs", "rules", "gn1")
+"""``--planner`` wherever plans are made: BFS (up to 6 blocks), the rules of ``--rules FILE``, or the GN1 baseline."""
+
+
+def add_planner(parser: argparse.ArgumentParser, blocks: str = "up to 6 blocks") -> None:
+    """``--planner bfs|rules|gn1`` (the same choices in every command that makes plans)."""
+    parser.add_argument("--planner", choices=PLANNERS, default=None,
+                        help=f"who plans: bfs (breadth-first search, {blocks}), rules (the greedy policy of "
+                             "--rules FILE) or gn1 (the GN1 baseline); default: rules with --rules, else bfs")
+
+
+def command_parser(sub: argparse._SubParsersAction, name: str, summary: str, example: str,
+                   **kwargs: object) -> argparse.ArgumentParser:
+    """A subcommand whose ``--help`` starts with its description and one example."""
+    text = summary[0].upper() + summary[1:]
+    description = f"{textwrap.fill(text, 78)}.\n\nexample:\n  {example}"
+    return sub.add_parser(name, help=summary, description=description,
+                          formatter_class=argparse.RawDescriptionHelpFormatter, **kwargs)
+
+
+def blocks_help(low: int, high: int, default: object, more: str = "") -> str:
+    """``--blocks``' help in every command: the range and the default, stated the same way."""
+    return f"number of blocks, {low}..{high} (default {default}{more})"
 
 
 def path_arg(text: str) -> str:
@@ -81,17 +141,16 @@ def path_arg(text: str) -> str:
 
 
 def add_overwrite(parser: argparse.ArgumentParser) -> None:
-    """``--overwrite``: replace existing output files whatever they are (added once per parser).
+    """``--overwrite``: replace existing output files (added once per parser).
 
-    Without it a command refuses to replace a file at a default output path, and a file at
-    a path the user named unless it is a csql-sim output of the same kind
-    (:mod:`csql_sim.infra.outputs`).
+    Without it a command refuses any existing file at an output path; with it, any but a
+    model in place of a report (:mod:`csql_sim.infra.outputs`).
     """
     if "--overwrite" in parser._option_string_actions:
         return
     parser.add_argument("--overwrite", action="store_true",
-                        help="replace existing output files (default: refuse a file at a default path, and a "
-                             "named file that is not a csql-sim output of the same kind)")
+                        help="replace existing output files (default: refuse any existing file; a model is never "
+                             "replaced by a report)")
 
 
 def add_json(parser: argparse.ArgumentParser) -> None:

@@ -4,11 +4,23 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from collections.abc import Sequence
 
-from csql_sim.cli.args import add_json, add_quiet, blocks_arg, large_blocks_arg, path_arg, seed_arg, show_progress
-from csql_sim.cli.large_plan import PLANNERS, large_blocks, plan_large, select_policy
+from csql_sim.cli.args import (
+    DeprecatedAlias,
+    add_json,
+    add_planner,
+    add_quiet,
+    blocks_arg,
+    blocks_help,
+    command_parser,
+    large_blocks_arg,
+    path_arg,
+    say,
+    seed_arg,
+    show_progress,
+)
+from csql_sim.cli.large_plan import large_blocks, plan_large, select_policy
 from csql_sim.cli.output import REPORT_VERSION, command_parameters, emit, json_stream
 from csql_sim.core.message import (
     action_code,
@@ -105,17 +117,13 @@ def declare_plan(args: argparse.Namespace, outputs: Outputs) -> None:
     """``plan`` reads ``--rules`` (no output may be that file) and may write ``--plan-out``."""
     outputs.input(args.rules, "rule file")
     if args.plan_out is not None:
-        if args.pairs is not None or args.all:
-            raise CsqlError("--plan-out writes the plan of one --start/--goal task; it does not go with "
-                            f"{'--all' if args.all else '--pairs'} (use --json for the plans of many pairs)")
+        if args.pairs is not None:
+            raise CsqlError("--plan-out writes the plan of one --start/--goal task; it does not go with --pairs "
+                            "(use --json for the plans of many pairs)")
         outputs.file(args.plan_out, "plan file", "pddl", option="--plan-out")
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
-    if args.all:
-        if args.pairs not in (None, "all"):
-            raise CsqlError("--all is --pairs all; give one of them")
-        args.pairs = "all"
     large = large_blocks(args)
     if large is not None:  # past six blocks: relational states, lifted policies (cli/large_plan.py)
         return plan_large(args, large)
@@ -135,7 +143,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
            "optimal_length": distance(start, goal), "reason": result.reason}
     if not result.reached:
         emit(args, doc)
-        print(f"csql-sim: no plan from {start.notation()} to {goal.notation()}: {result.reason}", file=sys.stderr)
+        say(args, "error", f"no plan from {start.notation()} to {goal.notation()}: {result.reason}")
         return 1
     if args.plan_out is not None:
         from csql_sim.core.ipc_plan import write_ipc_plan
@@ -213,35 +221,43 @@ def _pairs_arg(text: str) -> str | int:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+class _AllPairs(DeprecatedAlias):
+    """``plan --all``: the old spelling of ``--pairs all``."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:  # noqa: D102
+        super().__call__(parser, namespace, "all", option_string)
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``states``, ``rules`` and ``plan`` to the subparsers."""
-    p = sub.add_parser("states", help="list every state of the n-block world")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
+    p = command_parser(sub, "states", "list every state of the n-block world", "csql-sim states --blocks 3")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
     add_json(p)
     p.set_defaults(func=cmd_states)
 
-    p = sub.add_parser("rules", help="print the R-classifiers (Figure 5 for n=3)")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
+    p = command_parser(sub, "rules", "print the R-classifiers (Figure 5 for n=3)", "csql-sim rules --blocks 3")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
     add_json(p)
     p.set_defaults(func=cmd_rules)
 
-    p = sub.add_parser("plan", help="plan from a start to a goal configuration")
+    p = command_parser(sub, "plan", "plan from a start to a goal configuration, or over many pairs",
+                       "csql-sim plan --start CBA --goal BAC")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C), or a state message (with its goal)")
     p.add_argument("--goal", help="goal configuration, e.g. BAC (default: the goal of a state message --start)")
     p.add_argument("--blocks", type=large_blocks_arg,
-                   help="number of blocks, 2..26 (default: from the configuration); past 6 the states are "
-                        "relational and the planner lifted (gn1, or lifted --rules)")
-    p.add_argument("--planner", choices=PLANNERS,
-                   help="bfs (default; up to 6 blocks), rules (default with --rules) or gn1 (the hand-written "
-                        "lifted baseline, any n)")
+                   help=blocks_help(2, 26, "from the configuration, or 3 with --pairs",
+                                    "; past 6 the states are relational and the planner lifted: gn1, or lifted "
+                                    "--rules"))
+    add_planner(p, "up to 6 blocks; gn1 and lifted rules: any n")
     p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train' (plan greedily from its Q-classifiers), or lifted "
-                        "rules (any n)")
+                   help="a rule base from 'csql-sim train' (plan greedily from its Q-classifiers), a sharded rule "
+                        "base, or lifted rules from 'csql-sim train-lifted' (any n)")
     p.add_argument("--pairs", type=_pairs_arg, default=None,
                    help="plan every ordered pair of distinct states (all; up to 6 blocks) or a seeded sample of "
                         "K (past 6 blocks drawn uniformly by counting), streamed; print a summary")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed of the --pairs sample (default 0)")
-    p.add_argument("--all", action="store_true", help="the same as --pairs all")
+    p.add_argument("--all", dest="pairs", nargs=0, action=_AllPairs, new="--pairs all", help=argparse.SUPPRESS)
     p.add_argument("--plan-out", type=path_arg, default=None,
                    help="also write the plan as an IPC plan file (as Fast Downward writes them; "
                         "'execute --plan' reads it)")

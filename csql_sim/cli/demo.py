@@ -14,6 +14,8 @@ from csql_sim.cli.args import (
     add_renderer_argument,
     add_workers,
     blocks_arg,
+    blocks_help,
+    command_parser,
     path_arg,
     positive_int,
     seed_arg,
@@ -43,7 +45,7 @@ def declare_demo(args: argparse.Namespace, outputs: Outputs) -> None:
     check_video_options(video, args.width, args.height, args.fps)
     outputs.file(out / "rules.yaml", "rule file", "rules", default=default)
     outputs.file(out / "pruned.yaml", "pruned rule file", "rules", default=default)
-    outputs.file(video, "video file", "video", default=default, sidecar=sidecar_path(video))
+    outputs.file(video, "video file", "video", default=default)
     outputs.file(sidecar_path(video), "video provenance", "json", default=default)
 
 
@@ -63,7 +65,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
     out = Path(args.out)
     video = out / VIDEO
-    warn_workers(args.workers)
+    warn_workers(args)
     resolve_renderer(args.renderer)  # fail before training if --renderer egl cannot load
     if args.trials is None:
         args.trials = default_trials(args.blocks)
@@ -103,7 +105,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``demo`` to the subparsers."""
-    p = sub.add_parser("demo", help="train CS-QL, prune, show Figure 6, run the test task on the arm, write a video")
+    p = command_parser(sub, "demo", "train CS-QL, prune, show Figure 6, run the test task on the arm, write a video",
+                       "csql-sim demo --out out")
     p.add_argument("--out", type=path_arg, default=None,
                    help=f"output folder (default {DEFAULT_OUT}/; its existing files are kept unless --overwrite)")
     p.add_argument("--trials", type=positive_int, default=None,
@@ -115,7 +118,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--height", type=positive_int, default=480, help="frame height (default 480)")
     p.add_argument("--fps", type=positive_int, default=30, help="frames per simulated second (default 30)")
     p.add_argument("--blocks", type=blocks_arg, default=3,
-                   help="number of blocks (default 3: the paper's test task CBA -> BAC; see 'experiment')")
+                   help=blocks_help(2, 6, 3, ": the paper's test task CBA -> BAC; see 'experiment'"))
     add_workers(p, "rendering processes")
     add_quiet(p)
     add_renderer_argument(p)

@@ -5,7 +5,17 @@ from __future__ import annotations
 import argparse
 import sys
 
-from csql_sim.cli.args import add_json, add_quiet, blocks_arg, path_arg, positive_int, seed_arg, show_progress
+from csql_sim.cli.args import (
+    add_json,
+    add_quiet,
+    blocks_arg,
+    blocks_help,
+    command_parser,
+    path_arg,
+    positive_int,
+    seed_arg,
+    show_progress,
+)
 from csql_sim.cli.output import command_parameters, default_path, emit
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
@@ -69,8 +79,9 @@ def cmd_discover(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``discover`` to the subparsers."""
-    p = sub.add_parser("discover", help="explore the blocks with all actions and induce the R-classifiers")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks, 2..6 (default 3)")
+    p = command_parser(sub, "discover", "explore the blocks with all actions and induce the R-classifiers",
+                       "csql-sim discover --world symbolic --out discovered.yaml")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
     p.add_argument("--world", choices=("physical", "symbolic"), default="physical",
                    help="the simulated arm (default) or the STRIPS world")
     p.add_argument("--transitions", type=positive_int, default=50000,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from csql_sim.cli.args import add_overwrite, add_quiet, path_arg, show_progress
+from csql_sim.cli.args import add_overwrite, add_quiet, command_parser, path_arg, show_progress
 from csql_sim.infra.outputs import Outputs
 
 
@@ -42,8 +42,9 @@ def cmd_generalize(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``generalize`` to the subparsers."""
-    p = sub.add_parser("generalize", help="compact a trained rule base into a default hierarchy of # Q-classifiers "
-                                          "over the goal form of the message")
+    p = command_parser(sub, "generalize", "compact a trained rule base into a default hierarchy of # "
+                       "Q-classifiers over the goal form of the message",
+                       "csql-sim generalize --rules rules.yaml --out general.yaml")
     p.add_argument("--rules", type=path_arg, required=True, help="a trained rule file (index form, YAML or npz)")
     p.add_argument("--out", type=path_arg, required=True, help="rule file to write: *.npz (compact) or YAML")
     p.add_argument("--detectors", type=_detectors, default=None,

@@ -28,10 +28,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import sys
 from collections.abc import Sequence
 
-from csql_sim.cli.args import show_progress
+from csql_sim.cli.args import say, show_progress
 from csql_sim.cli.output import REPORT_VERSION, command_parameters, emit, json_stream
 from csql_sim.core.goal_message import is_goal_message
 from csql_sim.core.greedy_table import load_policy
@@ -51,10 +50,6 @@ from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS, Action
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.provenance import provenance
 from csql_sim.learners.gn1 import Gn1Policy
-
-PLANNERS = ("bfs", "rules", "gn1")
-"""``plan --planner``: BFS (n <= 6 only), the greedy rules of ``--rules FILE``, or the GN1 baseline."""
-
 
 # ---------------------------------------------------------------- reading the task
 
@@ -185,7 +180,7 @@ def _plan_one(args: argparse.Namespace, policy: RelationalPolicy, start: LargeSt
            "optimal_length": optimum, "optimal": result.length == optimum, "reason": result.reason}
     if not result.reached:
         emit(args, doc)
-        print(f"csql-sim: no plan from {start.notation()} to {goal.notation()}: {result.reason}", file=sys.stderr)
+        say(args, "error", f"no plan from {start.notation()} to {goal.notation()}: {result.reason}")
         return 1
     if args.plan_out is not None:
         from csql_sim.core.ipc_plan import write_ipc_plan

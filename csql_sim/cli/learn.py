@@ -15,15 +15,15 @@ from csql_sim.cli.args import (
     add_workers,
     backend_from_args,
     blocks_arg,
+    blocks_help,
+    command_parser,
     non_negative_int,
     path_arg,
     positive_int,
     seed_arg,
     show_progress,
-    threshold_arg,
     warn_workers,
 )
-from csql_sim.cli.core import read_task_for_rules
 from csql_sim.cli.output import emit, json_text, with_format
 from csql_sim.cli.train_shards import add_size_arguments, train_blocks_arg
 from csql_sim.infra.errors import CsqlError
@@ -37,9 +37,9 @@ def declare_folder(args: argparse.Namespace, outputs: Outputs, names: tuple[str,
     """An output folder with a CSV, its provenance JSON (which vouches for both others) and a PNG."""
     out = outputs.folder(args.out, "output folder")
     csv_name, json_name, png_name = names
-    outputs.file(out / csv_name, "CSV table", "csv", sidecar=out / json_name)
+    outputs.file(out / csv_name, "CSV table", "csv")
     outputs.file(out / json_name, "provenance", "json")
-    outputs.file(out / png_name, "figure", "png", sidecar=out / json_name)
+    outputs.file(out / png_name, "figure", "png")
     outputs.input(getattr(args, "params", None), "parameter file")
 
 
@@ -49,11 +49,6 @@ def declare_rule_file(args: argparse.Namespace, outputs: Outputs) -> None:
     outputs.input(getattr(args, "rules", None), "rule file")
     outputs.input(getattr(args, "domain", None), "domain rule file")
     outputs.input(getattr(args, "params", None), "parameter file")
-
-
-def declare_show(args: argparse.Namespace, outputs: Outputs) -> None:
-    """``show`` reads its rule file: its ``--json FILE`` may not be that file."""
-    outputs.input(args.rules, "rule file")
 
 
 def _methods(text: str) -> list[str]:
@@ -74,7 +69,7 @@ def cmd_experiment(args: argparse.Namespace) -> int:
     from csql_sim.jobs.figure7_statements import evaluate, statement_lines
     from csql_sim.learners.params import default_trials
 
-    warn_workers(args.workers)
+    warn_workers(args)
     began = time.perf_counter()
     trials = args.trials if args.trials is not None else default_trials(args.blocks)
     result = run_experiment(
@@ -122,7 +117,7 @@ def cmd_train(args: argparse.Namespace) -> int:
     status = train_shards.check_estimate(args)
     if status is not None:  # --dry-run
         return status
-    if out is not None:
+    if train_shards.sharded(args):
         return train_shards.run(args, out)
 
     domain = None
@@ -145,50 +140,6 @@ def cmd_train(args: argparse.Namespace) -> int:
         f"{meta['steps']} steps in {trained - began:.2f} s; {r_count} R- and {q_count} Q-classifiers written to "
         f"{path} in {time.perf_counter() - trained:.2f} s"
     )
-    return 0
-
-
-# ------------------------------------------------------------------ show
-def cmd_show(args: argparse.Namespace) -> int:
-    from csql_sim.core.rulebase import load
-    from csql_sim.core.rulebase_shards import is_sharded
-    from csql_sim.learners.pruning import figure6_rows, figure6_table
-
-    if is_sharded(args.rules):  # read lazily: the greedy path's Q-classifiers only
-        from csql_sim.cli.train_shards import show_sharded
-
-        return show_sharded(args)
-    rb = load(args.rules, progress=show_progress(args))
-    if (args.start is None) != (args.goal is None):
-        raise CsqlError("show needs both --start and --goal, or neither")
-    start = goal = None
-    if args.start is not None:
-        start, goal = read_task_for_rules(args.start, args.goal, rb.blocks, args.rules)
-    if rb.meta.get("form") == "goal":  # generalized Q-classifiers: list order and coverage (learners/coverage.py)
-        from csql_sim.learners.coverage import coverage_rows, coverage_table
-
-        rows = coverage_rows(rb, start, goal)
-        doc = {"rules": args.rules, "blocks": rb.blocks, "start": start.notation() if start else None,
-               "goal": goal.notation() if goal else None, "classifiers": rows, "meta": rb.meta}
-        emit(args, doc, lambda: coverage_table(rows))
-        return 0
-    doc = {"rules": args.rules, "blocks": rb.blocks, "start": start.notation() if start else None,
-           "goal": goal.notation() if goal else None, "classifiers": figure6_rows(rb, start, goal),
-           "meta": rb.meta}
-    emit(args, doc, lambda: figure6_table(rb, start, goal))
-    return 0
-
-
-# ------------------------------------------------------------------ prune
-def cmd_prune(args: argparse.Namespace) -> int:
-    from csql_sim.core.rulebase import file_bytes, load
-    from csql_sim.infra.files import write_or_keep
-    from csql_sim.learners.pruning import count_q, prune
-
-    rb = load(args.rules, progress=show_progress(args))
-    pruned = prune(rb, args.threshold)
-    path = write_or_keep([(args.out, file_bytes(args.out, pruned))])[0]
-    print(f"Q-classifiers: {count_q(rb)} before, {count_q(pruned)} after pruning at {args.threshold:g}; wrote {path}")
     return 0
 
 
@@ -271,7 +222,8 @@ def _block_list(text: str) -> list[int]:
 
 
 def _register_experiment(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("experiment", help="Figure 7: test-task curves of the learners over cycles")
+    p = command_parser(sub, "experiment", "Figure 7: test-task curves of the learners over cycles",
+                       "csql-sim experiment --cycles 10 --out fig7")
     from csql_sim.learners.training import PAPER_METHODS
 
     p.add_argument("--methods", type=_methods, default=list(PAPER_METHODS),
@@ -283,7 +235,7 @@ def _register_experiment(sub: argparse._SubParsersAction, methods: tuple[str, ..
     add_workers(p, "processes, or CPUs of a local Ray instance")
     add_backend_arguments(p)
     p.add_argument("--blocks", type=blocks_arg, default=3,
-                   help="number of blocks (default 3); for n != 3 the test task is a pair of maximal optimal length")
+                   help=blocks_help(2, 6, 3, "; for n != 3 the test task is a pair of maximal optimal length"))
     p.add_argument("--params", type=path_arg, help="YAML parameter overrides (flat, or keyed by method)")
     p.add_argument("--out", type=path_arg, required=True,
                    help="folder for figure7.csv, figure7.json (provenance), figure7.png")
@@ -292,21 +244,23 @@ def _register_experiment(sub: argparse._SubParsersAction, methods: tuple[str, ..
     p.set_defaults(func=cmd_experiment, declare=lambda args, outputs: declare_folder(args, outputs, FIGURE7_FILES))
 
 def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("train", help="train one agent and save its classifier list")
+    p = command_parser(sub, "train", "train one agent and save its classifier list",
+                       "csql-sim train --method cs-ql --blocks 3 --out rules.yaml")
     p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--trials", type=non_negative_int, default=None,
                    help="training trials (default by n: 2500 for n <= 3, 20000 for n = 4 and 5)")
     p.add_argument("--seed", type=seed_arg, default=None, help="seed (default 0)")
     p.add_argument("--blocks", type=train_blocks_arg, default=None,
-                   help="number of blocks (default 3; 7 only with --dry-run, to see the estimate)")
+                   help=blocks_help(2, 6, 3, "; 7 only with --dry-run, to see the estimate"))
     p.add_argument("--params", type=path_arg, help="YAML parameter overrides (on top of the defaults for n)")
     p.add_argument("--engine", choices=("fast", "reference"), default=None,
                    help="engine of cs-ql and lt-ql: fast (their default; cs-ql with the built-in rules, lt-ql up "
                    "to 5 blocks) or reference; the same rule file")
     p.add_argument("--domain", type=path_arg,
                    help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
-    p.add_argument("--out", type=path_arg, required=True,
-                   help="rule file to write: *.npz (compact) or YAML; a directory for a sharded run")
+    p.add_argument("--out", type=path_arg, default=None,
+                   help="rule file to write: *.npz (compact) or YAML; a directory for a sharded run (optional "
+                        "with --dry-run, which checks it as the run would)")
     add_size_arguments(p)
     add_overwrite(p)
     add_quiet(p)
@@ -317,30 +271,17 @@ def _declare_train(args: argparse.Namespace, outputs: Outputs) -> None:
     from csql_sim.cli import train_shards
 
     train_shards.settle(args)
+    if args.out is None and not args.dry_run:
+        raise CsqlError("train needs --out FILE (a rule file, or a directory for a sharded run)")
+    if args.out is None:  # --dry-run: the estimate only
+        outputs.input(getattr(args, "params", None), "parameter file")
+        return
     (train_shards.declare if train_shards.sharded(args) else declare_rule_file)(args, outputs)
 
-def _register_show(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("show", help="print Q-classifiers in Figure 6's table form (goal form: in list order, "
-                                    "with the pairs each decides)")
-    p.add_argument("rules", type=path_arg, help="a rule file from 'csql-sim train'")
-    p.add_argument("--start", help="with --goal: show just the greedy path's classifiers")
-    p.add_argument("--goal", help="goal configuration, e.g. BAC")
-    add_json(p)
-    add_quiet(p)
-    p.set_defaults(func=cmd_show, declare=declare_show)
-
-def _register_prune(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("prune", help="remove Q-classifiers below a strength threshold")
-    p.add_argument("rules", type=path_arg, help="a rule file from 'csql-sim train'")
-    p.add_argument("--threshold", type=threshold_arg, default=0.1, help="strength threshold in [0, 1] (default 0.1)")
-    p.add_argument("--out", type=path_arg, required=True, help="rule file to write (not the rule file read)")
-    add_overwrite(p)
-    add_quiet(p)
-    p.set_defaults(func=cmd_prune, declare=declare_rule_file)
-
 def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("scaling", help="trials until every pair is planned optimally, per n and method "
-                       "(with each cell's wall time and peak resident memory)")
+    p = command_parser(sub, "scaling", "trials until every pair is planned optimally, per n and method "
+                       "(with each cell's wall time and peak resident memory)",
+                       "csql-sim scaling --blocks 3,4 --out scaling")
     p.add_argument("--blocks", type=_block_list, default=[3, 4, 5], help="comma list of n, 2..5 (default 3,4,5)")
     p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
@@ -356,8 +297,8 @@ def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...])
     p.set_defaults(func=cmd_scaling, declare=lambda args, outputs: declare_folder(args, outputs, SCALING_FILES))
 
 def _register_bench(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("bench", help="time both engines of CS-QL and of LT-QL, and a plain dict-based Q-learner, "
-                       "on the same trials")
+    p = command_parser(sub, "bench", "time both engines of CS-QL and of LT-QL, and a plain dict-based Q-learner, "
+                       "on the same trials", "csql-sim bench --repeats 5")
     p.add_argument("--trials", type=non_negative_int, default=2500, help="training trials (default 2500)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--repeats", type=positive_int, default=15, help="best of this many runs (default 15)")
@@ -366,9 +307,10 @@ def _register_bench(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
     p.set_defaults(func=cmd_bench)
 
 def _register_params(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
-    p = sub.add_parser("params", help="print a learner's default parameters as YAML that --params accepts")
+    p = command_parser(sub, "params", "print a learner's default parameters as YAML that --params accepts",
+                       "csql-sim params --method cs-ql --blocks 4 > params.yaml")
     p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
-    p.add_argument("--blocks", type=blocks_arg, default=3, help="number of blocks (default 3)")
+    p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
     p.set_defaults(func=cmd_params)
 
 
@@ -390,11 +332,10 @@ def _params_yaml(method: str, n: int = 3) -> str:
 
 
 def register(sub: argparse._SubParsersAction) -> None:
-    """Add ``experiment``, ``train``, ``show``, ``prune``, ``scaling``, ``bench`` and ``params`` to the subparsers."""
+    """Add ``experiment``, ``train``, ``scaling``, ``bench`` and ``params`` to the subparsers."""
     from csql_sim.learners.training import METHODS
 
-    for add in (_register_experiment, _register_train, _register_show, _register_prune, _register_scaling,
-                _register_bench, _register_params):
+    for add in (_register_experiment, _register_train, _register_scaling, _register_bench, _register_params):
         add(sub, METHODS)
 
 

@@ -6,7 +6,7 @@ import argparse
 import sys
 from collections.abc import Callable
 
-from csql_sim.cli.args import add_json, add_quiet, add_seed, int_type, path_arg, show_progress
+from csql_sim.cli.args import add_json, add_quiet, add_seed, command_parser, int_type, path_arg, show_progress
 from csql_sim.cli.output import emit
 from csql_sim.infra.outputs import Outputs
 
@@ -66,10 +66,12 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``train-lifted`` to the subparsers."""
-    p = sub.add_parser("train-lifted", help="learn lifted Q-classifiers on small worlds (plans for up to 26 blocks)")
+    p = command_parser(sub, "train-lifted", "learn lifted Q-classifiers on small worlds (plans for up to 26 blocks)",
+                       "csql-sim train-lifted --out lifted.json")
     p.add_argument("--out", type=path_arg, required=True, help="lifted Q-classifier file to write (JSON)")
     p.add_argument("--trials", type=int_type(1, 10**7), default=3000, help="training trials (default 3000)")
-    p.add_argument("--sizes", type=_sizes, default=(5,), help="world sizes trained on, among 3,4,5 (default 5)")
+    p.add_argument("--sizes", type=_sizes, default=(5,),
+                   help="numbers of blocks of the worlds trained on, a comma list among 3,4,5 (default 5)")
     p.add_argument("--goals", type=int_type(1, 10**6), default=40, help="training goals per size (default 40)")
     add_seed(p, "seed of the run's one generator")
     add_json(p)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from csql_sim import __version__
-from csql_sim.cli.args import add_overwrite, blocks_arg, path_arg
+from csql_sim.cli.args import add_overwrite, blocks_arg, blocks_help, command_parser, path_arg
 from csql_sim.cli.core import read_task
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import PDDL_HEADER, Outputs
@@ -53,9 +53,12 @@ def _headed(what: str, text: str) -> str:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``pddl`` to the subparsers."""
-    p = sub.add_parser("pddl", help="write the R-classifiers' world model as PDDL (domain, and a problem)")
-    p.add_argument("--blocks", type=blocks_arg, default=None, help="number of blocks (default 3, or the domain's)")
-    p.add_argument("--domain", type=path_arg, help="R-classifiers from this rule file (default: Figure 5 / generated)")
+    p = command_parser(sub, "pddl", "write the R-classifiers' world model as PDDL (domain, and a problem)",
+                       "csql-sim pddl --start CBA --goal BAC --out task")
+    p.add_argument("--blocks", type=blocks_arg, default=None, help=blocks_help(2, 6, "3, or the domain's"))
+    p.add_argument("--domain", type=path_arg,
+                   help="here a rule file: its R-classifiers are the world model written (default: Figure 5 / "
+                        "generated)")
     p.add_argument("--start", help="start configuration, e.g. CBA (writes problem.pddl with --goal)")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
     p.add_argument("--out", type=path_arg, required=True, help="folder for domain.pddl and problem.pddl")

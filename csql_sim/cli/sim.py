@@ -12,11 +12,14 @@ from csql_sim.cli.args import (
     add_backend_arguments,
     add_json,
     add_overwrite,
+    add_planner,
     add_quiet,
     add_renderer_argument,
     add_workers,
     backend_from_args,
     blocks_arg,
+    blocks_help,
+    command_parser,
     int_type,
     path_arg,
     positive_int,
@@ -30,6 +33,7 @@ from csql_sim.cli.output import default_path, emit
 from csql_sim.cli.sim_options import (
     DISCOVERY_BLOCKS,
     DISCOVERY_TRANSITIONS,
+    LARGE_DEFAULT_PAIRS,
     NO_NOISE,
     check_evaluate_options,
     check_render_options,
@@ -41,8 +45,6 @@ from csql_sim.infra.outputs import Outputs
 from csql_sim.sim.config import MAX_ARM_BLOCKS
 
 DEFAULT_VIDEO = "video.mp4"
-ARM_PLANNERS = ("bfs", "rules", "gn1")
-"""``--planner`` of ``render`` and ``evaluate``: BFS (up to 6 blocks), the rules of ``--rules FILE``, or GN1."""
 _any_blocks = int_type(MIN_BLOCKS, MAX_LARGE)
 
 if TYPE_CHECKING:
@@ -105,7 +107,7 @@ def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
     default = default_path(args, "out", DEFAULT_VIDEO)
     check_video_options(args.out, args.width, args.height, args.fps)
     sidecar = sidecar_path(args.out)
-    outputs.file(args.out, "video file", "video", default=default, sidecar=sidecar)
+    outputs.file(args.out, "video file", "video", default=default)
     outputs.file(sidecar, "video provenance", "json", default=default)
     outputs.input(args.rules, "rule file")
 
@@ -132,7 +134,7 @@ def cmd_render(args: argparse.Namespace) -> int:
     if not args.start:
         raise CsqlError("render needs --start and --goal")
     check_video_options(args.out, args.width, args.height, args.fps)
-    warn_workers(args.workers)
+    warn_workers(args)
     start, goal = read_arm_task(args.start, args.goal, args.rules)
     policy = arm_policy(args, start.n)
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
@@ -181,7 +183,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     args.blocks = args.blocks or DISCOVERY_BLOCKS
     args.transitions = args.transitions or DISCOVERY_TRANSITIONS
     check_discovery(args.transitions, args.blocks, args.fps, args.width, args.height, out.suffix.lower() == ".gif")
-    warn_workers(args.workers)
+    warn_workers(args)
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
 
@@ -207,7 +209,7 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     check_evaluate_options(args)
     if args.problems is not None or args.plans is not None or args.domain is not None:
         return _evaluate_problems(args)
-    warn_workers(args.workers)
+    warn_workers(args)
     report = evaluate(n=args.blocks, pairs=args.pairs, seeds=args.seeds, perturb=args.perturb,
                       rules=args.rules, perception=args.perception, progress=show_progress(args),
                       seed=args.seed, camera_noise=args.camera_noise, backend=backend_from_args(args),
@@ -269,12 +271,6 @@ def camera_noise_arg(text: str) -> tuple[float, float]:
     return values[0] / 1000.0, values[1] if len(values) == 2 else 0.0
 
 
-def _planner_arg(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--planner", choices=ARM_PLANNERS,
-                   help=f"bfs (default; up to {MAX_BLOCKS} blocks), rules (default with --rules) or gn1 (the "
-                        f"hand-written lifted baseline, any n)")
-
-
 def _noise_arg(p: argparse.ArgumentParser) -> None:
     p.add_argument("--camera-noise", type=camera_noise_arg, default=NO_NOISE, metavar="MM[,LEVELS]",
                    help="camera perception noise: depth standard deviation in mm along the optical axis, "
@@ -284,12 +280,13 @@ def _noise_arg(p: argparse.ArgumentParser) -> None:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``render`` and ``evaluate`` to the subparsers."""
-    p = sub.add_parser("render", help="execute a plan on the simulated Panda and write a captioned video")
+    p = command_parser(sub, "render", "execute a plan on the simulated Panda and write a captioned video",
+                       "csql-sim render --start CBA --goal BAC --out task.mp4")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
     p.add_argument("--rules", type=path_arg,
                    help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
-    _planner_arg(p)
+    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
     p.add_argument("--out", type=path_arg, default=None,
                    help=f"output .mp4 or .gif (default {DEFAULT_VIDEO}; an existing one is kept unless --overwrite)")
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
@@ -307,20 +304,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--transitions", type=positive_int, default=None,
                    help=f"attempts in --discovery (default {DISCOVERY_TRANSITIONS})")
     p.add_argument("--blocks", type=blocks_arg, default=None,
-                   help=f"number of blocks in --discovery (default {DISCOVERY_BLOCKS})")
+                   help=blocks_help(2, MAX_BLOCKS, DISCOVERY_BLOCKS, "; with --discovery only: a task's blocks "
+                                    "come from --start"))
     add_overwrite(p)
     p.set_defaults(func=cmd_render, declare=declare_render)
 
-    p = sub.add_parser("evaluate", help="run physical episodes over start/goal pairs and report success")
+    p = command_parser(sub, "evaluate", "run physical episodes over start/goal pairs and report success",
+                       "csql-sim evaluate --blocks 3 --rules rules.yaml")
     p.add_argument("--rules", type=path_arg,
                    help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
-    _planner_arg(p)
+    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
     p.add_argument("--blocks", type=arm_blocks_arg, default=None,
-                   help=f"number of cubes, 2..{MAX_ARM_BLOCKS} (default 3); past {MAX_BLOCKS} the states are "
-                        f"relational and the policy lifted (--planner gn1, or lifted --rules)")
+                   help=blocks_help(2, MAX_ARM_BLOCKS, 3, f"; past {MAX_BLOCKS} the states are relational and the "
+                                    f"policy lifted: --planner gn1, or lifted --rules"))
     p.add_argument("--pairs", type=pairs_arg, default=None,
-                   help=f"'all' (default; up to {MAX_BLOCKS} blocks) or a sample size K (past {MAX_BLOCKS} blocks "
-                        f"drawn uniformly by counting)")
+                   help=f"'all' (the default up to {MAX_BLOCKS} blocks) or a sample size K (past {MAX_BLOCKS} "
+                        f"blocks drawn uniformly by counting; default {LARGE_DEFAULT_PAIRS}, --seed 0)")
     p.add_argument("--seed", type=seed_arg, default=None,
                    help="seed of the sample of --pairs K, or of each episode with --problems (default 0)")
     p.add_argument("--seeds", type=positive_int, default=None, help="episodes per pair (default 1)")

@@ -57,6 +57,10 @@ def check_render_options(args: argparse.Namespace) -> None:
                         f"render runs one episode from --start to --goal")
 
 
+LARGE_DEFAULT_PAIRS = 20
+"""``evaluate --pairs`` past six blocks when none is given: a sample of 20 pairs (``--seed`` 0)."""
+
+
 def check_evaluate_options(args: argparse.Namespace) -> None:
     """Refuse, in one line, an ``evaluate`` option the chosen mode would ignore; then fill in the defaults."""
     if args.problems is not None:
@@ -76,7 +80,8 @@ def check_evaluate_options(args: argparse.Namespace) -> None:
         if args.workers is not None and args.address is not None:
             raise CsqlError(f"--workers {args.workers} sizes a local pool or Ray instance; the Ray cluster at "
                             f"--address {args.address} uses its own CPUs")
-    args.pairs = "all" if args.pairs is None else args.pairs
-    args.seeds = args.seeds or 1
     args.blocks = args.blocks or EVALUATE_BLOCKS
+    if args.pairs is None:  # every pair up to six blocks; past six, every pair is far too many: a sample
+        args.pairs = "all" if args.blocks <= MAX_BLOCKS else LARGE_DEFAULT_PAIRS
+    args.seeds = args.seeds or 1
     args.seed = args.seed or 0

@@ -3,10 +3,16 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from csql_sim.cli.args import add_backend_arguments, add_workers, backend_from_args, positive_int, show_progress
+from csql_sim.cli.args import (
+    add_backend_arguments,
+    add_workers,
+    backend_from_args,
+    positive_int,
+    say,
+    show_progress,
+)
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 
@@ -36,7 +42,8 @@ def sharded(args: argparse.Namespace) -> bool:
 
 def declare(args: argparse.Namespace, outputs: Outputs) -> None:
     """A sharded rule base is a folder (its files are checked before work by :func:`check_directory`)."""
-    outputs.folder(args.out, "sharded rule base")
+    if args.out is not None:
+        outputs.folder(args.out, "sharded rule base")
     outputs.input(getattr(args, "params", None), "parameter file")
 
 
@@ -91,32 +98,39 @@ def check_estimate(args: argparse.Namespace) -> int | None:
     states = state_count(args.blocks)
     if not 1 <= shards <= states:
         raise CsqlError(f"--shards must be 1..{states:,} (the goals) at {args.blocks} blocks, got {shards}")
-    workers = worker_count(args.workers, shards) if args.backend == "processes" else args.workers or 1
+    # the processes the run would start here: a pool, or a local Ray instance (a cluster's own nodes are not here)
+    workers = worker_count(args.workers, shards) if args.address is None else args.workers or 1
     est = estimate(args.method, args.blocks, shards, workers, split)
     limit = parse_size(args.max_memory) if args.max_memory is not None else None
-    refusal = check_fits(est, args.out, limit)
+    refusal = check_fits(est, args.out if args.out is not None else ".", limit)
     if args.dry_run:
         print(f"estimate: {est.line()}")
         if refusal is not None:
-            print(f"csql-sim: {refusal}", file=sys.stderr)
+            say(args, "error", refusal)
         return 0 if refusal is None else 2
     if refusal is not None and not args.force:
         raise CsqlError(refusal)
     if refusal is not None:
-        print(f"csql-sim: warning: {refusal} (going on: --force)", file=sys.stderr)
+        say(args, "warning", f"{refusal} (going on: --force)")
     return None
 
 
-def check_directory(args: argparse.Namespace) -> Path:
-    """Refuse, before work, a sharded ``--out`` that would replace what this command did not write."""
+def check_directory(args: argparse.Namespace) -> Path | None:
+    """Refuse, before work, a sharded ``--out`` that would replace what this command did not write.
+
+    Returns:
+        The directory; None with ``--dry-run`` and no ``--out`` (the options are still checked).
+    """
     from csql_sim.core import rulebase_shards as rs
 
-    out = Path(args.out)
-    if out.suffix.lower() in RULE_SUFFIXES:
-        raise CsqlError(f"--out {args.out}: a sharded rule base is a directory; give a name without {out.suffix}")
     if args.method != "cs-ql" or args.engine == "reference" or args.domain:
         raise CsqlError("sharded training runs cs-ql's array engine with the built-in R-classifiers "
                         "(no --method other than cs-ql, --engine reference or --domain)")
+    if args.out is None:  # --dry-run without --out: the estimate alone
+        return None
+    out = Path(args.out)
+    if out.suffix.lower() in RULE_SUFFIXES:
+        raise CsqlError(f"--out {args.out}: a sharded rule base is a directory; give a name without {out.suffix}")
     if args.resume:
         if not rs.is_sharded(out):
             raise CsqlError(f"--resume: {args.out} holds no sharded rule base to continue")
@@ -126,10 +140,10 @@ def check_directory(args: argparse.Namespace) -> Path:
         raise CsqlError(f"--out {args.out} is a file; a sharded rule base is a directory")
     rs.check_own_files(out)
     if out.is_dir() and any(out.iterdir()):
-        ours = rs.is_sharded(out) and all(rs.is_own_file(p) for p in out.iterdir())
-        if not ours and not args.overwrite:
-            raise CsqlError(f"--out {args.out} is a directory holding files that are no sharded rule base; "
-                            "refusing to write there (give another --out, or --overwrite)")
+        if not args.overwrite:
+            what = "a sharded rule base" if rs.is_sharded(out) else "files that are no sharded rule base"
+            raise CsqlError(f"--out {args.out} already holds {what}; give --overwrite to replace it, --resume to "
+                            "continue a stopped run, or another --out")
         if rs.is_sharded(out):
             rs.read_manifest(out)  # a corrupt manifest is named, not silently replaced
     return out
@@ -143,7 +157,7 @@ def run(args: argparse.Namespace, out: Path) -> int:
 
     problem = read_reports(out)[1]
     if problem is not None:  # the reports are not part of the rule base: say so, then replace them
-        print(f"csql-sim: warning: {problem}; this run's report replaces it", file=sys.stderr)
+        say(args, "warning", f"{problem}; this run's report replaces it")
     params = resolve_params("cs-ql", getattr(args, "resume_params", None) or args.params, args.blocks)
     trials = default_trials(args.blocks) if args.trials is None else args.trials
     shards = args.shards or default_shards(args.blocks)

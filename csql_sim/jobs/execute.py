@@ -40,6 +40,7 @@ from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
 from csql_sim.jobs.execute_report import ExecuteResult, LargeGoal, StepReport
 from csql_sim.jobs.execute_steps import BEFORE, final_state, policy_reports, replay_reports
+from csql_sim.learners.gn1 import NAMED_POLICIES
 
 VIDEO_SIZE, VIDEO_FPS = (640, 480), 30
 PlanInput = str | os.PathLike | Sequence[str]
@@ -177,7 +178,6 @@ def execute_large(start: LargeState, goal: str | LargeState | Sequence[str], pla
             a plan (checked plans are for the enumerated world), BFS or a ground rule file.
     """
     from csql_sim.core.greedy_table import load_policy
-    from csql_sim.jobs.evaluate import NAMED_POLICIES
     from csql_sim.sim.arm_state import check_arm_blocks, check_arm_policy, parse_arm_state
     from csql_sim.sim.physical import check_perception
     from csql_sim.sim.video import check_video_options
@@ -245,8 +245,8 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
     chosen = [k for k, v in (("plan", plan), ("rules", rules), ("planner", planner)) if v is not None]
     if len(chosen) != 1:
         raise CsqlError(f"give exactly one of a plan, a rule file or planner='bfs' (got {', '.join(chosen) or 'none'})")
-    if planner is not None and planner != "bfs":
-        raise CsqlError(f"planner must be 'bfs', got {planner!r}")
+    if planner is not None and planner not in ("bfs", *NAMED_POLICIES):
+        raise CsqlError(f"planner must be one of bfs, {', '.join(NAMED_POLICIES)}; got {planner!r}")
     params = {**(files or {}), "objects": bp.mapping, "seed": seed, "perception": perception, "perturb": perturb,
               "video": None if video is None else os.fspath(video)}
     if plan is not None:
@@ -254,7 +254,7 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
         params["plan"] = source
         return _run_plan(bp, steps, source, seed, perception, perturb, video, progress, params)
     params.update(rules=rules_source(rules), planner=planner or "rules")
-    return _run_policy(bp, rules, seed, perception, perturb, video, progress, params)
+    return _run_policy(bp, rules, planner, seed, perception, perturb, video, progress, params)
 
 
 def _plan_steps(bp: BlocksProblem, plan: PlanInput) -> tuple[list[PlanStep], dict[str, Any]]:
@@ -284,15 +284,17 @@ def _run_plan(bp: BlocksProblem, steps: list[PlanStep], source: dict[str, Any], 
     return _result(bp, reached, reason, trace[-1], source, reports, final, episode, video, params)
 
 
-def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, seed: int, perception: str, perturb: bool,
-                video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
-    """Follow a rule base or BFS to the goal on the arm."""
+def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str | None, seed: int, perception: str,
+                perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
+    """Follow a rule base, BFS or a named baseline (GN1) to the goal on the arm."""
     from csql_sim.core.greedy_table import load_policy
 
-    inner = load_policy(rules, bp.n, progress=progress)
+    named = planner is not None and planner != "bfs"
+    inner = NAMED_POLICIES[planner]() if named else load_policy(rules, bp.n, progress=progress)
     policy = GoalSetPolicy(inner, bp.goal)
     target = bp.goal.nearest(bp.start)
-    source = {"kind": "rules" if rules is not None else "bfs", "file": None if rules is None else os.fspath(rules)}
+    kind = "rules" if rules is not None else planner or "bfs"
+    source = {"kind": kind, "file": None if rules is None else os.fspath(rules)}
     episode = _episode(bp.start, target, policy, seed, perception, perturb, video, progress, cap=None)
     final = final_state(episode, policy, bp.n)
     reached = bp.goal.satisfied(final)

@@ -44,7 +44,7 @@ def check_fits_memory(count: int, item_bytes: int, what: str, advice: str) -> No
     need = PROCESS_BYTES + count * item_bytes
     limit = available_memory()
     if need > limit:
-        raise CsqlError(f"refused: {what} would keep about {_size(need)} in memory ({_size(item_bytes)} each), "
+        raise CsqlError(f"{what} would keep about {_size(need)} in memory ({_size(item_bytes)} each), "
                         f"over the {_size(limit)} memory available; {advice}")
 
 

@@ -38,8 +38,7 @@ def new_figure(width: float, height: float) -> Figure:
 def png_bytes(fig: Figure, dpi: int = 110) -> bytes:
     """``fig`` as PNG bytes, tagged as ours: a ``Software`` text chunk naming csql-sim.
 
-    The tag (:data:`csql_sim.infra.outputs.PNG_TAG`) lets a later run replace the picture
-    without ``--overwrite`` (:func:`csql_sim.infra.outputs.is_ours`).
+    The tag (:data:`csql_sim.infra.outputs.PNG_TAG`) says which tool and version drew it.
     """
     import matplotlib
 

@@ -145,13 +145,13 @@ def check_fits(est: Estimate, out: str | os.PathLike, max_memory: int | None = N
     alternatives = ("--backend ray --address A (shards on a cluster), more --shards, fewer --workers, "
                     "or a learner that generalizes; --force goes on anyway")
     if est.n > MAX_BLOCKS:
-        return (f"refused: {est.line()}; past the {MAX_BLOCKS} blocks whose states this tool enumerates, whatever "
+        return (f"{est.line()}; refused: past the {MAX_BLOCKS} blocks whose states this tool enumerates, whatever "
                 "the machine. Alternatives: a learner that generalizes (rules that hold for any number of blocks)")
     if est.peak_bytes > limit:
-        return f"refused: {est.line()}; over the {_size(limit)} {what}. Alternatives: {alternatives}"
+        return f"{est.line()}; refused: over the {_size(limit)} {what}. Alternatives: {alternatives}"
     disk = free_disk(out)
     if est.disk_bytes > disk:
-        return (f"refused: {est.line()}; the rule base would not fit the {_size(disk)} free on the disk of "
+        return (f"{est.line()}; refused: the rule base would not fit the {_size(disk)} free on the disk of "
                 f"{os.fspath(out)}. Alternatives: {alternatives}")
     return None
 

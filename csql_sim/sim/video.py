@@ -207,7 +207,9 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         raise VideoError("the recording has no frames")
     cores = worker_count(workers, len(recording.frames))  # at most the cores
     chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
-    bar = tqdm(total=len(recording.frames), desc=f"render {out.name}", unit="frame", disable=not progress)
+    # the bar counts the frames of the file: the recorded ones and the final hold
+    bar = tqdm(total=video_frame_count(recording, fps), desc=f"render {out.name}", unit="frame",
+               disable=not progress)
     rendered = _map_chunks(recording, chunks, width, height, camera, worker_count(workers, len(chunks)), renderer)
     suffix = out.suffix.lower()
     try:
@@ -221,6 +223,7 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
                     bar.update(len(rgb_list))
                 for _ in range(hold_frames(fps)):
                     writer.append_data(last)
+                    bar.update(1)
             verify_video(tmp, suffix, video_frame_count(recording, fps), out)
     except (OSError, EncoderError) as exc:  # a full disk, an encoder that failed or stopped
         raise VideoError(f"cannot write video {str(out)!r} ({_reason(exc)})") from None

@@ -53,7 +53,7 @@ def test_plan_four_blocks(capsys):
 
 
 def test_plan_all_bfs(capsys):
-    code, out, _ = run(capsys, "plan", "--all", "--json")
+    code, out, _ = run(capsys, "plan", "--pairs", "all", "--json")
     doc = json.loads(out)
     assert code == 0 and doc["pairs"] == doc["covered"] == doc["optimal"] == 462
     # a plan step is the same object in plan --all as in a single plan
@@ -87,7 +87,7 @@ def test_plan_without_a_plan_exits_1(tmp_path, capsys):
     assert code == 1 and out == "" and "no plan from CBA to BAC" in err
     code, out, err = run(capsys, "plan", "--rules", str(empty), "--start", "CBA", "--goal", "BAC", "--json")
     assert code == 1 and json.loads(out)["plan"] is None and "no Q-classifier" in json.loads(out)["reason"]
-    code, out, _ = run(capsys, "plan", "--rules", str(empty), "--all", "--json")
+    code, out, _ = run(capsys, "plan", "--rules", str(empty), "--pairs", "all", "--json")
     assert code == 1 and json.loads(out)["covered"] == 0 and json.loads(out)["plans"][0]["plan"] is None
 
 
@@ -108,7 +108,7 @@ def test_json_to_a_file_replaces_the_text(tmp_path, capsys):
         ["plan", "--start", "S0111000txt0000C", "--goal", "BAC"],
         ["plan", "--start", "CBA"],
         ["plan", "--start", "S0100000bct0000C", "--goal", "CBA"],
-        ["plan", "--rules", "/nonexistent/rules.yaml", "--all"],
+        ["plan", "--rules", "/nonexistent/rules.yaml", "--pairs", "all"],
         ["states", "--blocks", "9"],
         ["states", "--blocks", "x"],
         ["frobnicate"],
@@ -132,7 +132,7 @@ def test_console_entry_point_no_traceback():
         capture_output=True, text=True, check=False,
     )
     assert proc.returncode == 2
-    assert proc.stderr.strip() == "csql-sim: error: unknown block D for a 3-block world in 'CBD'"
+    assert proc.stderr.strip() == "csql-sim plan: error: unknown block D for a 3-block world in 'CBD'"
 
 
 def test_plan_pairs_sample_is_seeded_and_bounded(capsys):

@@ -29,7 +29,7 @@ def test_discover_prints_text_or_json_to_stdout(tmp_path, capsys):
     args = ["discover", "--world", "symbolic", "--seed", "2", "--quiet", "--out", str(tmp_path / "r.yaml")]
     assert main(args) == 0
     assert "36 of 36 equal" in capsys.readouterr().out
-    assert main([*args, "--json"]) == 0
+    assert main([*args, "--json", "--overwrite"]) == 0
     assert json.loads(capsys.readouterr().out)["rules"] == 36
 
 

@@ -35,12 +35,12 @@ def test_npz_show_coverage_and_prune(files, capsys, tmp_path):
     rules, _ = files
     npz, pruned = tmp_path / "g.npz", tmp_path / "p.yaml"
     assert run(capsys, "generalize", "--rules", str(rules), "--out", str(npz), "--quiet")[0] == 0
-    code, text, _ = run(capsys, "show", str(npz))
+    code, text, _ = run(capsys, "show", "--rules", str(npz))
     lines = text.splitlines()
     assert code == 0 and "Coverage" in lines[0]
     assert sum(int(line.split()[4]) for line in lines[1:]) == 462  # every pair decided by exactly one
-    assert run(capsys, "prune", str(npz), "--out", str(pruned))[0] == 0
-    code, text, _ = run(capsys, "plan", "--rules", str(pruned), "--all")
+    assert run(capsys, "prune", "--rules", str(npz), "--out", str(pruned))[0] == 0
+    code, text, _ = run(capsys, "plan", "--rules", str(pruned), "--pairs", "all")
     assert code == 0 and "optimal: 462" in text
 
 
@@ -48,7 +48,7 @@ def test_malformed_goal_form_rule_file_is_one_line_exit_2(files, capsys, tmp_pat
     _, out = files
     bad = tmp_path / "bad.yaml"
     bad.write_text(out.read_text().replace("condition: S##############G", "condition: S##############X", 1))
-    code, _, err = run(capsys, "plan", "--rules", str(bad), "--all")
+    code, _, err = run(capsys, "plan", "--rules", str(bad), "--pairs", "all")
     assert code == 2 and err.count("\n") == 1 and "position 15" in err
 
 

@@ -18,7 +18,7 @@ def rule_files(tmp_path_factory):
     folder = tmp_path_factory.mktemp("rules")
     rules, pruned = folder / "rules.yaml", folder / "pruned.yaml"
     assert main(["train", "--out", str(rules), "--no-progress"]) == 0
-    assert main(["prune", str(rules), "--threshold", "0.1", "--out", str(pruned)]) == 0
+    assert main(["prune", "--rules", str(rules), "--threshold", "0.1", "--out", str(pruned)]) == 0
     return rules, pruned
 
 
@@ -26,19 +26,19 @@ def test_train_prune_plan_all_optimal(rule_files, capsys):
     rules, pruned = rule_files
     assert sum(c.kind == "Q" for c in load(rules).classifiers) == 882
     assert sum(c.kind == "Q" for c in load(pruned).classifiers) == 462
-    code, out, _ = run(capsys, "plan", "--rules", str(pruned), "--all")
+    code, out, _ = run(capsys, "plan", "--rules", str(pruned), "--pairs", "all")
     assert code == 0 and "optimal: 462" in out
 
 
 def test_prune_prints_counts(rule_files, capsys, tmp_path):
     rules, _ = rule_files
-    code, out, _ = run(capsys, "prune", str(rules), "--out", str(tmp_path / "p.yaml"))
+    code, out, _ = run(capsys, "prune", "--rules", str(rules), "--out", str(tmp_path / "p.yaml"))
     assert code == 0 and "882 before, 462 after" in out
 
 
 def test_show_greedy_path_of_the_test_task(rule_files, capsys):
     _, pruned = rule_files
-    code, out, _ = run(capsys, "show", str(pruned), "--start", "CBA", "--goal", "BAC")
+    code, out, _ = run(capsys, "show", "--rules", str(pruned), "--start", "CBA", "--goal", "BAC")
     lines = out.splitlines()
     assert code == 0 and len(lines) == 9
     assert lines[1].split()[:3] == ["Q", "S0100000bct0000C", "A10000001000ab00"]
@@ -102,7 +102,7 @@ def test_params_prints_yaml_that_params_accepts(tmp_path, capsys):
 
 def test_show_and_bench_json(rule_files, capsys):
     _, pruned = rule_files
-    code, out, _ = run(capsys, "show", str(pruned), "--start", "CBA", "--goal", "BAC", "--json")
+    code, out, _ = run(capsys, "show", "--rules", str(pruned), "--start", "CBA", "--goal", "BAC", "--json")
     doc = json.loads(out)
     assert code == 0 and len(doc["classifiers"]) == 8 and doc["classifiers"][-1]["q"] == 1.0
     code, out, _ = run(capsys, "bench", "--trials", "50", "--repeats", "1", "--json")
@@ -113,11 +113,11 @@ def test_show_and_bench_json(rule_files, capsys):
 @pytest.mark.parametrize(
     "argv, fragment",
     [
-        (["show", "{missing}"], "no such rule file"),
-        (["prune", "{truncated}", "--out", "{out}"], "truncated or corrupt"),
-        (["show", "{foreign}"], "not a csql-sim rule base"),
+        (["show", "--rules", "{missing}"], "no such rule file"),
+        (["prune", "--rules", "{truncated}", "--out", "{out}"], "truncated or corrupt"),
+        (["show", "--rules", "{foreign}"], "not a csql-sim rule base"),
         (["train", "--params", "{bad_params}", "--out", "{out}"], "unknown parameter"),
-        (["show", "{rules}", "--start", "CBA"], "both --start and --goal"),
+        (["show", "--rules", "{rules}", "--start", "CBA"], "both --start and --goal"),
         (["experiment", "--methods", "cs-ql,nope", "--out", "{out}"], "unknown method"),
         (["train", "--trials", "-3", "--out", "{out}"], "non-negative"),
     ],

@@ -41,7 +41,7 @@ def csql(tmp_path, *argv, limit=False, stdout=subprocess.PIPE, env=None, timeout
 
 def one_line(result, *names):
     err = result.stderr
-    assert err.count("\n") == 1 and err.startswith("csql-sim: "), err
+    assert err.count("\n") == 1 and err.startswith("csql-sim"), err
     assert "Traceback" not in err
     for name in names:
         assert name in err, err

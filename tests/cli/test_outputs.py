@@ -7,6 +7,7 @@ written or changed (the "Reliable anywhere" sweep's cases, items 1, 2, 5 and 6).
 import importlib
 import json
 import os
+import re
 
 import pytest
 
@@ -25,7 +26,7 @@ def refused(capsys, *argv, names=()):
     """A refused command: status 2, one stderr line, naming every string of ``names``."""
     code, _, err = run(capsys, *argv)
     assert code == 2, err
-    assert err.count("\n") == 1 and err.startswith("csql-sim: error: ") and "Traceback" not in err, err
+    assert err.count("\n") == 1 and re.match(r"csql-sim [a-z-]+: error: ", err) and "Traceback" not in err, err
     for name in names:
         assert name in err, err
     return err
@@ -88,23 +89,26 @@ def test_the_default_rule_file_is_replaced_with_overwrite(capsys, tmp_path, monk
     assert (tmp_path / "rules.yaml").read_text().startswith("format: csql-sim rule base")
 
 
-def test_a_named_output_is_replaced_when_it_is_ours_and_refused_otherwise(capsys, tmp_path, monkeypatch):
+def test_an_existing_output_is_replaced_only_with_overwrite(capsys, tmp_path, monkeypatch):
+    """Any existing file, even our own output of the same kind (a 3,000-trial model, a video): issue 28 item 15."""
     monkeypatch.chdir(tmp_path)
-    for _ in range(2):  # the second run replaces the rule file the first wrote
-        assert run(capsys, *SMALL_DISCOVER, "--out", "r.yaml")[0] in (0, 1)
+    assert run(capsys, *SMALL_DISCOVER, "--out", "r.yaml")[0] in (0, 1)
+    first = (tmp_path / "r.yaml").read_bytes()
+    refused(capsys, *SMALL_DISCOVER, "--seed", "1", "--out", "r.yaml", names=("r.yaml", "--overwrite"))
+    assert (tmp_path / "r.yaml").read_bytes() == first
     (tmp_path / "notes.yaml").write_text("format: my notes\n")
     refused(capsys, *SMALL_DISCOVER, "--out", "notes.yaml", names=("notes.yaml", "--overwrite"))
     assert (tmp_path / "notes.yaml").read_text() == "format: my notes\n"
-    (tmp_path / "r.json").write_text('{"a": 1}\n')  # a JSON file, but not one of our reports
+    assert run(capsys, "states", "--json", "r.json")[0] == 0
     refused(capsys, "states", "--json", "r.json", names=("r.json", "--overwrite"))
-    assert (tmp_path / "r.json").read_text() == '{"a": 1}\n'
+    (tmp_path / "r.json").write_text('{"a": 1}\n')
     assert run(capsys, "states", "--json", "r.json", "--overwrite")[0] == 0
     assert json.loads((tmp_path / "r.json").read_text())["format"] == "csql-sim states report"
 
 
 @pytest.mark.parametrize("argv", [
-    ["show", "r.yaml", "--json", "r.yaml"],
-    ["prune", "r.yaml", "--out", "r.yaml"],
+    ["show", "--rules", "r.yaml", "--json", "r.yaml"],
+    ["prune", "--rules", "r.yaml", "--out", "r.yaml"],
     ["plan", "--rules", "r.yaml", "--start", "CBA", "--goal", "BAC", "--json", "r.yaml"],
     ["train", "--domain", "r.yaml", "--out", "r.yaml", "--overwrite"],
 ])
@@ -165,7 +169,7 @@ def test_plan_refuses_rules_it_would_not_read(capsys, tmp_path, monkeypatch):
     (["states", "--json", ""], "--json"),
     (["train", "--out", ""], "--out"),
     (["demo", "--out", ""], "--out"),
-    (["show", ""], "rules"),
+    (["show", "--rules", ""], "rules"),
 ])
 def test_empty_paths_are_refused(capsys, tmp_path, monkeypatch, no_work, argv, option):
     monkeypatch.chdir(tmp_path)
@@ -199,16 +203,19 @@ def test_folder_reports_and_sidecars_name_their_format(capsys, tmp_path, monkeyp
     for path, name in (("e/figure7.json", "experiment"), ("e.json", "experiment"), ("s/scaling.json", "scaling")):
         doc = json.loads((tmp_path / path).read_text())
         assert (doc["format"], doc["version"]) == (f"csql-sim {name} report", 1), path
-    # a second run replaces its own files without --overwrite: they say they are ours
+    # a second run into the same folder needs --overwrite, even for its own files
+    code, _, err = run(capsys, "scaling", "--out", "s", "--blocks", "2", "--methods", "lt-ql", "--max-trials", "20",
+                       "--quiet")
+    assert code == 2 and "--overwrite" in err
     assert run(capsys, "scaling", "--out", "s", "--blocks", "2", "--methods", "lt-ql", "--max-trials", "20",
-               "--quiet")[0] == 0
+               "--quiet", "--overwrite")[0] == 0
 
 
 def test_json_to_a_symbolic_link_writes_the_file_it_points_to(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert run(capsys, "states", "--json", "target.json")[0] == 0
     os.symlink("target.json", tmp_path / "link.json")
-    assert run(capsys, "rules", "--json", "link.json")[0] == 0
+    assert run(capsys, "rules", "--json", "link.json", "--overwrite")[0] == 0
     assert os.readlink(tmp_path / "link.json") == "target.json"  # the link is kept
     assert json.loads((tmp_path / "target.json").read_text())["format"] == "csql-sim rules report"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link.json", "target.json"]

@@ -53,4 +53,4 @@ def test_experiment_on_ray_writes_the_same_csv_and_keeps_stderr_quiet(ray, tmp_p
 
 def test_address_without_ray_backend_is_one_line_exit_2(capsys):
     assert main(["evaluate", "--pairs", "1", "--address", "auto"]) == 2
-    assert capsys.readouterr().err.strip() == "csql-sim: error: --address needs --backend ray"
+    assert capsys.readouterr().err.strip() == "csql-sim evaluate: error: --address needs --backend ray"

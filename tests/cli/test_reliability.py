@@ -2,6 +2,7 @@
 
 import importlib
 import os
+import re
 import stat
 
 import pytest
@@ -22,7 +23,7 @@ def refused(capsys, *argv, fragment=""):
     """Run a command that must be refused: status 2, one stderr line (containing fragment)."""
     code, _, err = run(capsys, *argv)
     assert code == 2, err
-    assert err.count("\n") == 1 and err.startswith("csql-sim: error: "), err
+    assert err.count("\n") == 1 and re.match(r"csql-sim [a-z-]+: error: ", err), err
     assert "Traceback" not in err
     assert fragment in err, err
     return err
@@ -124,7 +125,7 @@ def test_parent_is_a_file(capsys, tmp_path):
 
 @pytest.mark.parametrize("argv", [
     ["train", "--out", "r.yaml", "--trials", "5"],
-    ["prune", "RULES", "--out", "p.yaml"],
+    ["prune", "--rules", "RULES", "--out", "p.yaml"],
     ["experiment", "--out", "fig", "--cycles", "1", "--trials", "1"],
     ["evaluate", "--json", "e.json", "--pairs", "1"],
     ["render", "--start", "CBA", "--goal", "BAC"],
@@ -138,8 +139,8 @@ def test_read_only_folder_outputs_are_refused_before_work(capsys, read_only_dir,
 
 
 @pytest.mark.parametrize("argv", [
-    ["states"], ["rules"], ["plan", "--start", "CBA", "--goal", "BAC"], ["show", "RULES"],
-    ["plan", "--rules", "RULES", "--all"], ["bench", "--trials", "5", "--repeats", "1"],
+    ["states"], ["rules"], ["plan", "--start", "CBA", "--goal", "BAC"], ["show", "--rules", "RULES"],
+    ["plan", "--rules", "RULES", "--pairs", "all"], ["bench", "--trials", "5", "--repeats", "1"],
 ])
 def test_read_only_folder_readers_still_work(capsys, read_only_dir, rules3, monkeypatch, argv):
     monkeypatch.chdir(read_only_dir)
@@ -165,7 +166,7 @@ def test_a_failed_final_write_keeps_the_results(capsys, read_only_dir, monkeypat
 @pytest.mark.parametrize("argv", [
     ["train", "--out", "/dev/null", "--trials", "1"],
     ["evaluate", "--json", "/dev/null", "--pairs", "1"],
-    ["prune", "RULES", "--out", "/dev/null"],
+    ["prune", "--rules", "RULES", "--out", "/dev/null"],
 ])
 def test_device_nodes_are_never_replaced(capsys, rules3, argv):
     refused(capsys, *[str(rules3) if a == "RULES" else a for a in argv], fragment="is a device, pipe or socket")
@@ -191,7 +192,7 @@ LAUGHS = "".join(f"l{k}: &l{k} [{', '.join(['*l' + str(k - 1)] * 9) if k else 'l
 def test_billion_laughs_in_a_rule_file(capsys, tmp_path, parsed):
     path = tmp_path / "laughs.yaml"
     path.write_text(LAUGHS + "format: csql-sim rule base\nversion: 2\nblocks: *l8\ncount: 0\nclassifiers: []\n")
-    refused(capsys, "show", path, fragment="YAML aliases (*l0) are not allowed")
+    refused(capsys, "show", "--rules", path, fragment="YAML aliases (*l0) are not allowed")
     assert parsed == []  # refused from the parser's events: no alias was ever expanded
 
 
@@ -207,17 +208,17 @@ def test_deeply_nested_rule_file(capsys, tmp_path):
     path.write_text("[" * 1000 + "]" * 1000 + "\n")
     # PyYAML may refuse this depth itself, before our 32-level check: assert our promise only
     # (one line naming the file, exit 2), not whose wording it is.
-    refused(capsys, "plan", "--rules", path, "--all", fragment=str(path))
+    refused(capsys, "plan", "--rules", path, "--pairs", "all", fragment=str(path))
 
 
 def test_show_dev_zero(capsys):
-    refused(capsys, "show", "/dev/zero", fragment="not a regular rule file")
+    refused(capsys, "show", "--rules", "/dev/zero", fragment="not a regular rule file")
 
 
 def test_a_50_mb_file_is_refused_without_reading_it(capsys, tmp_path, opened, parsed):
     path = tmp_path / "big.yaml"
     path.write_text("x: " + "a" * (50 * 1024 * 1024) + "\n")
-    refused(capsys, "show", path, fragment="above the 16,777,216-byte limit")
+    refused(capsys, "show", "--rules", path, fragment="above the 16,777,216-byte limit")
     assert opened == [] and parsed == []  # refused from its size: not one byte read, nothing parsed
 
 
@@ -225,26 +226,26 @@ def test_a_rule_file_cut_at_a_line_boundary(capsys, rules3, tmp_path):
     lines = rules3.read_text().splitlines(keepends=True)
     cut = tmp_path / "cut.yaml"
     cut.write_text("".join(lines[:-10]))
-    refused(capsys, "plan", "--rules", cut, "--all", fragment="but its header says")
+    refused(capsys, "plan", "--rules", cut, "--pairs", "all", fragment="but its header says")
 
 
 def test_a_nan_q_value(capsys, rules3, tmp_path):
     bad = tmp_path / "nan.yaml"
     bad.write_text(rules3.read_text().replace(", q: ", ", q: .nan, x: ", 1))
-    refused(capsys, "show", bad, fragment="q must be finite, got nan")
+    refused(capsys, "show", "--rules", bad, fragment="q must be finite, got nan")
 
 
 def test_a_3_block_file_relabelled_as_2(capsys, rules3, tmp_path):
     bad = tmp_path / "two.yaml"
     bad.write_text(rules3.read_text().replace("\nblocks: 3\n", "\nblocks: 2\n"))
-    refused(capsys, "show", bad, fragment="but the file is for 2 blocks")
+    refused(capsys, "show", "--rules", bad, fragment="but the file is for 2 blocks")
 
 
 def test_a_4_block_rule_file_with_a_3_block_task_names_the_file(capsys, tmp_path):
     path = save(tmp_path / "r4.yaml", RuleBase(blocks=4, classifiers=list(r_classifiers(4))))
     fragment = f"rule file {str(path)!r} is for 4 blocks, but the task CBA -> BAC has 3"
     refused(capsys, "plan", "--rules", path, "--start", "CBA", "--goal", "BAC", fragment=fragment)
-    refused(capsys, "show", path, "--start", "CBA", "--goal", "BAC", fragment=fragment)
+    refused(capsys, "show", "--rules", path, "--start", "CBA", "--goal", "BAC", fragment=fragment)
 
 
 # ------------------------------------------------------------------ parameters
@@ -262,7 +263,7 @@ def test_out_of_range_params(capsys, tmp_path, text, fragment):
 
 @pytest.mark.parametrize("value", ["nan", "2", "-0.1", "inf"])
 def test_prune_threshold_out_of_range(capsys, rules3, tmp_path, value):
-    usage_error(capsys, "prune", rules3, "--threshold", value, "--out", tmp_path / "p.yaml",
+    usage_error(capsys, "prune", "--rules", rules3, "--threshold", value, "--out", tmp_path / "p.yaml",
                 fragment="must be a number in [0, 1]")
     assert not (tmp_path / "p.yaml").exists()
 
@@ -295,4 +296,4 @@ def test_workers_above_the_cores_warn_and_are_capped(capsys, tmp_path):
     assert worker_count(1000, 3) == min(3, cores) and worker_count(None, 1) == 1 and worker_count(2, 0) == 1
     code, _, err = run(capsys, "evaluate", "--pairs", "1", "--workers", "1000", "--quiet")
     assert code == 0
-    assert err == f"csql-sim: warning: --workers 1000 is more than the {cores} cores; using {cores}\n"
+    assert err == f"csql-sim evaluate: warning: --workers 1000 is more than the {cores} cores; using {cores}\n"

@@ -85,10 +85,10 @@ def test_show_reads_the_greedy_path_of_one_goal(tmp_path, capsys):
     out = tmp_path / "rules4"
     assert main(["train", "--blocks", "4", "--shards", "2", "--trials", "300", "--out", str(out), "--quiet"]) == 0
     capsys.readouterr()
-    assert main(["show", str(out), "--start", "DCBA", "--goal", "ABCD"]) == 0
+    assert main(["show", "--rules", str(out), "--start", "DCBA", "--goal", "ABCD"]) == 0
     rows = [line for line in capsys.readouterr().out.splitlines() if line.startswith("Q ")]
     assert len(rows) == 8  # one greedy Q-classifier per step of the optimal 8-step plan
-    assert main(["show", str(out)]) == 2
+    assert main(["show", "--rules", str(out)]) == 2
     assert "--start" in one_error_line(capsys)
 
 

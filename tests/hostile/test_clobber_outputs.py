@@ -71,5 +71,5 @@ def test_the_registry_knows_every_model_the_tool_writes(here):
 def test_a_report_still_replaces_a_report(here):
     assert csql(here, "plan", "--start", "CBA", "--goal", "BAC", "--json", "p.json").returncode == 0
     first = (here / "p.json").read_text()
-    assert csql(here, "plan", "--start", "ABC", "--goal", "BAC", "--json", "p.json").returncode == 0
+    assert csql(here, "plan", "--start", "ABC", "--goal", "BAC", "--json", "p.json", "--overwrite").returncode == 0
     assert (here / "p.json").read_text() != first

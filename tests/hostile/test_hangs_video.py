@@ -19,7 +19,7 @@ from video_cases import only_fixtures_left, put_fixtures
 
 def test_ex_video_tiny_fs(tiny_fs):
     fixtures = put_fixtures(tiny_fs)
-    run = csql(tiny_fs, "execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--video", "v.mp4",
+    run = csql(tiny_fs, "execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--out", "v.mp4",
                timeout=240)
     run.refused("v.mp4")
     assert run.stdout == ""

@@ -20,7 +20,7 @@ import pytest
 from hostile_cli import start
 from video_cases import only_fixtures_left, put_fixtures
 
-EXECUTE = ("execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--video", "v.mp4")
+EXECUTE = ("execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--out", "v.mp4")
 HANG_GUARD = 240.0  # seconds for the child process to appear; only against a hang
 IMPORTING_SECONDS = 0.3  # into a spawned worker's start-up: still importing, SIGINT not yet ignored
 STOP_SECONDS = 10.0  # a Ctrl-C stops the command within this (a second or two when the machine is idle)

@@ -87,7 +87,7 @@ def test_a_lifted_file_the_tool_wrote_still_plans(work):
 
 @pytest.mark.parametrize("case, argv", [
     ("sh-plan-deep-manifest", ["plan", "--rules", "sh", "--start", "ABCD", "--goal", "DCBA"]),
-    ("sh-show-deep-manifest", ["show", "sh", "--start", "ABCD", "--goal", "DCBA"]),
+    ("sh-show-deep-manifest", ["show", "--rules", "sh", "--start", "ABCD", "--goal", "DCBA"]),
     ("sh-eval-deep-manifest", ["evaluate", "--rules", "sh", "--blocks", "4", "--pairs", "2", "--quiet"]),
     ("sh-pairs-deep-manifest", ["plan", "--rules", "sh", "--pairs", "50"]),
     ("shtr-resume-manifest-deep", ["train", "--quiet", "--resume", "--out", "sh"]),

@@ -29,7 +29,7 @@ def test_z_render_gif_full_disk(tiny_fs):
 
 def test_z_execute_gif_full_disk(tiny_fs):
     fixtures = put_fixtures(tiny_fs)
-    run = csql(tiny_fs, "execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--video", "v.gif")
+    run = csql(tiny_fs, "execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--out", "v.gif")
     run.refused("v.gif")
     assert run.stdout == ""
     only_fixtures_left(tiny_fs, fixtures)

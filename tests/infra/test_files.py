@@ -108,31 +108,18 @@ def _ours(tmp_path):
     return made
 
 
-def test_identify_recognises_our_outputs_and_nothing_else(tmp_path):
-    from csql_sim.infra.outputs import identify
-    from csql_sim.jobs.plots import new_figure, png_bytes
+def test_the_registry_tells_each_format_from_its_first_bytes(tmp_path):
+    from csql_sim.infra import formats
 
     made = _ours(tmp_path)
-    assert {name: identify(path) for name, path in made.items()} == {
-        "rules.yaml": "rules", "rules.npz": "rules", "t.jsonl": "transitions", "r.json": "json", "d.pddl": "pddl"}
-    fig = new_figure(1, 1)
-    write_atomic(tmp_path / "ours.png", png_bytes(fig))
-    fig.savefig(tmp_path / "theirs.png")  # matplotlib's own PNG: not tagged as ours
-    assert identify(tmp_path / "ours.png") == "png" and identify(tmp_path / "theirs.png") is None
+    assert {name: formats.sniff(path) for name, path in made.items()} == {
+        "rules.yaml": formats.RULE_BASE, "rules.npz": formats.RULE_BASE_NPZ, "t.jsonl": formats.TRANSITIONS,
+        "r.json": "csql-sim states report", "d.pddl": None}
+    assert {name for name, path in made.items() if formats.model_kind(path)} == {"rules.yaml", "rules.npz"}
     for name, text in {"a.yaml": "format: notes\n", "b.json": '{"format": "other"}', "c.txt": ""}.items():
         (tmp_path / name).write_text(text)
-        assert identify(tmp_path / name) is None
-    assert identify(tmp_path) is None and identify(tmp_path / "missing") is None and identify("/dev/zero") is None
-
-
-def test_a_file_without_a_header_is_ours_when_its_sidecar_is(tmp_path):
-    from csql_sim.infra.outputs import is_ours
-
-    (tmp_path / "v.mp4").write_bytes(b"\x00\x00\x00\x18ftypmp42")
-    assert not is_ours(tmp_path / "v.mp4", "video", tmp_path / "v.mp4.json")  # no sidecar
-    (tmp_path / "v.mp4.json").write_text('{"format": "csql-sim video provenance", "version": 1}')
-    assert is_ours(tmp_path / "v.mp4", "video", tmp_path / "v.mp4.json")
-    assert not is_ours(tmp_path / "v.mp4", "video")  # without a sidecar to vouch for it
+        assert formats.sniff(tmp_path / name) is None
+    assert formats.sniff(tmp_path / "missing") is None and formats.sniff("/dev/zero") is None
 
 
 def _outputs(overwrite=False):
@@ -148,26 +135,23 @@ def test_the_policy_for_existing_files(tmp_path):
 
     made = _ours(tmp_path)
     (tmp_path / "mine.yaml").write_text("my notes\n")
-    named = _outputs()
-    named.file(made["rules.yaml"], "rule file", "rules")  # ours, named: replaced
-    named.file(made["r.json"], "JSON report", "json", option="--json")
-    named.file(tmp_path / "new.yaml", "rule file", "rules")  # not there yet
-    named.check()
-    default = _outputs()
-    default.file(made["rules.yaml"], "rule file", "rules", default=True)  # ours, but at the default path
-    with pytest.raises(OutputError, match="already exists .*--out.*--overwrite"):
-        default.check()
-    foreign = _outputs()
-    foreign.file(tmp_path / "mine.yaml", "rule file", "rules")
-    with pytest.raises(OutputError, match="mine.yaml' exists and is not a csql-sim rule file.*--overwrite"):
-        foreign.check()
-    wrong_kind = _outputs()
-    wrong_kind.file(made["r.json"], "rule file", "rules")  # ours, but another kind
-    with pytest.raises(OutputError, match="not a csql-sim rule file"):
-        wrong_kind.check()
+    fresh = _outputs()
+    fresh.file(tmp_path / "new.yaml", "rule file", "rules")  # not there yet
+    fresh.check()
+    for path, kind, default in ((made["rules.yaml"], "rules", False), (made["r.json"], "json", False),
+                                (made["rules.yaml"], "rules", True), (tmp_path / "mine.yaml", "rules", False)):
+        existing = _outputs()  # any existing file, ours or not, named or the default: only with --overwrite
+        existing.file(path, "output", kind, default=default)
+        with pytest.raises(OutputError, match="already exists.*--overwrite"):
+            existing.check()
     asked = _outputs(overwrite=True)
     asked.file(tmp_path / "mine.yaml", "rule file", "rules", default=True)
+    asked.file(made["r.json"], "JSON report", "json", option="--json")
     asked.check()
+    model = _outputs(overwrite=True)  # a report never replaces a model, even with --overwrite
+    model.file(made["rules.npz"], "JSON report", "json", option="--json")
+    with pytest.raises(OutputError, match="a model is never replaced"):
+        model.check()
     assert (tmp_path / "mine.yaml").read_text() == "my notes\n"  # checking writes nothing
 
 

@@ -138,3 +138,27 @@ def test_a_long_caption_stays_inside_the_frame():
     assert short == "step 1" and short_font.size == 16
     frame = caption_image(np.zeros((240, 320, 3), np.uint8), long)
     assert frame.shape == (240, 320, 3)
+
+
+def test_the_progress_bar_counts_the_frames_of_the_file(recording, tmp_path, monkeypatch):
+    """Issue 28 item 16: the bar counted the recorded frames (201) while the file had the final hold too (216)."""
+    import csql_sim.sim.video as video
+
+    bars = []
+
+    class Bar:
+        def __init__(self, total, **_):
+            self.total, self.n = total, 0
+            bars.append(self)
+
+        def update(self, k):
+            self.n += k
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(video, "tqdm", Bar)
+    out = write_video(recording, tmp_path / "ep.mp4", 160, 120, workers=1, progress=True)
+    frames = imageio.get_reader(out).count_frames()
+    assert [(bar.total, bar.n) for bar in bars] == [(frames, frames)]
+    assert frames > len(recording.frames)  # the final hold is counted
