@@ -68,21 +68,16 @@ class _GuardedStdout:
 
 
 class _ClosedStdout(io.TextIOBase):
-    """Standard output when the command was started with it closed (``>&-``): text is counted, not written.
+    """Standard output when the command was started with it closed (``>&-``): nothing is written to it.
 
-    The command runs to its end (its files are written); :func:`main` then reports in one
-    line that what it printed was lost, with exit status 2, as ``ls >&-`` does.
+    :func:`main` refuses such a command before any work, in one line (exit 2), so that no
+    file is written by a command whose report could not be shown.
     """
-
-    def __init__(self) -> None:
-        super().__init__()
-        self.lost = 0
 
     def writable(self) -> bool:  # noqa: D102
         return True
 
     def write(self, text: str) -> int:  # noqa: D102
-        self.lost += len(text)
         return len(text)
 
     def fileno(self) -> int:  # noqa: D102
@@ -119,11 +114,11 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     with _on_sigterm_raise(), _guarded_stdout():
         try:
+            if closed is not None:  # refused before any work: nothing written, nothing lost
+                raise StdoutError("standard output is closed (>&-); send it somewhere, e.g. >/dev/null")
             plan_outputs(args)
             status = int(args.func(args) or 0)
             sys.stdout.flush()
-            if closed is not None and closed.lost:
-                raise StdoutError(f"standard output is closed: {closed.lost:,} characters of output were lost")
             return status
         except CsqlError as exc:
             say(args, "error", str(exc))
@@ -150,7 +145,7 @@ def _reserve_standard_streams() -> _ClosedStdout | None:
     Each closed descriptor 0-2 is opened on ``/dev/null``, so that no file the command
     opens takes its number (a C library or a child process writing to "stdout" would
     write into it). A closed stderr becomes ``/dev/null`` (the exit status still tells);
-    a closed stdout becomes a :class:`_ClosedStdout`, whose text is counted, not written.
+    a closed stdout becomes a :class:`_ClosedStdout` (the command is then refused).
     """
     for fd in (0, 1, 2):
         try:

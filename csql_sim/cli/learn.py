@@ -109,6 +109,10 @@ def cmd_train(args: argparse.Namespace) -> int:
     from csql_sim.learners.training import train_learner
 
     train_shards.settle(args)
+    if args.params is not None and not args.resume:  # a bad parameter file: refused by --dry-run too
+        from csql_sim.learners.params import resolve_params
+
+        resolve_params(args.method, args.params, args.blocks)
     out = None  # every refusal of the run comes before the estimate, so that --dry-run refuses it too
     if train_shards.sharded(args):
         out = train_shards.check_directory(args)

@@ -146,7 +146,12 @@ def _condition_width(n: int, meta: dict, source: str, error: type[Exception]) ->
 
 
 def peek_meta(path: str | os.PathLike) -> dict:
-    """The ``meta`` of an npz rule file's header array alone; ``{}`` when it cannot be read."""
+    """The ``meta`` of an npz rule file's header array alone; ``{}`` when it cannot be read.
+
+    Only a regular file is opened (a fifo or a device is left to the loader, which names it).
+    """
+    if formats.read_head(path) is None:
+        return {}
     try:
         with zipfile.ZipFile(path) as archive, archive.open("header.npy") as member:
             raw = np.lib.format.read_array(member, allow_pickle=False)

@@ -257,6 +257,7 @@ def train_sharded(run: ShardRun, progress: bool = False,
         manifest["complete"] = len(manifest["files"]) == run.shards
     else:
         _clear(run.out)
+    created = not run.out.exists()
     run.out.mkdir(parents=True, exist_ok=True)
     rs.write_manifest(run.out, manifest)
     jobs = [ShardJob(run.n, run.params, run.seed, run.shards, k, run.trials) for k in range(run.shards)
@@ -281,8 +282,15 @@ def train_sharded(run: ShardRun, progress: bool = False,
             on_shard(k, outcome)
         return k
 
-    map_tasks(train_shard, jobs, run.backend, setup=install_model, setup_args=(shared,), progress=progress,
-              desc=f"shards ({run.n} blocks)", unit="shard", on_result=save)
+    try:
+        map_tasks(train_shard, jobs, run.backend, setup=install_model, setup_args=(shared,), progress=progress,
+                  desc=f"shards ({run.n} blocks)", unit="shard", on_result=save)
+    except CsqlError:  # refused before any shard (an unreachable Ray cluster): leave nothing behind
+        if not run.resume and not outcomes:
+            _clear(run.out)
+            if created:
+                run.out.rmdir()
+        raise
     report = run_report(run, outcomes, time.perf_counter() - began, resumed=sorted(done))
     write_atomic(run.out / rs.REPORT, json.dumps({"format": "csql-sim shard run reports", "version": 1,
                                                   "runs": [*previous, report]}, indent=1) + "\n", follow_links=False)
