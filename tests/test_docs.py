@@ -72,5 +72,25 @@ def test_every_command_and_option_the_docs_name_exists():
 
 
 def test_the_readme_names_every_command():
-    named = {command for command, _ in _invocations((ROOT / "README.md").read_text())}
+    text = (ROOT / "README.md").read_text()
+    named = {command for command, _ in _invocations(text)} | set(_code(text))
     assert set(_commands()) - named == set()
+
+
+def test_the_readme_is_short():
+    """Issue 31: the README says what the tool is and how to start; the rest is in the site."""
+    assert len((ROOT / "README.md").read_text().splitlines()) <= 250
+
+
+def test_every_page_of_docs_is_in_the_site_navigation():
+    import yaml
+
+    config = yaml.safe_load((ROOT / "mkdocs.yml").read_text())
+
+    def pages(nav):
+        for item in nav:
+            value = next(iter(item.values())) if isinstance(item, dict) else item
+            yield from (pages(value) if isinstance(value, list) else [value])
+
+    listed = list(pages(config["nav"]))
+    assert sorted(listed) == sorted(p.name for p in (ROOT / "docs").glob("*.md"))
