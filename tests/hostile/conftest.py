@@ -48,3 +48,20 @@ def tiny_fs(tmp_path: Path):
         yield mount
     finally:
         subprocess.run(["umount", "-l", str(mount)], capture_output=True)
+
+
+@pytest.fixture(scope="session")
+def shard_base(tmp_path_factory) -> Path:
+    """A complete 4-shard rule base at n = 4, trained once for the whole session (copy it before changing it)."""
+    from csql_sim.cli import main
+
+    folder = tmp_path_factory.mktemp("base")
+    assert main(["train", "--blocks", "4", "--shards", "4", "--workers", "1", "--quiet", "--out",
+                 str(folder / "sh")]) == 0
+    return folder / "sh"
+
+
+@pytest.fixture
+def sh(shard_base: Path, work: Path) -> Path:
+    """A copy of the 4-shard base in the scratch folder, as ``sh``."""
+    return Path(shutil.copytree(shard_base, work / "sh"))

@@ -11,31 +11,15 @@ files are written with ``follow_links=False``, and every manifest field is check
 from __future__ import annotations
 
 import json
-import shutil
 from pathlib import Path
 
 import pytest
 from hostile_cli import csql, digest
 
-from csql_sim.cli import main
 from csql_sim.core import rulebase_shards as rs
 
 TRAIN = ["train", "--blocks", "4", "--shards", "4", "--workers", "1", "--quiet", "--out"]
 VICTIM = b"precious: not a shard\n"
-
-
-@pytest.fixture(scope="module")
-def base(tmp_path_factory) -> Path:
-    """A complete 4-shard rule base at n = 4, trained once for the module."""
-    folder = tmp_path_factory.mktemp("base")
-    assert main([*TRAIN, str(folder / "sh")]) == 0
-    return folder / "sh"
-
-
-@pytest.fixture
-def sh(base, work) -> Path:
-    """A copy of the 4-shard base in the scratch folder, as ``sh``."""
-    return Path(shutil.copytree(base, work / "sh"))
 
 
 def _drop_first_shard(sh: Path) -> None:
@@ -94,11 +78,11 @@ def test_every_field_a_resume_reads_is_checked_first(sh, work, field, value):
     assert digest(work) == before
 
 
-def test_a_stopped_run_still_resumes_to_the_complete_base(sh, base, work):
+def test_a_stopped_run_still_resumes_to_the_complete_base(sh, shard_base, work):
     """The checks refuse only what the tool never writes: a stopped run resumes to the same bytes."""
     _drop_first_shard(sh)
     (sh / "shard-00000.bin").unlink()
     run = csql(work, "train", "--quiet", "--resume", "--out", "sh", "--workers", 1)
     assert run.returncode == 0, run.stderr
     for name in (rs.MANIFEST, *(rs.shard_name(k) for k in range(4))):
-        assert (sh / name).read_bytes() == (base / name).read_bytes(), name
+        assert (sh / name).read_bytes() == (shard_base / name).read_bytes(), name

@@ -16,24 +16,13 @@ from pathlib import Path
 import pytest
 from hostile_cli import csql
 
-from csql_sim.cli import main
 from csql_sim.core import rulebase_shards as rs
-
-TRAIN = ["train", "--blocks", "4", "--shards", "4", "--workers", "1", "--quiet", "--out"]
-
-
-@pytest.fixture(scope="module")
-def base(tmp_path_factory) -> Path:
-    """A complete 4-shard rule base at n = 4, trained once for the module."""
-    folder = tmp_path_factory.mktemp("base")
-    assert main([*TRAIN, str(folder / "sh")]) == 0
-    return folder / "sh"
 
 
 @pytest.fixture
-def stopped(base, work) -> Path:
+def stopped(shard_base, work) -> Path:
     """A copy of the base as a stopped run ``sh``: shard 0 missing from the manifest, ``complete`` false."""
-    sh = Path(shutil.copytree(base, work / "sh"))
+    sh = Path(shutil.copytree(shard_base, work / "sh"))
     manifest = rs.read_manifest(sh)
     manifest["files"] = manifest["files"][1:]
     manifest["complete"] = False
@@ -42,12 +31,12 @@ def stopped(base, work) -> Path:
 
 
 @pytest.mark.parametrize("report", ["[" * 100_000, '{"runs": ' + "9" * 5000 + "}", "not json"])
-def test_shtr_resume_runreport_deep(stopped, base, work, report):
+def test_shtr_resume_runreport_deep(stopped, shard_base, work, report):
     (stopped / rs.REPORT).write_text(report)
     run = csql(work, "train", "--quiet", "--resume", "--out", "sh", "--workers", 1)
     assert run.returncode == 0, run.stderr
     run.one_line("run-report.json")
-    assert rs.read_manifest(stopped) == rs.read_manifest(base)
+    assert rs.read_manifest(stopped) == rs.read_manifest(shard_base)
     runs = json.loads((stopped / rs.REPORT).read_text())["runs"]
     assert [r["shards_trained"] for r in runs] == [[0]]
 

@@ -13,32 +13,15 @@ from __future__ import annotations
 import hashlib
 import json
 import re
-import shutil
 from pathlib import Path
 
 import pytest
 from hostile_cli import csql, digest
 
-from csql_sim.cli import main
 from csql_sim.core import rulebase_shards as rs
 
 SHIPPED = Path(__file__).resolve().parents[2] / "assets" / "rules" / "lifted.json"
 DEEP = "[" * 100_000
-TRAIN = ["train", "--blocks", "4", "--shards", "4", "--workers", "1", "--quiet", "--out"]
-
-
-@pytest.fixture(scope="module")
-def base(tmp_path_factory) -> Path:
-    """A complete 4-shard rule base at n = 4, trained once for the module."""
-    folder = tmp_path_factory.mktemp("base")
-    assert main([*TRAIN, str(folder / "sh")]) == 0
-    return folder / "sh"
-
-
-@pytest.fixture
-def sh(base, work) -> Path:
-    """A copy of the 4-shard base in the scratch folder, as ``sh``."""
-    return Path(shutil.copytree(base, work / "sh"))
 
 
 def _lifted(work: Path, name: str, meta: str | None = None, experience: str | None = None) -> str:
