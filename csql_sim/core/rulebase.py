@@ -22,6 +22,7 @@ from csql_sim.core.rulebase_yaml import (
     load_file,
     loads,
 )
+from csql_sim.infra import formats
 from csql_sim.infra.files import write_atomic
 
 __all__ = ["FORMAT", "MAX_FILE_BYTES", "VERSION", "RuleBase", "RuleBaseError", "dumps", "file_bytes", "is_npz",
@@ -71,6 +72,11 @@ def load(path: str | os.PathLike, blocks: int | None = None, progress: bool = Fa
         progress: show a tqdm bar on stderr while the classifiers are parsed (when that
             takes more than a second).
     """
+    other = formats.sniff(path)
+    if other in formats.MODEL_FORMATS - {formats.RULE_BASE, formats.RULE_BASE_NPZ}:
+        what = "a sharded rule base" if other == formats.SHARDS else f"a {other} file"
+        hint = "" if other == formats.LIFTED_RULES else f"; plan with it: csql-sim plan --rules {os.fspath(path)}"
+        raise RuleBaseError(f"{os.fspath(path)} is {what}, not a single ground rule file from 'csql-sim train'{hint}")
     if is_npz(path):
         rulebase = rulebase_npz.load(path, RuleBaseError)
         if blocks is not None and rulebase.blocks != blocks:

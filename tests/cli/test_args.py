@@ -127,3 +127,19 @@ def test_execute_video_is_an_alias_of_out(tmp_path, capsys):
     err = capsys.readouterr().err.splitlines()
     assert err[0] == "csql-sim execute: warning: --video is deprecated and goes in 0.3.0; use --out V"
     assert (tmp_path / "v.gif").read_bytes()[:6] == b"GIF89a" and (tmp_path / "v.gif.json").exists()
+
+
+def test_evaluate_past_six_blocks_samples_twenty_pairs_by_default():
+    """Issue 28 item 14: 'evaluate --blocks 8' without --pairs defaulted to 'all' and was refused."""
+    from csql_sim.cli.sim_options import check_evaluate_options
+
+    parse = build_parser().parse_args
+    large = parse(["evaluate", "--blocks", "8", "--planner", "gn1"])
+    check_evaluate_options(large)
+    assert (large.pairs, large.seed, large.seeds) == (20, 0, 1)
+    small = parse(["evaluate", "--blocks", "4"])
+    check_evaluate_options(small)
+    assert (small.pairs, small.seed) == ("all", 0)
+    given = parse(["evaluate", "--blocks", "8", "--pairs", "3", "--seed", "7"])
+    check_evaluate_options(given)
+    assert (given.pairs, given.seed) == (3, 7)
