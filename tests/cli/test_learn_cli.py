@@ -145,7 +145,8 @@ def test_error_paths_one_line_exit_2(argv, fragment, rule_files, tmp_path, capsy
 def test_a_lifted_or_sharded_file_where_a_ground_rule_file_is_needed_says_what_it_is(tmp_path, capsys):
     """Issue 28 item 7: 'generalize --rules lifted.json' said 'not a csql-sim rule base' of train-lifted's output."""
     lifted = tmp_path / "l.json"
-    assert main(["train-lifted", "--quiet", "--trials", "20", "--sizes", "3", "--goals", "2", "--out", str(lifted)]) == 0
+    assert main(["train-lifted", "--quiet", "--trials", "20", "--sizes", "3", "--goals", "2",
+                 "--out", str(lifted)]) == 0
     capsys.readouterr()
     for argv in (["generalize", "--rules", str(lifted), "--out", str(tmp_path / "g.yaml")],
                  ["prune", "--rules", str(lifted), "--out", str(tmp_path / "p.yaml")]):
