@@ -13,13 +13,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import os
 import sys
 from dataclasses import dataclass, fields
 from typing import ClassVar
 
 from csql_sim.infra.errors import CsqlError
-from csql_sim.infra.files import InputFileError, load_yaml, read_text_file
 
 MAX_FILE_BYTES = 1024 * 1024
 """Largest parameter file read."""
@@ -162,11 +160,12 @@ class CSQLParams(QLearningParams):
             optimal 8 steps at trial 850; with 0.9955 at 700, as in the paper, while LT-QL
             (0.996) stays at the paper's 1150. Measured over 50 cycles x 2500 trials.
             Range (0, 1]; default 0.9955.
-        sweep: after the trials, one greedy planning pass over every (start, goal) pair
-            on the world model (the add-delete R-classifiers), updating with eq. 1-2. Each
-            pair's greedy classifier is then active within one pass (~2,000 steps) with a
-            small |epsilon|, so pruning at 0.1 keeps exactly one per pair. False is the
-            paper-faithful variant. A flag (true or false); default true.
+        sweep: after the trials, sweep the world model (the add-delete R-classifiers):
+            greedy passes over every (start, goal) pair updating with eq. 1-2 (with
+            ``sweep_backup_all``, every candidate on the paths: value iteration through the
+            model). ``train --sweep value-iteration|none`` sets it. It does not learn from
+            experience: with one trial it already makes every pair optimal at n = 4 and 5
+            (docs/what_learns.md). False is the paper-faithful variant. A flag; default true.
         sweep_passes: the most passes of the sweep. Range >= 0 (an integer); default 50.
         sweep_tolerance: the sweep stops after a pass whose largest |epsilon| is at most
             this (Q-values then agree with eq. 2 along every greedy path). Range >= 0;
@@ -182,21 +181,34 @@ class CSQLParams(QLearningParams):
         sweep_greedy_tail: greedy-only passes after the sweep's passes: they leave only
             each pair's greedy classifier recently active, so pruning by strength keeps
             exactly one per (state, goal). Range >= 0 (an integer); default 0. It is 3 for n > 3.
+        replay_ratio: the cap of experience replay (:mod:`csql_sim.learners.replay`): at most
+            this many replay backups per experienced trial step; 0 is no replay.
+            ``train --replay R`` sets it. Range >= 0; default 0.
+        replay_hindsight: replay each experienced (state, action) transition for every goal
+            (hindsight relabelling), not only for the goal it was taken for. A flag; default true.
+        replay_eta: eta of eq. 1 in replay backups. Range (0, 1]; default 1.
+        replay_tolerance: a replay phase stops after a pass whose largest |epsilon| is at
+            most this. Range >= 0; default 0 (until nothing changes, or the cap).
 
     """
 
     RANGES: ClassVar[dict[str, Bounds]] = {
         "sweep_passes": NON_NEGATIVE, "sweep_tolerance": NON_NEGATIVE, "sweep_eta": UNIT_NO_ZERO,
-        "sweep_greedy_tail": NON_NEGATIVE,
+        "sweep_greedy_tail": NON_NEGATIVE, "replay_ratio": NON_NEGATIVE, "replay_eta": UNIT_NO_ZERO,
+        "replay_tolerance": NON_NEGATIVE,
     }
 
     t_decay: float = 0.9955  # T_{k+1} = T_k * decay; reproduces "optimal by ~700 trials"
-    sweep: bool = True  # final planning sweep (ours; False = paper)
+    sweep: bool = True  # value iteration through the world model after the trials (ours; False = paper)
     sweep_passes: int = 50  # at most this many passes
     sweep_tolerance: float = 0.001  # stop when every |epsilon| of a pass is below
     sweep_backup_all: bool = False  # sweep backs up every candidate (Dyna), not just the greedy one
     sweep_eta: float = 1.0  # eta of the Dyna backups (sweep_backup_all only)
     sweep_greedy_tail: int = 0  # greedy-only passes after the sweep's passes
+    replay_ratio: float = 0.0  # cap: replay backups per experienced step (0: no replay)
+    replay_hindsight: bool = True  # replay each experienced transition for every goal
+    replay_eta: float = 1.0  # eta of the replay backups
+    replay_tolerance: float = 0.0  # a replay phase stops when no |epsilon| of a pass exceeds this
 
 
 @dataclass(frozen=True)
@@ -323,73 +335,7 @@ def defaults_for_blocks(method: str, n: int) -> CommonParams:
     return dataclasses.replace(base, **overrides)
 
 
-def with_overrides(params: CommonParams, overrides: dict, source: str = "parameters") -> CommonParams:
-    """Replace fields of ``params``; an unknown key or a wrong type is a ParamsError."""
-    known = {f.name: f for f in fields(params)}
-    clean = {}
-    for key, value in overrides.items():
-        if key not in known:
-            raise ParamsError(f"{source}: unknown parameter {key!r} for {type(params).__name__}")
-        current = getattr(params, key)
-        if isinstance(current, bool):
-            ok = isinstance(value, bool)
-        elif isinstance(current, int):
-            ok = isinstance(value, int) and not isinstance(value, bool)
-        else:
-            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
-            try:
-                value = float(value) if ok else value
-            except OverflowError:
-                raise ParamsError(f"{source}: {key} must be a finite float64, got {_shown(value)}") from None
-        if not ok:
-            raise ParamsError(f"{source}: {key} must be {type(current).__name__}, got {value!r}")
-        clean[key] = value
-    try:
-        return dataclasses.replace(params, **clean)
-    except ParamsError as exc:
-        raise ParamsError(f"{source}: {exc}") from None
-
-
-def load_params(path: str | os.PathLike, method: str, n: int = 3) -> CommonParams:
-    """Defaults of ``method`` for n blocks overridden by a YAML mapping.
-
-    The file is either a flat mapping of parameters, or a mapping from method names to
-    such mappings (only ``method``'s entry is applied).
-    """
-    p = os.fspath(path)
-    try:
-        doc = load_yaml(read_text_file(p, MAX_FILE_BYTES, "parameter file"), p)
-    except InputFileError as exc:
-        raise ParamsError(str(exc)) from None
-    except (ValueError, OverflowError) as exc:  # a value PyYAML cannot build: an integer of 5,000 digits
-        raise ParamsError(f"{p}: a YAML value cannot be read ({exc.__class__.__name__})") from None
-    if doc is None:
-        doc = {}
-    if not isinstance(doc, dict):
-        raise ParamsError(f"{p}: expected a mapping of parameter names to values")
-    if any(k in PARAMS_BY_METHOD for k in doc):
-        stray = [k for k in doc if k not in PARAMS_BY_METHOD]
-        if stray:
-            raise ParamsError(f"{p}: unknown method {stray[0]!r}")
-        doc = doc.get(method) or {}
-        if not isinstance(doc, dict):
-            raise ParamsError(f"{p}: the entry for {method} must be a mapping")
-    return with_overrides(defaults_for_blocks(method, n), doc, source=str(p))
-
-
-def resolve_params(
-    method: str, params: CommonParams | dict | str | os.PathLike | None, n: int = 3
-) -> CommonParams:
-    """Parameters from None (the defaults for n blocks), a dataclass, a dict of overrides or a YAML path."""
-    if params is None:
-        return defaults_for_blocks(method, n)
-    if isinstance(params, CommonParams):
-        expected = PARAMS_BY_METHOD.get(method)
-        if expected is None:
-            default_params(method)
-        if type(params) is not expected:
-            raise ParamsError(f"{method} needs {expected.__name__}, got {type(params).__name__}")
-        return params
-    if isinstance(params, dict):
-        return with_overrides(defaults_for_blocks(method, n), params)
-    return load_params(params, method, n)
+# the file and override functions live in params_files (re-exported here; imported last: they use the above)
+from csql_sim.learners.params_files import load_params as load_params  # noqa: E402
+from csql_sim.learners.params_files import resolve_params as resolve_params  # noqa: E402
+from csql_sim.learners.params_files import with_overrides as with_overrides  # noqa: E402
