@@ -126,7 +126,7 @@ def cmd_train(args: argparse.Namespace) -> int:
 
         domain = load_r_classifiers(args.domain, args.blocks).classifiers
     began = time.perf_counter()
-    learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, args.params,
+    learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, _train_params(args),
                                   progress=show_progress(args), engine=args.engine, domain=domain)
     if args.domain:
         meta["domain"] = str(args.domain)
@@ -140,7 +140,48 @@ def cmd_train(args: argparse.Namespace) -> int:
         f"{meta['steps']} steps in {trained - began:.2f} s; {r_count} R- and {q_count} Q-classifiers written to "
         f"{path} in {time.perf_counter() - trained:.2f} s"
     )
+    for line in phase_lines(meta["phases"]):
+        print(f"  {line}")
     return 0
+
+
+def _train_params(args: argparse.Namespace) -> object:
+    """``--params`` with ``--sweep`` and ``--replay`` on top (they override the file's ``sweep``, ``replay_ratio``)."""
+    from csql_sim.learners.params import resolve_params
+
+    overrides = {}
+    if args.sweep is not None:
+        overrides["sweep"] = args.sweep != "none"
+    if args.replay is not None:
+        overrides["replay_ratio"] = float(args.replay)
+    if not overrides:
+        return args.params
+    if args.method not in ("cs-ql", "xcs-ql"):
+        raise CsqlError(f"--sweep and --replay apply to cs-ql and xcs-ql, not {args.method}")
+    from csql_sim.learners.params import with_overrides
+
+    return with_overrides(resolve_params(args.method, args.params, args.blocks or 3), overrides)
+
+
+def phase_lines(phases: dict) -> list[str]:
+    """What each phase of training contributed (the rule file's ``meta.phases``), one line each."""
+    t = phases["trials"]
+    seen = (f"; {t['experienced_pairs']:,} of {t['legal_pairs']:,} (state, action) pairs experienced"
+            if "experienced_pairs" in t else "")
+    lines = [f"after the trials alone: {t['trials']:,} trials, {t['steps']:,} steps{seen}; optimal pairs "
+             f"{t['optimal_pairs']:,} of {t['pairs']:,} (optimal first steps {t['optimal_steps']:,})"]
+    if "replay" in phases:
+        r = phases["replay"]
+        lines.append(f"after experience replay: {r['backups']:,} replay backups; optimal pairs "
+                     f"{r['optimal_pairs']:,} of {r['pairs']:,}")
+    if "sweep" in phases:
+        w = phases["sweep"]
+        lines.append(f"after the sweep (value iteration through the world model): {w['backups']:,} backups in "
+                     f"{w['steps']:,} steps; optimal pairs {w['optimal_pairs']:,} of {w['pairs']:,}")
+    else:
+        lines.append("no sweep: every figure above comes from the trials" +
+                     (" and the replay of their experience" if "replay" in phases else ""))
+    return lines
 
 
 # ------------------------------------------------------------------ bench
@@ -208,6 +249,16 @@ def cmd_params(args: argparse.Namespace) -> int:
     return 0
 
 
+def _replay_ratio(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
+    if not value >= 0 or value == float("inf"):
+        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
+    return value
+
+
 def _block_list(text: str) -> list[int]:
     out = []
     for part in text.split(","):
@@ -258,6 +309,13 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
                    "to 5 blocks) or reference; the same rule file")
     p.add_argument("--domain", type=path_arg,
                    help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
+    p.add_argument("--sweep", choices=("none", "value-iteration"), default=None,
+                   help="cs-ql/xcs-ql after the trials: value-iteration (the default; greedy passes over every pair "
+                   "through the world model, backing up every candidate for n > 3) or none (learn from trials "
+                   "alone); sets the parameter sweep")
+    p.add_argument("--replay", type=_replay_ratio, default=None,
+                   help="cs-ql: replay the transitions trials experienced (each for every goal), at most R replay "
+                   "backups per experienced step, R >= 0 (default 0: no replay; reference engine); sets replay_ratio")
     p.add_argument("--out", type=path_arg, default=None,
                    help="rule file to write: *.npz (compact) or YAML; a directory for a sharded run (optional "
                         "with --dry-run, which checks it as the run would)")

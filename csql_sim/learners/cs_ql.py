@@ -166,6 +166,19 @@ class CSQL(ClassifierSystemLearner):
             out.append(((where[0], where[1]), match_set))
         return out
 
+    def experience_report(self) -> dict:
+        """:meth:`Experience.report <csql_sim.learners.replay.Experience.report>`."""
+        return self.experience.report()
+
+    def q_greedy(self) -> np.ndarray:
+        """The critic's greedy action per ``state * S + goal`` (-1: none), read without settling anything."""
+        count = len(self.world.states)
+        best = np.full(count * count, -1, np.int64)
+        for (s, g), match_set in self.posted():
+            qs = [c.q for c in match_set.candidates]
+            best[s * count + g] = match_set.actions[qs.index(max(qs))]
+        return best
+
     def replay(self) -> int:
         """A replay phase of the experienced transitions (:mod:`csql_sim.learners.replay`); its backups."""
         return replay_reference(self)

@@ -158,8 +158,8 @@ class FastCSQL(Learner):
             engine); a subset makes the engine one shard (:mod:`csql_sim.learners.shards`):
             its random tasks draw a goal among ``goals``, and it has no test task.
         ordered: sweep each goal's starts backwards from the goal through the
-            R-classifiers' predicted predecessors (prioritized sweeping) instead of in
-            index order.
+            R-classifiers' predicted predecessors (backward breadth-first order) instead of
+            in index order.
         model: the R-classifiers' answers (:func:`world_model` of n when None), e.g. as a
             worker was sent them.
 
@@ -200,7 +200,9 @@ class FastCSQL(Learner):
             q0=params.q0, gamma=params.gamma, eta=params.eta, payoff=params.payoff, compensated=COMPENSATED_SUM,
             scratch=np.zeros(int(np.diff(m.lo).max())), goals=goals, goal_slot=goal_slot,
             pred_lo=m.pred_lo, pred=m.pred, order=np.zeros(count, np.int64), ordered=ordered,
+            seen=np.zeros(int(m.lo[-1]), np.bool_),
         )
+        ctr[fk.RECORD] = 1  # trials record the slots they take; the sweep does not
 
     @property
     def t(self) -> int:
@@ -259,10 +261,23 @@ class FastCSQL(Learner):
         """:meth:`CSQL.sweep <csql_sim.learners.cs_ql.CSQL.sweep>`: plan, then the test task once greedily."""
         if not self.params.sweep:
             return 0
-        steps = self.plan(on_pass)
-        if not self.sharded:  # a shard has no test task
-            self.run_trial(*self.test_indices(), 0.0)
+        self.kernel.ctr[fk.RECORD] = 0
+        try:
+            steps = self.plan(on_pass)
+            if not self.sharded:  # a shard has no test task
+                self.run_trial(*self.test_indices(), 0.0)
+        finally:
+            self.kernel.ctr[fk.RECORD] = 1
         return steps
+
+    @property
+    def backups(self) -> int:
+        """Eq. 1-2 updates made by trials and the sweep."""
+        return int(self.kernel.ctr[fk.BACKUPS])
+
+    def experience_report(self) -> dict:
+        """``experienced_pairs`` (distinct (state, action) pairs trials took) and ``legal_pairs``."""
+        return {"experienced_pairs": int(self.kernel.seen.sum()), "legal_pairs": int(self.model.lo[-1])}
 
     def plan(self, on_pass: Callable[[], None] | None = None) -> int:
         """:meth:`CSQL.plan <csql_sim.learners.cs_ql.CSQL.plan>`: greedy passes until |epsilon| <= tolerance.
