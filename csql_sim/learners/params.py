@@ -188,7 +188,7 @@ class CSQLParams(QLearningParams):
             (hindsight relabelling), not only for the goal it was taken for. A flag; default true.
         replay_eta: eta of eq. 1 in replay backups. Range (0, 1]; default 1.
         replay_tolerance: a replay phase stops after a pass whose largest |epsilon| is at
-            most this. Range >= 0; default 0 (until nothing changes, or the cap).
+            most this. Range >= 0; default 0. At 0 a phase runs until nothing changes (or the cap).
 
     """
 
