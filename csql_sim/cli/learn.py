@@ -24,6 +24,7 @@ from csql_sim.cli.args import (
     show_progress,
     warn_workers,
 )
+from csql_sim.cli.learn_options import modes_arg, phase_lines, replay_ratio_arg, train_params
 from csql_sim.cli.output import emit, json_text, with_format
 from csql_sim.cli.train_shards import add_size_arguments, train_blocks_arg
 from csql_sim.infra.errors import CsqlError
@@ -126,7 +127,7 @@ def cmd_train(args: argparse.Namespace) -> int:
 
         domain = load_r_classifiers(args.domain, args.blocks).classifiers
     began = time.perf_counter()
-    learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, _train_params(args),
+    learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, train_params(args),
                                   progress=show_progress(args), engine=args.engine, domain=domain)
     if args.domain:
         meta["domain"] = str(args.domain)
@@ -145,46 +146,6 @@ def cmd_train(args: argparse.Namespace) -> int:
     return 0
 
 
-def _train_params(args: argparse.Namespace) -> object:
-    """``--params`` with ``--sweep`` and ``--replay`` on top (they override the file's ``sweep``, ``replay_ratio``)."""
-    from csql_sim.learners.params import resolve_params
-
-    overrides = {}
-    if args.sweep is not None:
-        overrides["sweep"] = args.sweep != "none"
-    if args.replay is not None:
-        overrides["replay_ratio"] = float(args.replay)
-    if not overrides:
-        return args.params
-    if args.method not in ("cs-ql", "xcs-ql"):
-        raise CsqlError(f"--sweep and --replay apply to cs-ql and xcs-ql, not {args.method}")
-    from csql_sim.learners.params import with_overrides
-
-    return with_overrides(resolve_params(args.method, args.params, args.blocks or 3), overrides)
-
-
-def phase_lines(phases: dict) -> list[str]:
-    """What each phase of training contributed (the rule file's ``meta.phases``), one line each."""
-    t = phases["trials"]
-    seen = (f"; {t['experienced_pairs']:,} of {t['legal_pairs']:,} (state, action) pairs experienced"
-            if "experienced_pairs" in t else "")
-    lines = [f"after the trials alone: {t['trials']:,} trials, {t['steps']:,} steps{seen}; optimal pairs "
-             f"{t['optimal_pairs']:,} of {t['pairs']:,} (optimal first steps {t['optimal_steps']:,})"]
-    if "replay" in phases:
-        r = phases["replay"]
-        lines.append(f"after experience replay: {r['backups']:,} replay backups; optimal pairs "
-                     f"{r['optimal_pairs']:,} of {r['pairs']:,}")
-    if "sweep" in phases:
-        w = phases["sweep"]
-        lines.append(f"after the sweep (value iteration through the world model): {w['backups']:,} backups in "
-                     f"{w['steps']:,} steps; optimal pairs {w['optimal_pairs']:,} of {w['pairs']:,}")
-    else:
-        lines.append("no sweep: every figure above comes from the trials" +
-                     (" and the replay of their experience" if "replay" in phases else ""))
-    return lines
-
-
-# ------------------------------------------------------------------ bench
 def cmd_bench(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import provenance
     from csql_sim.jobs.bench import bench
@@ -219,14 +180,14 @@ def cmd_bench(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ scaling
 def cmd_scaling(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import plain, provenance
-    from csql_sim.jobs.scaling import run_scaling, write_outputs
+    from csql_sim.jobs.scaling import VERSION, run_scaling, write_outputs
 
     rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args),
-                       backend=backend_from_args(args))
+                       backend=backend_from_args(args), modes=args.modes)
     csv_path, sidecar, png_path = (os.path.join(args.out, name) for name in SCALING_FILES)
     record = provenance(blocks=args.blocks, methods=args.methods, seed=args.seed, max_trials=args.max_trials)
     doc = with_format({"rows": plain(rows), "files": {"csv": csv_path, "png": png_path}, "provenance": record},
-                      "csql-sim scaling report")
+                      "csql-sim scaling report", VERSION)
     write_outputs(args.out, rows, args.max_trials, sidecar=json_text(doc))
 
     def text() -> list[str]:
@@ -234,7 +195,7 @@ def cmd_scaling(args: argparse.Namespace) -> int:
         for r in rows:
             when = f"all optimal after {r.trials} trials" if r.trials is not None else (
                 f"cap {args.max_trials} reached: {r.optimal_pairs} of {r.pairs} pairs optimal")
-            lines.append(f"{r.method:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s, "
+            lines.append(f"{r.method:<6} {r.mode:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s, "
                          f"peak RSS {r.peak_rss_mb:.0f} MB, population {r.population}")
         return [*lines, f"wrote {csv_path}, {sidecar} (provenance) and {png_path}"]
 
@@ -247,16 +208,6 @@ def cmd_params(args: argparse.Namespace) -> int:
 
     print(_params_yaml(args.method, args.blocks), end="")
     return 0
-
-
-def _replay_ratio(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
-    if not value >= 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
-    return value
 
 
 def _block_list(text: str) -> list[int]:
@@ -313,7 +264,7 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
                    help="cs-ql/xcs-ql after the trials: value-iteration (the default; greedy passes over every pair "
                    "through the world model, backing up every candidate for n > 3) or none (learn from trials "
                    "alone); sets the parameter sweep")
-    p.add_argument("--replay", type=_replay_ratio, default=None,
+    p.add_argument("--replay", type=replay_ratio_arg, default=None,
                    help="cs-ql: replay the transitions trials experienced (each for every goal), at most R replay "
                    "backups per experienced step, R >= 0 (default 0: no replay; reference engine); sets replay_ratio")
     p.add_argument("--out", type=path_arg, default=None,
@@ -342,6 +293,9 @@ def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...])
                        "csql-sim scaling --blocks 3,4 --out scaling")
     p.add_argument("--blocks", type=_block_list, default=[3, 4, 5], help="comma list of n, 2..5 (default 3,4,5)")
     p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
+    p.add_argument("--modes", type=modes_arg, default=["trials", "replay", "sweep"],
+                   help="comma list of cs-ql's modes: trials (alone), replay (of their experience), sweep (value "
+                   "iteration through the world model) (default all three)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--max-trials", type=positive_int, default=20_000, help="cap per (n, method) (default 20000)")
     p.add_argument("--workers", type=positive_int, default=1,
