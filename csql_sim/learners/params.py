@@ -12,12 +12,33 @@ beyond int64 (:data:`MAX_INT`) is a one-line :class:`ParamsError`.
 from __future__ import annotations
 
 import dataclasses
-import math
-import sys
+import os
 from dataclasses import dataclass, fields
 from typing import ClassVar
 
 from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import InputFileError, load_yaml, read_text_file
+from csql_sim.learners.params_bounds import (  # re-exported
+    AT_LEAST_ONE as AT_LEAST_ONE,
+)
+from csql_sim.learners.params_bounds import (
+    FINITE as FINITE,
+)
+from csql_sim.learners.params_bounds import (
+    NON_NEGATIVE as NON_NEGATIVE,
+)
+from csql_sim.learners.params_bounds import (
+    POSITIVE as POSITIVE,
+)
+from csql_sim.learners.params_bounds import (
+    UNIT as UNIT,
+)
+from csql_sim.learners.params_bounds import (
+    UNIT_NO_ZERO as UNIT_NO_ZERO,
+)
+from csql_sim.learners.params_bounds import (
+    Bounds as Bounds,
+)
 
 MAX_FILE_BYTES = 1024 * 1024
 """Largest parameter file read."""
@@ -26,39 +47,6 @@ MAX_INT = 2**63 - 1  # largest integer parameter (the fast engine's kernels hold
 
 class ParamsError(CsqlError):
     """A bad parameter file or value."""
-
-
-@dataclass(frozen=True)
-class Bounds:
-    """A closed or open interval of finite values, printed as ``[0, 1]``, ``(0, 1]``, ``>= 1``."""
-
-    low: float = -math.inf
-    high: float = math.inf
-    low_open: bool = False
-    high_open: bool = False
-
-    def __str__(self) -> str:
-        if self.high == math.inf:
-            if self.low == -math.inf:
-                return "finite"
-            return f"{'>' if self.low_open else '>='} {self.low:g}"
-        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
-
-    def contains(self, value: float) -> bool:
-        """Whether ``value`` is finite and inside the interval (an integer too large for a float is not)."""
-        if not isinstance(value, float | int) or abs(value) > sys.float_info.max or not math.isfinite(value):
-            return False
-        above = value > self.low if self.low_open else value >= self.low
-        below = value < self.high if self.high_open else value <= self.high
-        return above and below
-
-
-POSITIVE = Bounds(0.0, low_open=True)
-NON_NEGATIVE = Bounds(0.0)
-UNIT = Bounds(0.0, 1.0)
-UNIT_NO_ZERO = Bounds(0.0, 1.0, low_open=True)
-FINITE = Bounds()
-AT_LEAST_ONE = Bounds(1.0)
 
 
 @dataclass(frozen=True)
@@ -335,7 +323,73 @@ def defaults_for_blocks(method: str, n: int) -> CommonParams:
     return dataclasses.replace(base, **overrides)
 
 
-# the file and override functions live in params_files (re-exported here; imported last: they use the above)
-from csql_sim.learners.params_files import load_params as load_params  # noqa: E402
-from csql_sim.learners.params_files import resolve_params as resolve_params  # noqa: E402
-from csql_sim.learners.params_files import with_overrides as with_overrides  # noqa: E402
+def with_overrides(params: CommonParams, overrides: dict, source: str = "parameters") -> CommonParams:
+    """Replace fields of ``params``; an unknown key or a wrong type is a ParamsError."""
+    known = {f.name: f for f in fields(params)}
+    clean = {}
+    for key, value in overrides.items():
+        if key not in known:
+            raise ParamsError(f"{source}: unknown parameter {key!r} for {type(params).__name__}")
+        current = getattr(params, key)
+        if isinstance(current, bool):
+            ok = isinstance(value, bool)
+        elif isinstance(current, int):
+            ok = isinstance(value, int) and not isinstance(value, bool)
+        else:
+            ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+            try:
+                value = float(value) if ok else value
+            except OverflowError:
+                raise ParamsError(f"{source}: {key} must be a finite float64, got {_shown(value)}") from None
+        if not ok:
+            raise ParamsError(f"{source}: {key} must be {type(current).__name__}, got {value!r}")
+        clean[key] = value
+    try:
+        return dataclasses.replace(params, **clean)
+    except ParamsError as exc:
+        raise ParamsError(f"{source}: {exc}") from None
+
+
+def load_params(path: str | os.PathLike, method: str, n: int = 3) -> CommonParams:
+    """Defaults of ``method`` for n blocks overridden by a YAML mapping.
+
+    The file is either a flat mapping of parameters, or a mapping from method names to
+    such mappings (only ``method``'s entry is applied).
+    """
+    p = os.fspath(path)
+    try:
+        doc = load_yaml(read_text_file(p, MAX_FILE_BYTES, "parameter file"), p)
+    except InputFileError as exc:
+        raise ParamsError(str(exc)) from None
+    except (ValueError, OverflowError) as exc:  # a value PyYAML cannot build: an integer of 5,000 digits
+        raise ParamsError(f"{p}: a YAML value cannot be read ({exc.__class__.__name__})") from None
+    if doc is None:
+        doc = {}
+    if not isinstance(doc, dict):
+        raise ParamsError(f"{p}: expected a mapping of parameter names to values")
+    if any(k in PARAMS_BY_METHOD for k in doc):
+        stray = [k for k in doc if k not in PARAMS_BY_METHOD]
+        if stray:
+            raise ParamsError(f"{p}: unknown method {stray[0]!r}")
+        doc = doc.get(method) or {}
+        if not isinstance(doc, dict):
+            raise ParamsError(f"{p}: the entry for {method} must be a mapping")
+    return with_overrides(defaults_for_blocks(method, n), doc, source=str(p))
+
+
+def resolve_params(
+    method: str, params: CommonParams | dict | str | os.PathLike | None, n: int = 3
+) -> CommonParams:
+    """Parameters from None (the defaults for n blocks), a dataclass, a dict of overrides or a YAML path."""
+    if params is None:
+        return defaults_for_blocks(method, n)
+    if isinstance(params, CommonParams):
+        expected = PARAMS_BY_METHOD.get(method)
+        if expected is None:
+            default_params(method)
+        if type(params) is not expected:
+            raise ParamsError(f"{method} needs {expected.__name__}, got {type(params).__name__}")
+        return params
+    if isinstance(params, dict):
+        return with_overrides(defaults_for_blocks(method, n), params)
+    return load_params(params, method, n)
