@@ -24,6 +24,7 @@ from csql_sim.cli.args import (
     show_progress,
     warn_workers,
 )
+from csql_sim.cli.learn_options import modes_arg, phase_lines, replay_ratio_arg, train_params
 from csql_sim.cli.output import emit, json_text, with_format
 from csql_sim.cli.train_shards import add_size_arguments, train_blocks_arg
 from csql_sim.infra.errors import CsqlError
@@ -130,7 +131,7 @@ def cmd_train(args: argparse.Namespace) -> int:
 
         domain = load_r_classifiers(args.domain, args.blocks).classifiers
     began = time.perf_counter()
-    learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, args.params,
+    learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, train_params(args),
                                   progress=show_progress(args), engine=args.engine, domain=domain)
     if args.domain:
         meta["domain"] = str(args.domain)
@@ -144,10 +145,11 @@ def cmd_train(args: argparse.Namespace) -> int:
         f"{meta['steps']} steps in {trained - began:.2f} s; {r_count} R- and {q_count} Q-classifiers written to "
         f"{path} in {time.perf_counter() - trained:.2f} s"
     )
+    for line in phase_lines(meta["phases"]):
+        print(f"  {line}")
     return 0
 
 
-# ------------------------------------------------------------------ bench
 def cmd_bench(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import provenance
     from csql_sim.jobs.bench import bench
@@ -182,14 +184,14 @@ def cmd_bench(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ scaling
 def cmd_scaling(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import plain, provenance
-    from csql_sim.jobs.scaling import run_scaling, write_outputs
+    from csql_sim.jobs.scaling import VERSION, run_scaling, write_outputs
 
     rows = run_scaling(args.blocks, args.methods, args.seed, args.max_trials, progress=show_progress(args),
-                       backend=backend_from_args(args))
+                       backend=backend_from_args(args), modes=args.modes)
     csv_path, sidecar, png_path = (os.path.join(args.out, name) for name in SCALING_FILES)
     record = provenance(blocks=args.blocks, methods=args.methods, seed=args.seed, max_trials=args.max_trials)
     doc = with_format({"rows": plain(rows), "files": {"csv": csv_path, "png": png_path}, "provenance": record},
-                      "csql-sim scaling report")
+                      "csql-sim scaling report", VERSION)
     write_outputs(args.out, rows, args.max_trials, sidecar=json_text(doc))
 
     def text() -> list[str]:
@@ -197,7 +199,7 @@ def cmd_scaling(args: argparse.Namespace) -> int:
         for r in rows:
             when = f"all optimal after {r.trials} trials" if r.trials is not None else (
                 f"cap {args.max_trials} reached: {r.optimal_pairs} of {r.pairs} pairs optimal")
-            lines.append(f"{r.method:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s, "
+            lines.append(f"{r.method:<6} {r.mode:<6} n={r.blocks}: {when}; {r.steps} steps, {r.wall_seconds:.1f} s, "
                          f"peak RSS {r.peak_rss_mb:.0f} MB, population {r.population}")
         return [*lines, f"wrote {csv_path}, {sidecar} (provenance) and {png_path}"]
 
@@ -262,6 +264,13 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
                    "to 5 blocks) or reference; the same rule file")
     p.add_argument("--domain", type=path_arg,
                    help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
+    p.add_argument("--sweep", choices=("none", "value-iteration"), default=None,
+                   help="cs-ql/xcs-ql after the trials: value-iteration (the default; greedy passes over every pair "
+                   "through the world model, backing up every candidate for n > 3) or none (learn from trials "
+                   "alone); sets the parameter sweep")
+    p.add_argument("--replay", type=replay_ratio_arg, default=None,
+                   help="cs-ql: replay the transitions trials experienced (each for every goal), at most R replay "
+                   "backups per experienced step, R >= 0 (default 0: no replay; reference engine); sets replay_ratio")
     p.add_argument("--out", type=path_arg, default=None,
                    help="rule file to write: *.npz (compact) or YAML; a directory for a sharded run (optional "
                         "with --dry-run, which checks it as the run would)")
@@ -288,6 +297,9 @@ def _register_scaling(sub: argparse._SubParsersAction, methods: tuple[str, ...])
                        "csql-sim scaling --blocks 3,4 --out scaling")
     p.add_argument("--blocks", type=_block_list, default=[3, 4, 5], help="comma list of n, 2..5 (default 3,4,5)")
     p.add_argument("--methods", type=_methods, default=["lt-ql", "cs-ql"], help="comma list (default lt-ql,cs-ql)")
+    p.add_argument("--modes", type=modes_arg, default=["trials", "replay", "sweep"],
+                   help="comma list of cs-ql's modes: trials (alone), replay (of their experience), sweep (value "
+                   "iteration through the world model) (default all three)")
     p.add_argument("--seed", type=seed_arg, default=0, help="seed (default 0)")
     p.add_argument("--max-trials", type=positive_int, default=20_000, help="cap per (n, method) (default 20000)")
     p.add_argument("--workers", type=positive_int, default=1,

@@ -174,7 +174,9 @@ def run(args: argparse.Namespace, out: Path) -> int:
     peak = report["peak_rss_bytes"]
     print(f"cs-ql (sharded), {args.blocks} blocks: {trials} trials, seed {args.seed}, {shards} shards "
           f"({len(report['shards_trained'])} trained now) in {report['wall_seconds']:.1f} s; optimal pairs "
-          f"{report['optimal_pairs']:,} of {report['pairs']:,} trained now (against BFS); peak memory: driver "
+          f"{report['phases']['trials']['optimal_pairs']:,} after the trials alone, {report['optimal_pairs']:,} "
+          f"after the sweep (value iteration, {report['phases']['sweep']['backups']:,} backups) of "
+          f"{report['pairs']:,} trained now (against BFS); peak memory: driver "
           f"{peak['driver'] / 2**30:.2f} GB, largest worker {peak['worker_max'] / 2**30:.2f} GB; written to {out}")
     return 0
 

@@ -79,3 +79,7 @@ class ProcessingBlock:
                                  tuple(decode_code(a[1 : 1 + w]) - 1 for a in actions))
             self._sets[message] = match_set
         return match_set
+
+    def posted(self) -> list[tuple[str, MatchSet]]:
+        """Every message posted so far with its match set, in the order first posted."""
+        return list(self._sets.items())

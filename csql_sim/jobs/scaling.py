@@ -1,11 +1,21 @@
-"""The scaling study: trials until the greedy plans are optimal for every pair, per n and method.
+"""The scaling study: trials until the greedy plans are optimal for every pair, per n, method and mode.
 
-Each (n, method) trains one agent from the seed with the random tasks alone (no planning
-sweep: this measures learning from trials), with the temperature reaching its floor after
-60% of ``max_trials``, and checks after every 1% of ``max_trials`` whether the greedy
-action of every (state, goal) pair lies on an optimal plan. That local test is exact: a
-plan is optimal iff every step lowers the BFS distance to the goal by one. The cell is
-empty when ``max_trials`` is reached first.
+Each (n, method, mode) trains one agent from the seed on random tasks, with the
+temperature reaching its floor after 60% of ``max_trials``, and checks after every 1% of
+``max_trials`` how many pairs its greedy policy plans optimally (a pair is optimal when
+every greedy step on its path lowers the BFS distance: :mod:`csql_sim.core.optimal_pairs`).
+The cell is empty when ``max_trials`` is reached first. CS-QL runs in three modes
+(:data:`MODES`), the other methods in ``trials`` only:
+
+* ``trials``: the trials alone (no replay, no sweep): learning from trials;
+* ``replay``: before each check, a replay phase of the transitions the trials experienced
+  (:mod:`csql_sim.learners.replay`, hindsight relabelling, at most :data:`REPLAY_RATIO`
+  backups per experienced step; reference engine): learning from experience alone;
+* ``sweep``: before each check, the sweep through the world model (value iteration):
+  planning with the model, which needs hardly any trials.
+
+Version 2 of the CSV and JSON (this one) counts optimal pairs on the policy graph and adds
+the mode and the phase columns; version 1 counted optimal first steps.
 
 Each cell also reports its peak memory: the peak resident set size (RSS) of the process
 running it, while it ran. On Linux the kernel's high-water mark (``VmHWM``) is reset
@@ -26,7 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from csql_sim.core.search import count_optimal_greedy
+from csql_sim.core.optimal_pairs import count_optimal_pairs, count_optimal_steps
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
@@ -37,9 +47,16 @@ from csql_sim.learners.training import make_learner
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-COLUMNS = ("method", "blocks", "trials_to_all_optimal", "steps", "wall_seconds", "peak_rss_mb",
-           "population")
+COLUMNS = ("method", "mode", "blocks", "trials_to_all_optimal", "steps", "wall_seconds", "peak_rss_mb",
+           "population", "optimal_pairs", "pairs", "optimal_steps", "experienced_pairs", "legal_pairs",
+           "replay_backups", "sweep_backups")
 CHECKS = 100
+VERSION = 2
+"""The version of ``scaling.csv`` and ``scaling.json`` (see the module)."""
+MODES = ("trials", "replay", "sweep")
+MODE_LABELS = {"trials": "trials alone", "replay": "experience replay", "sweep": "sweep (value iteration)"}
+REPLAY_RATIO = 4.0
+"""The ``replay`` mode's cap: replay backups per experienced step."""
 
 
 @dataclass(frozen=True)
@@ -61,11 +78,32 @@ class ScalingRow:
     pairs: int
     peak_rss_mb: float = 0.0
     population: int = 0
+    mode: str = "trials"
+    optimal_steps: int = 0
+    experienced_pairs: int = 0
+    legal_pairs: int = 0
+    replay_backups: int = 0
+    sweep_backups: int = 0
 
 
 def optimal_pairs(learner: Learner) -> int:
     """How many ordered pairs the learner's greedy policy (:meth:`Learner.greedy_table`) plans optimally."""
-    return count_optimal_greedy(learner.greedy_table().best, learner.n)
+    return count_optimal_pairs(learner.greedy_table().best, learner.n)
+
+
+def _mode_params(method: str, n: int, max_trials: int, mode: str) -> dict:
+    """The overrides of a cell: the temperature schedule, and CS-QL's sweep and replay by ``mode``."""
+    if mode not in MODES:
+        raise CsqlError(f"unknown mode {mode!r}; choose from {', '.join(MODES)}")
+    base = default_params(method)
+    overrides: dict = {"t_decay": (base.t_min / base.t0) ** (1.0 / (0.6 * max_trials))}
+    if method in ("cs-ql", "xcs-ql"):
+        overrides["sweep"] = mode == "sweep"
+        overrides["sweep_backup_all"] = n > 3
+        overrides["replay_ratio"] = REPLAY_RATIO if mode == "replay" else 0.0
+    elif mode != "trials":
+        raise CsqlError(f"{method} has no replay or sweep: only the mode trials applies")
+    return overrides
 
 
 class _Reached(Exception):
@@ -100,16 +138,15 @@ def peak_rss_bytes(since_reset: bool = True) -> int:
     return peak if sys.platform == "darwin" else peak * 1024  # bytes on macOS, kB elsewhere
 
 
-def run_cell(method: str, n: int, seed: int, max_trials: int, engine: str | None = None) -> ScalingRow:
+def run_cell(method: str, n: int, seed: int, max_trials: int, engine: str | None = None,
+             mode: str = "trials") -> ScalingRow:
     """Train one agent until all pairs are optimal or ``max_trials``; its row.
 
     ``engine``: as :func:`~csql_sim.learners.training.make_learner`'s (None: the array
-    engine where the method has one); trials and steps do not depend on it.
+    engine where the method has one; the reference for ``replay``); trials and steps do
+    not depend on it. ``mode``: one of :data:`MODES` (see the module).
     """
-    base = default_params(method)
-    overrides: dict = {"t_decay": (base.t_min / base.t0) ** (1.0 / (0.6 * max_trials))}
-    if method in ("cs-ql", "xcs-ql"):
-        overrides["sweep"] = False
+    overrides = _mode_params(method, n, max_trials, mode)
     reset = reset_peak_rss()
     learner = make_learner(method, n, overrides, seed=seed, engine=engine)
     count = len(learner.world.states)
@@ -119,6 +156,10 @@ def run_cell(method: str, n: int, seed: int, max_trials: int, engine: str | None
 
     def check(k: int) -> None:
         if (k + 1) % every == 0:
+            if mode == "replay":
+                learner.replay()
+            elif mode == "sweep":
+                learner.sweep()
             t0 = time.perf_counter()
             good = optimal_pairs(learner)
             spent[0] += time.perf_counter() - t0
@@ -137,8 +178,11 @@ def run_cell(method: str, n: int, seed: int, max_trials: int, engine: str | None
     trials, good = (found or [max_trials, optimal_pairs(learner)])[:2]
     peak = peak_rss_bytes(reset) / 1e6
     population = len(getattr(learner, "population", ())) or learner.counts()[1]
+    seen = learner.experience_report() if hasattr(learner, "experience_report") else {}
     return ScalingRow(method, n, trials if reached else None, learner.t, wall, good, count * (count - 1), peak,
-                      population)
+                      population, mode, count_optimal_steps(learner.greedy_table().best, n),
+                      seen.get("experienced_pairs", 0), seen.get("legal_pairs", 0), seen.get("replay_backups", 0),
+                      getattr(learner, "backups", learner.t) - seen.get("experienced_steps", learner.t))
 
 
 @dataclass(frozen=True)
@@ -149,6 +193,7 @@ class CellJob:
     n: int
     seed: int
     max_trials: int
+    mode: str = "trials"
 
 
 def _warm_up(methods: tuple[str, ...]) -> None:
@@ -158,34 +203,37 @@ def _warm_up(methods: tuple[str, ...]) -> None:
 
 
 def _run_job(job: CellJob) -> ScalingRow:
-    return run_cell(job.method, job.n, job.seed, job.max_trials)
+    return run_cell(job.method, job.n, job.seed, job.max_trials, mode=job.mode)
 
 
 def run_scaling(blocks: Sequence[int], methods: Sequence[str], seed: int = 0, max_trials: int = 20_000,
-                progress: bool = False, backend: Backend | None = None) -> list[ScalingRow]:
-    """Every (n, method) cell in order.
+                progress: bool = False, backend: Backend | None = None,
+                modes: Sequence[str] = ("trials",)) -> list[ScalingRow]:
+    """Every (n, method, mode) cell in order; ``modes`` (of :data:`MODES`) apply to CS-QL and XCS-QL.
 
     ``backend`` (default: one cell after another in this process, so that no two cells
     share the cores while they are timed) may run cells in parallel, on Ray too; trials
     and steps do not depend on it, wall seconds do.
     """
-    jobs = [CellJob(m, n, seed, max_trials) for n in blocks for m in methods]
+    jobs = [CellJob(m, n, seed, max_trials, mode) for n in blocks for m in methods
+            for mode in (modes if m in ("cs-ql", "xcs-ql") else ("trials",))]
     rows = map_tasks(_run_job, jobs, backend or Backend(workers=1), setup=_warm_up,
                      setup_args=(tuple(dict.fromkeys(methods)),), progress=progress, desc="scaling", unit="cell")
     for job, row in zip(jobs, rows, strict=True):
         if isinstance(row, TaskFailure):
-            raise CsqlError(f"the scaling cell {job.method} n={job.n} failed: {row.reason}")
+            raise CsqlError(f"the scaling cell {job.method} ({job.mode}) n={job.n} failed: {row.reason}")
     return rows  # type: ignore[return-value]
 
 
 def csv_text(rows: Sequence[ScalingRow]) -> str:
-    """``method,blocks,trials_to_all_optimal,steps,wall_seconds,peak_rss_mb,population`` (empty trials: cap)."""
+    """:data:`COLUMNS`, a row per cell (empty trials: the cap was reached)."""
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(COLUMNS)
     for r in rows:
-        writer.writerow([r.method, r.blocks, "" if r.trials is None else r.trials, r.steps, f"{r.wall_seconds:.3f}",
-                         f"{r.peak_rss_mb:.1f}", r.population])
+        writer.writerow([r.method, r.mode, r.blocks, "" if r.trials is None else r.trials, r.steps,
+                         f"{r.wall_seconds:.3f}", f"{r.peak_rss_mb:.1f}", r.population, r.optimal_pairs, r.pairs,
+                         r.optimal_steps, r.experienced_pairs, r.legal_pairs, r.replay_backups, r.sweep_backups])
     return out.getvalue()
 
 
@@ -195,12 +243,14 @@ def figure(rows: Sequence[ScalingRow], max_trials: int) -> Figure:
 
     fig = new_figure(6, 4.2)
     ax = fig.subplots()
-    for method in dict.fromkeys(r.method for r in rows):
-        mine = [r for r in rows if r.method == method]
-        line = ax.plot([r.blocks for r in mine], [r.trials or max_trials for r in mine], marker="o",
-                       label=method.upper())[0]
+    series = list(dict.fromkeys((r.method, r.mode) for r in rows))
+    for i, (method, mode) in enumerate(series):  # side by side per n
+        shift = (i - (len(series) - 1) / 2) * 0.08
+        mine = [r for r in rows if (r.method, r.mode) == (method, mode)]
+        line = ax.plot([r.blocks + shift for r in mine], [r.trials or max_trials for r in mine], marker="o",
+                       label=f"{method.upper()}, {MODE_LABELS[mode]}")[0]
         capped = [r for r in mine if r.trials is None]
-        ax.scatter([r.blocks for r in capped], [max_trials] * len(capped), s=90, facecolors="white",
+        ax.scatter([r.blocks + shift for r in capped], [max_trials] * len(capped), s=90, facecolors="white",
                    edgecolors=line.get_color(), zorder=3)
     ax.set_yscale("log")
     ax.set_xlabel("blocks n")

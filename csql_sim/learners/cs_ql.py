@@ -20,7 +20,7 @@ from collections.abc import Callable
 import numpy as np
 
 from csql_sim.core.classifier_list import ClassifierList
-from csql_sim.core.message import decode_code, layout
+from csql_sim.core.message import decode_code, layout, parse_state_message
 from csql_sim.core.processing_block import MatchSet, ProcessingBlock
 from csql_sim.core.q_classifier import QClassifier
 from csql_sim.core.r_classifier import RClassifier, r_classifiers
@@ -28,6 +28,7 @@ from csql_sim.core.rulebase import RuleBase
 from csql_sim.core.world_model import WorldModel
 from csql_sim.learners.learner import Transition
 from csql_sim.learners.params import CommonParams, CSQLParams
+from csql_sim.learners.replay import Experience, SlotLayout, replay_reference
 from csql_sim.learners.selection import boltzmann
 from csql_sim.learners.trial import StepLearner, run_trial
 
@@ -135,6 +136,52 @@ class CSQL(ClassifierSystemLearner):
         super().__init__(n, params, rng, rules)
         self._gamma, self._eta, self._payoff = params.gamma, params.eta, params.payoff
         self._goal_at = layout(n).goal_start
+        self.experience = Experience(SlotLayout.of(self.world_model), np.arange(len(self.world.states)))
+        self.recording = True  # trials record their transitions; the sweep's are not experience
+        self.backups = 0  # eq. 1-2 updates made by trials and the sweep (replay's are counted apart)
+        self._where: dict[str, tuple[int, int, int, tuple[int, ...]]] = {}
+
+    def learn(self, transition: Transition) -> None:
+        """Record the transition a trial took (:class:`~csql_sim.learners.replay.Experience`), then learn."""
+        if self.recording:
+            where = self._where.get(transition.observation)
+            if where is None:
+                where = self._where[transition.observation] = self._locate(transition.observation)
+            s, g, lo, row = where
+            self.experience.seen[g, lo + row.index(transition.action)] = True
+            self.experience.steps += 1
+        super().learn(transition)
+
+    def _locate(self, message: str) -> tuple[int, int, int, tuple[int, ...]]:
+        """State, goal, first slot and legal actions of a state message."""
+        parsed = parse_state_message(message, self.n)
+        s = self.world.state_index(parsed.state)
+        return s, parsed.goal, int(self.experience.layout.lo[s]), self.world_model.table.legal[s]
+
+    def posted(self) -> list[tuple[tuple[int, int], MatchSet]]:
+        """Every posted (state, goal) with its match set (the Q-classifiers that exist)."""
+        out = []
+        for message, match_set in self.block.posted():
+            where = self._where.get(message) or self._locate(message)
+            out.append(((where[0], where[1]), match_set))
+        return out
+
+    def experience_report(self) -> dict:
+        """:meth:`Experience.report <csql_sim.learners.replay.Experience.report>`."""
+        return self.experience.report()
+
+    def q_greedy(self) -> np.ndarray:
+        """The critic's greedy action per ``state * S + goal`` (-1: none), read without settling anything."""
+        count = len(self.world.states)
+        best = np.full(count * count, -1, np.int64)
+        for (s, g), match_set in self.posted():
+            qs = [c.q for c in match_set.candidates]
+            best[s * count + g] = match_set.actions[qs.index(max(qs))]
+        return best
+
+    def replay(self) -> int:
+        """A replay phase of the experienced transitions (:mod:`csql_sim.learners.replay`); its backups."""
+        return replay_reference(self)
 
     def select(self, match_set: MatchSet, temperature: float, u: float) -> int:
         """Boltzmann selection over the candidates' Q-values (eq. 3).
@@ -184,8 +231,12 @@ class CSQL(ClassifierSystemLearner):
         """
         if not self.params.sweep:
             return 0
-        steps = self.plan(on_pass)
-        run_trial(self, *self.test_indices(), 0.0)
+        self.recording = False
+        try:
+            steps = self.plan(on_pass)
+            run_trial(self, *self.test_indices(), 0.0)
+        finally:
+            self.recording = True
         return steps
 
     def plan(self, on_pass: Callable[[], None] | None = None) -> int:
@@ -265,6 +316,7 @@ class CSQL(ClassifierSystemLearner):
                     best = d.q
             target = self._gamma * best
         eps = target - c.q
+        self.backups += 1
         c.q += eta * eps
         c.error = eps if eps >= 0.0 else -eps
         c.last_active = t

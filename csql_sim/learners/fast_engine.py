@@ -17,12 +17,10 @@ from __future__ import annotations
 
 import functools
 import os
-import signal
 import sys
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, TypeVar
+from typing import Any
 
 import numpy as np
 
@@ -35,6 +33,8 @@ from csql_sim.core.rulebase_npz import arrays_to_bytes
 from csql_sim.core.search import greedy_argmax
 from csql_sim.core.world_model import WorldModel
 from csql_sim.infra.errors import CsqlError
+from csql_sim.learners.kernel_calls import HELD_SIGNALS as HELD_SIGNALS  # re-exported
+from csql_sim.learners.kernel_calls import call_kernel
 from csql_sim.learners.learner import BATCH, TEST_EVERY, Curve, Learner
 from csql_sim.learners.params import CSQLParams
 
@@ -55,60 +55,6 @@ STEPS_PER_CALL = 250_000
 (it pauses between trials, so plus those under way): some 50 ms at 5 million steps a second."""
 COMPENSATED_SUM = sys.version_info >= (3, 12)
 """Python 3.12 made ``sum()`` of floats compensated; the kernels follow the running Python."""
-HELD_SIGNALS = (signal.SIGINT, signal.SIGTERM)
-"""The signals whose Python handlers :func:`call_kernel` holds back while a kernel is called."""
-R = TypeVar("R")
-
-
-class _Held:
-    """Stands in for a Python signal handler during a kernel call: records the signal; once inactive, passes it on."""
-
-    def __init__(self, handler: Callable[[int, Any], Any]) -> None:
-        self.handler, self.signals, self.active = handler, [], True
-
-    def __call__(self, signum: int, frame: Any) -> None:
-        if self.active:
-            self.signals.append(signum)
-        else:  # left in place by an interrupted restore: behave as the handler
-            self.handler(signum, frame)
-
-    def __getattr__(self, name: str) -> Any:  # the handler's marks (e.g. the command line's after-fork test)
-        if name == "handler":  # not set yet
-            raise AttributeError(name)
-        return getattr(self.handler, name)
-
-
-def call_kernel(kernel: Callable[..., R], *args: Any) -> R:
-    """``kernel(*args)`` with the Python handlers of SIGINT and SIGTERM run only once it has returned.
-
-    Calling a kernel that takes a ``numpy.random.Generator`` runs Python code inside numba's
-    unboxing of it (``ctypes.cast``), whose result numba does not check: a handler raising
-    there (Ctrl-C's KeyboardInterrupt, the command line's Terminated) made it read through
-    a NULL pointer, a segmentation fault. So for the call a stand-in that records the signal
-    replaces each Python handler; a recorded signal is raised again once the handlers are
-    back, and interrupts between two calls as before. Handlers run in the main thread only:
-    elsewhere the kernel is called as it is.
-    """
-    if threading.current_thread() is not threading.main_thread():
-        return kernel(*args)
-    held: list[tuple[int, _Held]] = []
-    try:
-        for signum in HELD_SIGNALS:
-            handler = signal.getsignal(signum)
-            if callable(handler):  # not SIG_DFL, SIG_IGN or a handler set outside Python (None)
-                held.append((signum, _Held(handler)))
-                signal.signal(signum, held[-1][1])
-        return kernel(*args)
-    finally:
-        for _, stand_in in held:
-            stand_in.active = False
-        for signum, stand_in in held:
-            signal.signal(signum, stand_in.handler)
-        for _, stand_in in held:
-            for signum in stand_in.signals:
-                signal.raise_signal(signum)
-
-
 @dataclass(frozen=True)
 class ModelArrays:
     """The R-classifiers' answers for every state, as arrays.
@@ -158,8 +104,8 @@ class FastCSQL(Learner):
             engine); a subset makes the engine one shard (:mod:`csql_sim.learners.shards`):
             its random tasks draw a goal among ``goals``, and it has no test task.
         ordered: sweep each goal's starts backwards from the goal through the
-            R-classifiers' predicted predecessors (prioritized sweeping) instead of in
-            index order.
+            R-classifiers' predicted predecessors (backward breadth-first order) instead of
+            in index order.
         model: the R-classifiers' answers (:func:`world_model` of n when None), e.g. as a
             worker was sent them.
 
@@ -200,7 +146,10 @@ class FastCSQL(Learner):
             q0=params.q0, gamma=params.gamma, eta=params.eta, payoff=params.payoff, compensated=COMPENSATED_SUM,
             scratch=np.zeros(int(np.diff(m.lo).max())), goals=goals, goal_slot=goal_slot,
             pred_lo=m.pred_lo, pred=m.pred, order=np.zeros(count, np.int64), ordered=ordered,
+            seen=np.zeros(int(m.lo[-1]), np.bool_),
         )
+        ctr[fk.RECORD] = 1  # trials record the slots they take; the sweep does not
+        self.experienced_steps = 0
 
     @property
     def t(self) -> int:
@@ -226,6 +175,18 @@ class FastCSQL(Learner):
         plan = fk.Schedule(trials, test_every, *task, p.t0, p.t_decay, p.t_min, p.step_cap)
         ctr = self.kernel.ctr
         ctr[fk.K] = ctr[fk.PHASE] = 0
+        began = self.t
+        try:
+            self._run(plan, trials, on_trial, steps, values)
+        finally:
+            self.experienced_steps += self.t - began
+        marks = tuple(range(0, trials + 1, test_every)) if test_every else ()
+        return Curve(marks, tuple(int(x) for x in steps), tuple(float(x) for x in values))
+
+    def _run(self, plan: Any, trials: int, on_trial: Callable[[int], None] | None, steps: np.ndarray,
+             values: np.ndarray) -> None:
+        """The compiled trials of :meth:`train`, in calls of at most :data:`STEPS_PER_CALL` steps."""
+        ctr = self.kernel.ctr
         chunk = max(1, trials // 100) if on_trial is not None else trials + 1
         stop, reported = min(chunk, trials), 0
         while True:
@@ -240,8 +201,6 @@ class FastCSQL(Learner):
                 break
             if done >= stop:  # paused for on_trial (not for the step budget)
                 stop = min(stop + chunk, trials)
-        marks = tuple(range(0, trials + 1, test_every)) if test_every else ()
-        return Curve(marks, tuple(int(x) for x in steps), tuple(float(x) for x in values))
 
     def run_trial(self, start: int, goal: int, temperature: float, cap: int | None = None) -> int:
         """One trial; returns its steps."""
@@ -259,10 +218,24 @@ class FastCSQL(Learner):
         """:meth:`CSQL.sweep <csql_sim.learners.cs_ql.CSQL.sweep>`: plan, then the test task once greedily."""
         if not self.params.sweep:
             return 0
-        steps = self.plan(on_pass)
-        if not self.sharded:  # a shard has no test task
-            self.run_trial(*self.test_indices(), 0.0)
+        self.kernel.ctr[fk.RECORD] = 0
+        try:
+            steps = self.plan(on_pass)
+            if not self.sharded:  # a shard has no test task
+                self.run_trial(*self.test_indices(), 0.0)
+        finally:
+            self.kernel.ctr[fk.RECORD] = 1
         return steps
+
+    @property
+    def backups(self) -> int:
+        """Eq. 1-2 updates made by trials and the sweep."""
+        return int(self.kernel.ctr[fk.BACKUPS])
+
+    def experience_report(self) -> dict:
+        """``experienced_pairs`` (distinct (state, action) pairs trials took) and ``legal_pairs``."""
+        return {"experienced_pairs": int(self.kernel.seen.sum()), "legal_pairs": int(self.model.lo[-1]),
+                "experienced_steps": self.experienced_steps, "replay_backups": 0}
 
     def plan(self, on_pass: Callable[[], None] | None = None) -> int:
         """:meth:`CSQL.plan <csql_sim.learners.cs_ql.CSQL.plan>`: greedy passes until |epsilon| <= tolerance.

@@ -41,10 +41,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-NODES, CLS, T, POS, K, PHASE = range(6)
+NODES, CLS, T, POS, K, PHASE, BACKUPS, RECORD = range(8)
 """Indices into ``ctr``: nodes used, classifier slots used, clock, stream position,
-trial index, phase within a trial index (0 test task, 1 random task)."""
-CTR_SIZE = 6
+trial index, phase within a trial index (0 test task, 1 random task), eq. 1-2 backups
+made, and whether trials record the (state, action) slots they take in ``seen`` (1) or not (0)."""
+CTR_SIZE = 8
 DONE, PAUSED = 0, 1
 
 
@@ -80,8 +81,9 @@ class Engine(NamedTuple):
             lead to ``s`` in one step (``pred``); used by ordered sweeps only.
         pred: the predecessors, grouped by successor.
         order: room for one sweep order (``count`` states).
-        ordered: sweep the starts of a goal backwards from it through ``pred`` (prioritized
-            sweeping, breadth-first) instead of in index order.
+        ordered: sweep the starts of a goal backwards from it through ``pred`` (backward
+            breadth-first order from the goal) instead of in index order.
+        seen: each (state, action) slot a recording trial took (``ctr[RECORD]``).
 
     """
 
@@ -109,6 +111,7 @@ class Engine(NamedTuple):
     pred: np.ndarray
     order: np.ndarray
     ordered: bool
+    seen: np.ndarray
 
 
 class Schedule(NamedTuple):
@@ -230,6 +233,8 @@ def trial(start, goal, temperature, cap, track, plan_eta, rng, e):
                     e.scratch[k] = math.exp((e.q[off + k] - top) / temperature)
                 i = weighted_draw(e.scratch, nl, u, compensated)
         c = off + i
+        if e.ctr[RECORD]:
+            e.seen[lo + i] = True
         if track:
             value_sum += e.q[c]
         ns = e.nxt_state[lo + i]
@@ -265,7 +270,9 @@ def trial(start, goal, temperature, cap, track, plan_eta, rng, e):
                 e.q[off + k] += plan_eta * eps
                 e.err[off + k] = eps if eps >= 0.0 else -eps
                 e.last[off + k] = t
+            e.ctr[BACKUPS] += nl
         else:  # eq. 1 and 2
+            e.ctr[BACKUPS] += 1
             eps = target - e.q[c]
             e.q[c] += eta * eps
             e.err[c] = eps if eps >= 0.0 else -eps

@@ -12,14 +12,33 @@ beyond int64 (:data:`MAX_INT`) is a one-line :class:`ParamsError`.
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
-import sys
 from dataclasses import dataclass, fields
 from typing import ClassVar
 
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import InputFileError, load_yaml, read_text_file
+from csql_sim.learners.params_bounds import (  # re-exported
+    AT_LEAST_ONE as AT_LEAST_ONE,
+)
+from csql_sim.learners.params_bounds import (
+    FINITE as FINITE,
+)
+from csql_sim.learners.params_bounds import (
+    NON_NEGATIVE as NON_NEGATIVE,
+)
+from csql_sim.learners.params_bounds import (
+    POSITIVE as POSITIVE,
+)
+from csql_sim.learners.params_bounds import (
+    UNIT as UNIT,
+)
+from csql_sim.learners.params_bounds import (
+    UNIT_NO_ZERO as UNIT_NO_ZERO,
+)
+from csql_sim.learners.params_bounds import (
+    Bounds as Bounds,
+)
 
 MAX_FILE_BYTES = 1024 * 1024
 """Largest parameter file read."""
@@ -28,39 +47,6 @@ MAX_INT = 2**63 - 1  # largest integer parameter (the fast engine's kernels hold
 
 class ParamsError(CsqlError):
     """A bad parameter file or value."""
-
-
-@dataclass(frozen=True)
-class Bounds:
-    """A closed or open interval of finite values, printed as ``[0, 1]``, ``(0, 1]``, ``>= 1``."""
-
-    low: float = -math.inf
-    high: float = math.inf
-    low_open: bool = False
-    high_open: bool = False
-
-    def __str__(self) -> str:
-        if self.high == math.inf:
-            if self.low == -math.inf:
-                return "finite"
-            return f"{'>' if self.low_open else '>='} {self.low:g}"
-        return f"{'(' if self.low_open else '['}{self.low:g}, {self.high:g}{')' if self.high_open else ']'}"
-
-    def contains(self, value: float) -> bool:
-        """Whether ``value`` is finite and inside the interval (an integer too large for a float is not)."""
-        if not isinstance(value, float | int) or abs(value) > sys.float_info.max or not math.isfinite(value):
-            return False
-        above = value > self.low if self.low_open else value >= self.low
-        below = value < self.high if self.high_open else value <= self.high
-        return above and below
-
-
-POSITIVE = Bounds(0.0, low_open=True)
-NON_NEGATIVE = Bounds(0.0)
-UNIT = Bounds(0.0, 1.0)
-UNIT_NO_ZERO = Bounds(0.0, 1.0, low_open=True)
-FINITE = Bounds()
-AT_LEAST_ONE = Bounds(1.0)
 
 
 @dataclass(frozen=True)
@@ -162,11 +148,12 @@ class CSQLParams(QLearningParams):
             optimal 8 steps at trial 850; with 0.9955 at 700, as in the paper, while LT-QL
             (0.996) stays at the paper's 1150. Measured over 50 cycles x 2500 trials.
             Range (0, 1]; default 0.9955.
-        sweep: after the trials, one greedy planning pass over every (start, goal) pair
-            on the world model (the add-delete R-classifiers), updating with eq. 1-2. Each
-            pair's greedy classifier is then active within one pass (~2,000 steps) with a
-            small |epsilon|, so pruning at 0.1 keeps exactly one per pair. False is the
-            paper-faithful variant. A flag (true or false); default true.
+        sweep: after the trials, sweep the world model (the add-delete R-classifiers):
+            greedy passes over every (start, goal) pair updating with eq. 1-2 (with
+            ``sweep_backup_all``, every candidate on the paths: value iteration through the
+            model). ``train --sweep value-iteration|none`` sets it. It does not learn from
+            experience: with one trial it already makes every pair optimal at n = 4 and 5
+            (docs/what_learns.md). False is the paper-faithful variant. A flag; default true.
         sweep_passes: the most passes of the sweep. Range >= 0 (an integer); default 50.
         sweep_tolerance: the sweep stops after a pass whose largest |epsilon| is at most
             this (Q-values then agree with eq. 2 along every greedy path). Range >= 0;
@@ -182,21 +169,34 @@ class CSQLParams(QLearningParams):
         sweep_greedy_tail: greedy-only passes after the sweep's passes: they leave only
             each pair's greedy classifier recently active, so pruning by strength keeps
             exactly one per (state, goal). Range >= 0 (an integer); default 0. It is 3 for n > 3.
+        replay_ratio: the cap of experience replay (:mod:`csql_sim.learners.replay`): at most
+            this many replay backups per experienced trial step; 0 is no replay.
+            ``train --replay R`` sets it. Range >= 0; default 0.
+        replay_hindsight: replay each experienced (state, action) transition for every goal
+            (hindsight relabelling), not only for the goal it was taken for. A flag; default true.
+        replay_eta: eta of eq. 1 in replay backups. Range (0, 1]; default 1.
+        replay_tolerance: a replay phase stops after a pass whose largest |epsilon| is at
+            most this. Range >= 0; default 0. At 0 a phase runs until nothing changes (or the cap).
 
     """
 
     RANGES: ClassVar[dict[str, Bounds]] = {
         "sweep_passes": NON_NEGATIVE, "sweep_tolerance": NON_NEGATIVE, "sweep_eta": UNIT_NO_ZERO,
-        "sweep_greedy_tail": NON_NEGATIVE,
+        "sweep_greedy_tail": NON_NEGATIVE, "replay_ratio": NON_NEGATIVE, "replay_eta": UNIT_NO_ZERO,
+        "replay_tolerance": NON_NEGATIVE,
     }
 
     t_decay: float = 0.9955  # T_{k+1} = T_k * decay; reproduces "optimal by ~700 trials"
-    sweep: bool = True  # final planning sweep (ours; False = paper)
+    sweep: bool = True  # value iteration through the world model after the trials (ours; False = paper)
     sweep_passes: int = 50  # at most this many passes
     sweep_tolerance: float = 0.001  # stop when every |epsilon| of a pass is below
     sweep_backup_all: bool = False  # sweep backs up every candidate (Dyna), not just the greedy one
     sweep_eta: float = 1.0  # eta of the Dyna backups (sweep_backup_all only)
     sweep_greedy_tail: int = 0  # greedy-only passes after the sweep's passes
+    replay_ratio: float = 0.0  # cap: replay backups per experienced step (0: no replay)
+    replay_hindsight: bool = True  # replay each experienced transition for every goal
+    replay_eta: float = 1.0  # eta of the replay backups
+    replay_tolerance: float = 0.0  # a replay phase stops when no |epsilon| of a pass exceeds this
 
 
 @dataclass(frozen=True)

@@ -43,6 +43,8 @@ from csql_sim.infra.workers import worker_count
 from csql_sim.learners.fast_engine import FastCSQL, ModelArrays, world_model
 from csql_sim.learners.params import CSQLParams
 
+REPORT_VERSION = 2
+"""The run report's version: 2 counts optimal pairs on the policy graph (1: first steps) and adds phases."""
 MAX_REPORT_BYTES = 1 << 24
 """The largest run-report file read back (each run adds about 1 kB)."""
 SHARDS_BY_BLOCKS = {6: 64, 7: 512}
@@ -83,6 +85,11 @@ class ShardOutcome(NamedTuple):
     q_classifiers: int
     optimal: int
     pairs: int
+    trial_steps: int
+    trials_optimal: int
+    optimal_steps: int
+    experienced_pairs: int
+    sweep_backups: int
     seconds: float
     cpu_seconds: float
     peak_rss: int
@@ -131,13 +138,18 @@ def train_shard(job: ShardJob) -> ShardOutcome:
     lo, hi = rs.goal_range(count, job.shards, job.index)
     learner = FastCSQL(job.n, job.params, shard_rng(job.seed, job.index), goals=np.arange(lo, hi), model=model,
                         ordered=True)
+    if job.params.replay_ratio > 0:
+        raise CsqlError("sharded training does not replay experience (replay_ratio must be 0)")
     learner.train(shard_trials(job.trials, job.shards, job.index), test_every=0)
+    trial_steps, trials_optimal = learner.t, count_optimal(canonical(learner, lo, hi), model, job.n, lo, hi)[0]
+    backups = learner.backups
     learner.sweep()
     arrays = canonical(learner, lo, hi)
-    optimal = count_optimal(arrays, model, job.n, lo, hi)
+    optimal, steps_ok = count_optimal(arrays, model, job.n, lo, hi)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * (1 if sys.platform == "darwin" else 1024)
     return ShardOutcome(arrays, learner.t, len(arrays.q), optimal, (hi - lo) * (count - 1),
-                        time.perf_counter() - began, time.process_time() - cpu, peak)
+                        time.perf_counter() - began, time.process_time() - cpu, peak, trial_steps, trials_optimal,
+                        steps_ok, learner.experience_report()["experienced_pairs"], learner.backups - backups)
 
 
 def canonical(learner: FastCSQL, lo: int, hi: int) -> rs.ShardArrays:
@@ -161,24 +173,33 @@ def canonical(learner: FastCSQL, lo: int, hi: int) -> rs.ShardArrays:
     return rs.ShardArrays(first, born, a["q"][take], a["error"][take], learner.t)
 
 
-def count_optimal(arrays: rs.ShardArrays, model: ModelArrays, n: int, lo: int, hi: int) -> int:
-    """Pairs of goals ``lo .. hi - 1`` whose greedy action lowers the true BFS distance by one (a yardstick).
+def count_optimal(arrays: rs.ShardArrays, model: ModelArrays, n: int, lo: int, hi: int) -> tuple[int, int]:
+    """Goals ``lo .. hi - 1``: (optimal pairs, optimal first steps), against the true BFS distances.
 
-    A greedy policy plans a pair optimally exactly when this holds in every state on the
-    way, so the shard plans all its pairs optimally when the count is ``goals * (S - 1)``.
+    A pair is optimal when every greedy step on its path lowers the distance by one
+    (decided on the policy graph per goal, in order of distance,
+    :mod:`csql_sim.core.optimal_pairs`); the second count is of the pairs whose first
+    greedy step does, an upper bound of the first.
     """
     table = true_table(n)
     count = table.state_count
     rank = rs.greedy_ranks(arrays.first, arrays.q, np.diff(model.lo), count)
-    total = 0
+    pairs = steps = 0
     for g in range(lo, hi):
         r = rank[(g - lo) * count:(g - lo + 1) * count]
         states = np.flatnonzero(r >= 0)
-        action = model.action[model.lo[states] + r[states]]
-        nxt = table.next_state[states, action]
+        nxt = np.full(count, -1, np.int64)
+        nxt[states] = table.next_state[states, model.action[model.lo[states] + r[states]]]
         dist = reverse_bfs(table.predecessors, g)
-        total += int(((nxt >= 0) & (dist[np.maximum(nxt, 0)] == dist[states] - 1)).sum())
-    return total
+        step_ok = (nxt >= 0) & (dist[np.maximum(nxt, 0)] == dist - 1) & (dist > 0)
+        ok = step_ok.copy()
+        order = np.argsort(dist, kind="stable")
+        ends = np.searchsorted(dist[order], np.arange(int(dist.max()) + 2))
+        for d in range(2, int(dist.max()) + 1):  # by distance: a pair's successor is decided first
+            level = order[ends[d]:ends[d + 1]]
+            ok[level] = step_ok[level] & ok[nxt[level]]
+        pairs, steps = pairs + int(ok.sum()), steps + int(step_ok.sum())
+    return pairs, steps
 
 
 # ---------------------------------------------------------------- a run
@@ -292,7 +313,7 @@ def train_sharded(run: ShardRun, progress: bool = False,
                 run.out.rmdir()
         raise
     report = run_report(run, outcomes, time.perf_counter() - began, resumed=sorted(done))
-    write_atomic(run.out / rs.REPORT, json.dumps({"format": "csql-sim shard run reports", "version": 1,
+    write_atomic(run.out / rs.REPORT, json.dumps({"format": "csql-sim shard run reports", "version": REPORT_VERSION,
                                                   "runs": [*previous, report]}, indent=1) + "\n", follow_links=False)
     if failures:
         raise CsqlError(f"{len(failures)} shard(s) failed ({failures[0]}); {run.out} is incomplete: "
@@ -317,14 +338,23 @@ def run_report(run: ShardRun, outcomes: dict[int, ShardOutcome], wall: float, re
     """How this run computed its shards: workers, backend, wall time, peak memory, optimal pairs."""
     rss_self = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * (1 if sys.platform == "darwin" else 1024)
     workers = worker_count(run.backend.workers, run.shards) if run.backend.kind == "processes" else None
-    return {"format": "csql-sim shard run report", "version": 1, "backend": run.backend.kind,
+    return {"format": "csql-sim shard run report", "version": REPORT_VERSION, "backend": run.backend.kind,
             "workers": workers, "address": run.backend.address, "wall_seconds": round(wall, 3),
             "shards_trained": sorted(outcomes), "shards_resumed": resumed,
             "peak_rss_bytes": {"driver": rss_self,
                                "worker_max": max((o.peak_rss for o in outcomes.values()), default=0)},
             "optimal_pairs": sum(o.optimal for o in outcomes.values()),
+            "optimal_steps": sum(o.optimal_steps for o in outcomes.values()),
             "pairs": sum(o.pairs for o in outcomes.values()),
             "steps": sum(o.steps for o in outcomes.values()),
+            "phases": {"trials": {"steps": sum(o.trial_steps for o in outcomes.values()),
+                                  "optimal_pairs": sum(o.trials_optimal for o in outcomes.values()),
+                                  "experienced_pairs_max": max((o.experienced_pairs for o in outcomes.values()),
+                                                               default=0)},
+                       "sweep": {"sweep": "value-iteration" if run.params.sweep else "none",
+                                 "order": "backward breadth-first from each goal",
+                                 "backups": sum(o.sweep_backups for o in outcomes.values()),
+                                 "optimal_pairs": sum(o.optimal for o in outcomes.values())}},
             "cpu_seconds": round(sum(o.cpu_seconds for o in outcomes.values()), 1),
             "shard_seconds": {str(k): round(o.seconds, 3) for k, o in sorted(outcomes.items())}}
 

@@ -74,7 +74,10 @@ def make_learner(
     generator = rng if rng is not None else np.random.default_rng(seed)
     from csql_sim.learners.lt_fast import MAX_LT_FAST_BLOCKS, FastTabularQ
 
-    fast_ok = rules is None and (method == "cs-ql" and n <= MAX_FAST_BLOCKS
+    replaying = getattr(resolved, "replay_ratio", 0) > 0
+    if replaying and engine == "fast":
+        raise ParamsError("the fast engine does not replay experience: use --engine reference with --replay")
+    fast_ok = not replaying and rules is None and (method == "cs-ql" and n <= MAX_FAST_BLOCKS
                                  or method == "lt-ql" and n <= MAX_LT_FAST_BLOCKS)
     if engine == "fast" and not fast_ok:
         raise ParamsError(f"the fast engine runs cs-ql with the built-in rules up to {MAX_FAST_BLOCKS} blocks "
@@ -124,12 +127,44 @@ def train_learner(
     learner.train(trials, on_trial=(lambda _k: bar.update()) if bar is not None else None)
     if bar is not None:
         bar.close()
+    phases = {"trials": {"trials": trials, "steps": learner.t, **phase_counts(learner)}}
+    replay = getattr(learner, "replay", None)
+    if replay is not None and learner.params.replay_ratio > 0:
+        backups = replay()
+        phases["replay"] = {"backups": backups, **phase_counts(learner)}
+    backups = getattr(learner, "backups", 0)
     swept = _sweep(learner, progress)  # CS-QL's planning sweep (with sweep on), ending on the test task
+    if learner.max_sweep_passes:
+        phases["sweep"] = {"sweep": SWEEP_NAME, "steps": swept, "backups": getattr(learner, "backups", 0) - backups,
+                           **phase_counts(learner)}
     # the engine is left out: both engines give the same trajectory and the same file
     meta = {"method": method, "trials": trials, "seed": seed, "steps": learner.t, "sweep_steps": swept,
-            "provenance": provenance(method=method, trials=trials, seed=seed, blocks=n,
-                                     learner_params=learner.params)}
+            "phases": phases, "provenance": provenance(method=method, trials=trials, seed=seed, blocks=n,
+                                                       learner_params=learner.params)}
     return learner, meta
+
+
+SWEEP_NAME = "value-iteration"
+"""``train --sweep``'s name of CS-QL's sweep: value iteration through the world model (docs/what_learns.md)."""
+SWEEPS = ("none", SWEEP_NAME)
+
+
+def phase_counts(learner: Learner) -> dict:
+    """What the learner plans now: ``optimal_pairs`` (whole greedy paths optimal), ``optimal_steps``, ``pairs``.
+
+    For CS-QL and XCS-QL the critic's Q-classifiers decide (read without settling them);
+    the distinct (state, action) pairs trials experienced and the replay backups where the
+    learner records them.
+    """
+    from csql_sim.core.optimal_pairs import count_optimal_pairs, count_optimal_steps
+
+    q_greedy = getattr(learner, "q_greedy", None)
+    best = q_greedy() if q_greedy is not None else learner.greedy_table().best
+    count = len(learner.world.states)
+    out = {"optimal_pairs": count_optimal_pairs(best, learner.n), "optimal_steps": count_optimal_steps(best, learner.n),
+           "pairs": count * (count - 1)}
+    report = getattr(learner, "experience_report", None)
+    return {**out, **(report() if report is not None else {})}
 
 
 def train(

@@ -46,3 +46,16 @@ def test_peak_rss_sees_an_allocation_after_a_reset():
     block = np.ones(80_000_000 // 8)  # 80 MB, touched
     del block
     assert peak_rss_bytes() >= before + 70_000_000
+
+
+def test_modes_side_by_side_and_the_sweep_needs_few_trials():
+    rows = run_scaling([3], ["cs-ql"], seed=0, max_trials=200, modes=("trials", "replay", "sweep"))
+    assert [r.mode for r in rows] == ["trials", "replay", "sweep"]
+    by = {r.mode: r for r in rows}
+    assert by["replay"].replay_backups > 0 and by["replay"].experienced_pairs <= by["replay"].legal_pairs == 42
+    assert by["trials"].replay_backups == 0 and by["trials"].sweep_backups == 0
+    for r in rows:  # the reached cells are all optimal; a capped cell's count is exact
+        assert (r.trials is not None) == (r.optimal_pairs == r.pairs == 462)
+        assert r.optimal_steps >= r.optimal_pairs
+    table = list(csv.DictReader(io.StringIO(csv_text(rows))))
+    assert [t["mode"] for t in table] == ["trials", "replay", "sweep"]

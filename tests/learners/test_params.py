@@ -2,7 +2,7 @@ import dataclasses
 
 import pytest
 
-from csql_sim.learners.params import CSQLParams, ParamsError, load_params, resolve_params
+from csql_sim.learners.params import CSQLParams, ParamsError, TabularParams, load_params, resolve_params
 from csql_sim.learners.training import make_learner
 
 
@@ -49,7 +49,7 @@ def test_missing_file_and_wrong_dataclass():
     with pytest.raises(ParamsError, match="no such parameter file"):
         load_params("/nonexistent/p.yaml", "cs-ql")
     with pytest.raises(ParamsError, match="needs CSQLParams"):
-        resolve_params("cs-ql", load_params.__globals__["TabularParams"]())
+        resolve_params("cs-ql", TabularParams())
     with pytest.raises(ParamsError, match="unknown method"):
         make_learner("q-magic")
 
