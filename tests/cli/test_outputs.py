@@ -200,9 +200,10 @@ def test_folder_reports_and_sidecars_name_their_format(capsys, tmp_path, monkeyp
                "--methods", "lt-ql", "--json", "e.json", "--quiet")[0] == 0
     assert run(capsys, "scaling", "--out", "s", "--blocks", "2", "--methods", "lt-ql", "--max-trials", "20",
                "--quiet")[0] == 0
-    for path, name in (("e/figure7.json", "experiment"), ("e.json", "experiment"), ("s/scaling.json", "scaling")):
+    for path, name, version in (("e/figure7.json", "experiment", 1), ("e.json", "experiment", 1),
+                                ("s/scaling.json", "scaling", 2)):
         doc = json.loads((tmp_path / path).read_text())
-        assert (doc["format"], doc["version"]) == (f"csql-sim {name} report", 1), path
+        assert (doc["format"], doc["version"]) == (f"csql-sim {name} report", version), path
     # a second run into the same folder needs --overwrite, even for its own files
     code, _, err = run(capsys, "scaling", "--out", "s", "--blocks", "2", "--methods", "lt-ql", "--max-trials", "20",
                        "--quiet")
