@@ -32,6 +32,7 @@ from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifte
 from csql_sim.cli.args import say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
+from csql_sim.infra.outputs import Outputs
 
 TERMINATED_STATUS = 128 + signal.SIGTERM
 
@@ -113,15 +114,17 @@ def main(argv: list[str] | None = None) -> int:
     closed = _reserve_standard_streams()
     args = build_parser().parse_args(argv)
     with _on_sigterm_raise(), _guarded_stdout():
+        outputs = None
         try:
             if closed is not None:  # refused before any work: nothing written, nothing lost
                 raise StdoutError("standard output is closed (>&-); send it somewhere, e.g. >/dev/null")
-            plan_outputs(args)
+            outputs = plan_outputs(args)
             status = int(args.func(args) or 0)
             sys.stdout.flush()
             return status
         except CsqlError as exc:
-            say(args, "error", str(exc))
+            kept = _written(outputs) if isinstance(exc, StdoutError) and outputs is not None else []
+            say(args, "error", f"{exc}; the files it wrote are kept: {', '.join(kept)}" if kept else str(exc))
             if isinstance(exc, StdoutError):
                 _silence_stdout()
             return 2
@@ -137,6 +140,11 @@ def main(argv: list[str] | None = None) -> int:
             _close_progress_bars()
             print(f"csql-sim: interrupted{_note(exc)}", file=sys.stderr)
             return 130
+
+
+def _written(outputs: Outputs) -> list[str]:
+    """The declared output files that exist now (after a failed write to stdout: what the command did write)."""
+    return [os.fspath(out.path) for out in outputs.outputs if out.kind is not None and os.path.isfile(out.path)]
 
 
 def _reserve_standard_streams() -> _ClosedStdout | None:

@@ -6,6 +6,7 @@ killed by a signal. A failure is one stderr line naming the file, with no tempor
 or truncated copy left anywhere (items 3 and 4 of the sweep).
 """
 
+import json
 import os
 import resource
 import signal
@@ -136,3 +137,13 @@ def test_the_next_run_removes_what_sigkill_left(tmp_path):
     result = csql(tmp_path, "plan", "--pairs", "3", "--json", "big.json")
     assert result.returncode == 0, result.stderr
     assert names(work) == ["big.json"]
+
+
+def test_stdout_full_after_the_work_names_the_files_it_kept(tmp_path):
+    """A full stdout fails only at the end: the model is written and kept, and the one line says so."""
+    with open("/dev/full", "w") as full:
+        result = csql(tmp_path, "train-lifted", "--quiet", "--trials", "20", "--sizes", "3", "--goals", "2",
+                      "--out", "n.json", stdout=full)
+    assert result.returncode == 2
+    one_line(result, "standard output", "kept", "n.json")
+    assert json.loads((tmp_path / "work" / "n.json").read_text())["format"] == "csql-sim lifted q-classifiers"
