@@ -155,9 +155,7 @@ def run(args: argparse.Namespace, out: Path) -> int:
     from csql_sim.learners.params import default_trials, resolve_params
     from csql_sim.learners.shards import ShardRun, default_shards, read_reports, train_sharded
 
-    problem = read_reports(out)[1]
-    if problem is not None:  # the reports are not part of the rule base: say so, then replace them
-        say(args, "warning", f"{problem}; this run's report replaces it")
+    problem = read_reports(out)[1]  # the reports are not part of the rule base: replaced, and said so after the run
     params = resolve_params("cs-ql", getattr(args, "resume_params", None) or args.params, args.blocks)
     trials = default_trials(args.blocks) if args.trials is None else args.trials
     shards = args.shards or default_shards(args.blocks)
@@ -171,6 +169,8 @@ def run(args: argparse.Namespace, out: Path) -> int:
             saved = 0
         raise type(exc)(f"{saved} of {shards} shards saved in {out}; continue with: csql-sim train --resume "
                         f"--out {out}") from None
+    if problem is not None:
+        say(args, "warning", f"{problem}; this run's report replaced it")
     peak = report["peak_rss_bytes"]
     print(f"cs-ql (sharded), {args.blocks} blocks: {trials} trials, seed {args.seed}, {shards} shards "
           f"({len(report['shards_trained'])} trained now) in {report['wall_seconds']:.1f} s; optimal pairs "
