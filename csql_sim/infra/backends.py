@@ -337,12 +337,6 @@ def _probe_gcs(address: str, where: str) -> None:
         raise CsqlError(f"cannot start Ray at {address}: {where} is no Ray cluster ({' '.join(last.split())[:200]})")
 
 
-def _is_loopback(address: str) -> bool:
-    """Whether ``host:port`` names this machine's loopback interface (127.0.0.0/8, ``localhost``, ``[::1]``)."""
-    host = address.rpartition(":")[0].strip("[]")
-    return host == "localhost" or host == "::1" or host.startswith("127.")
-
-
 def _endpoint(address: str) -> tuple[str, int] | None:
     """The host and port a Ray address connects to first, resolved as ``ray.init`` does.
 
@@ -354,8 +348,8 @@ def _endpoint(address: str) -> tuple[str, int] | None:
         where = address[len("ray://"):].split("/")[0]
         _, colon, port = where.rpartition(":")
         found: str | None = where if colon and "]" not in port else f"{where}:{RAY_CLIENT_PORT}"  # [::1] has no port
-    elif _is_loopback(address):  # probed where it is: Ray would put the node's own address in its place
-        found = address
+    elif address.rpartition(":")[0].strip("[]") in ("localhost", "::1") or address.startswith("127."):
+        found = address  # loopback, probed where it is: Ray would put the node's own address in its place
     else:
         from ray._private.services import canonicalize_bootstrap_address  # what ray.init resolves
 
