@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from csql_sim.core.pairs import rounded
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.estimate import GB, MB, PROCESS_BYTES, available_memory
+from csql_sim.learners.estimate import PROCESS_BYTES, available_memory, format_size
 
 EPISODE_BYTES = 4096
 """Peak memory per episode of ``evaluate``: its summary, its ``runs`` record and its JSON text (measured
@@ -44,8 +44,8 @@ def check_fits_memory(count: int, item_bytes: int, what: str, advice: str) -> No
     need = PROCESS_BYTES + count * item_bytes
     limit = available_memory()
     if need > limit:
-        raise CsqlError(f"{what} would keep about {_size(need)} in memory ({_size(item_bytes)} each), "
-                        f"over the {_size(limit)} memory available; {advice}")
+        raise CsqlError(f"{what} would keep about {format_size(need)} in memory ({format_size(item_bytes)} each), "
+                        f"over the {format_size(limit)} memory available; {advice}")
 
 
 def check_episodes(episodes: int, pairs: int, seeds: int) -> None:
@@ -69,11 +69,3 @@ def check_discovery(transitions: int, n: int, fps: int, width: int, height: int,
     about = f" ({rounded(transitions)})" if transitions >= 10**6 else ""
     check_fits_memory(transitions, per, f"--transitions {transitions:,}{about} recorded",
                       "give fewer --transitions (the video shows each attempt)")
-
-
-def _size(b: float) -> str:
-    """Bytes in MB, GB, TB or PB."""
-    for unit, scale in (("PB", 1 << 50), ("TB", 1 << 40), ("GB", GB)):
-        if b >= scale:
-            return f"{b / scale:,.1f} {unit}"
-    return f"{b / MB:.1f} MB" if b >= MB / 10 else f"{b / 1024:.1f} kB"

@@ -82,7 +82,7 @@ class Estimate:
         """The estimate in one line."""
         layout = f"{self.shards} shard(s) on {self.workers} worker(s)" if self.sharded else "one engine"
         return (f"{self.method}, {self.n} blocks ({self.states:,} states, {self.pairs:,} pairs, {layout}): "
-                f"about {_size(self.peak_bytes)} peak memory, {_size(self.disk_bytes)} written, "
+                f"about {format_size(self.peak_bytes)} peak memory, {format_size(self.disk_bytes)} written, "
                 f"{_duration(self.seconds)}")
 
 
@@ -148,10 +148,10 @@ def check_fits(est: Estimate, out: str | os.PathLike, max_memory: int | None = N
         return (f"{est.line()}; refused: past the {MAX_BLOCKS} blocks whose states this tool enumerates, whatever "
                 "the machine. Alternatives: a learner that generalizes (rules that hold for any number of blocks)")
     if est.peak_bytes > limit:
-        return f"{est.line()}; refused: over the {_size(limit)} {what}. Alternatives: {alternatives}"
+        return f"{est.line()}; refused: over the {format_size(limit)} {what}. Alternatives: {alternatives}"
     disk = free_disk(out)
     if est.disk_bytes > disk:
-        return (f"{est.line()}; refused: the rule base would not fit the {_size(disk)} free on the disk of "
+        return (f"{est.line()}; refused: the rule base would not fit the {format_size(disk)} free on the disk of "
                 f"{os.fspath(out)}. Alternatives: {alternatives}")
     return None
 
@@ -171,7 +171,11 @@ def parse_size(text: str) -> int:
     return int(value * scale)
 
 
-def _size(b: float) -> str:
+def format_size(b: float) -> str:
+    """Bytes for messages: ``1.7 GB``, ``372.0 TB``, ``12 MB``."""
+    for unit, scale in (("PB", 1 << 50), ("TB", 1 << 40)):
+        if b >= scale:
+            return f"{b / scale:,.1f} {unit}"
     return f"{b / GB:.1f} GB" if b >= GB / 10 else f"{b / MB:.0f} MB"
 
 
