@@ -172,10 +172,12 @@ def parse_size(text: str) -> int:
 
 
 def format_size(b: float) -> str:
-    """Bytes for messages: ``1.7 GB``, ``372.0 TB``, ``12 MB``."""
+    """Bytes for messages: ``1.7 GB``, ``372.0 TB``, ``12 MB``, ``4 kB``."""
     for unit, scale in (("PB", 1 << 50), ("TB", 1 << 40)):
         if b >= scale:
             return f"{b / scale:,.1f} {unit}"
+    if b < MB:
+        return f"{b / 1024:.0f} kB"
     return f"{b / GB:.1f} GB" if b >= GB / 10 else f"{b / MB:.0f} MB"
 
 
