@@ -25,9 +25,9 @@ import json
 import random
 import time
 
-from csql_sim.core.message import format_action_message, format_state_message
-from csql_sim.core.r_classifier import matches
-from csql_sim.core.world import all_actions, all_states, is_legal, successor
+from csql_sim.core.classifiers.r_classifier import matches
+from csql_sim.core.state.message import format_action_message, format_state_message
+from csql_sim.core.state.world import all_actions, all_states, is_legal, successor
 from csql_sim.discovery import transition_log
 from csql_sim.discovery.induction import Evidence, induce_action
 from csql_sim.jobs.discover import discover

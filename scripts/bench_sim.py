@@ -16,8 +16,8 @@ import time
 
 import numpy as np
 
-from csql_sim.core.notation import parse_config
-from csql_sim.core.world import all_states
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import all_states
 from csql_sim.sim.camera import RENDER_CAMERA, capture
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld

@@ -2,10 +2,10 @@
 
 Both learners see the same tasks (random ordered (start, goal) pairs of distinct states
 from one seeded generator) and the same encoding: the goal form of the state message with
-the detectors home, placed and ready (csql_sim.core.goal_message), which xcsf reads as
+the detectors home, placed and ready (csql_sim.core.state.goal_message), which xcsf reads as
 one binary input per (position, character) that occurs (ternary conditions, one bit per
 input). Every --every trials each learner's greedy policy is checked on every pair
-(csql_sim.core.search.count_optimal_greedy: a pair is optimal iff each greedy step lowers
+(csql_sim.core.model.search.count_optimal_greedy: a pair is optimal iff each greedy step lowers
 the BFS distance by one); a learner is done at the first check where all pairs are.
 
 * XCS-QL: csql_sim.learners.xcs_ql.XCSQL with the cs-ql defaults for n and no planning
@@ -32,11 +32,11 @@ import time
 
 import numpy as np
 
-from csql_sim.core.goal_message import GoalForm
-from csql_sim.core.goal_message_index import pair_messages
-from csql_sim.core.search import count_optimal_greedy
-from csql_sim.core.transition_table import true_table
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.model.search import count_optimal_greedy
+from csql_sim.core.model.transition_table import true_table
+from csql_sim.core.state.goal_message import GoalForm
+from csql_sim.core.state.goal_message_index import pair_messages
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.learners.params import defaults_for_blocks, with_overrides
 from csql_sim.learners.xcs_ql import XCSQL
 

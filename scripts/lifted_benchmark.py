@@ -4,10 +4,10 @@
                                        [--rules assets/rules/lifted.json]
 
 Per n, K ordered pairs of distinct states are drawn uniformly by counting
-(:func:`csql_sim.core.state_count.sample_pairs`, one generator seeded once for the whole
+(:func:`csql_sim.core.state.state_count.sample_pairs`, one generator seeded once for the whole
 run, sizes in the order given), each policy is rolled out symbolically on the lifted world
-model (:func:`csql_sim.core.relational_rollout.rollout_relational`) and its plan compared
-with the exact optimum (:func:`csql_sim.core.optimum.optimal_length`, the four operators:
+model (:func:`csql_sim.core.policies.relational_rollout.rollout_relational`) and its plan compared
+with the exact optimum (:func:`csql_sim.core.measure.optimum.optimal_length`, the four operators:
 a pick and a put are two steps). Printed as a markdown table, one row per n and policy:
 solved %, optimal % (of all pairs), the mean of length / optimum over solved pairs, and
 the policy's wall time; the optimum's time is reported per n.
@@ -26,10 +26,10 @@ import time
 
 import numpy as np
 
-from csql_sim.core.lifted_policy import load_lifted_policy
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.relational_rollout import rollout_relational
-from csql_sim.core.state_count import sample_pairs
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.policies.lifted_policy import load_lifted_policy
+from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.learners.gn1 import Gn1Policy
 
 

@@ -24,11 +24,11 @@ import time
 
 import numpy as np
 
-from csql_sim.core.lifted_policy import LiftedPolicy, LiftedQClassifier
-from csql_sim.core.move_relations import ATOMS, KINDS
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.relational_rollout import rollout_relational
-from csql_sim.core.state_count import sample_pairs
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier
+from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.move_relations import ATOMS, KINDS
+from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.learners.gn1 import Gn1Policy
 from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
 

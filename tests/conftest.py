@@ -2,7 +2,7 @@ import signal
 
 import pytest
 
-from csql_sim.core.notation import parse_config
+from csql_sim.core.state.notation import parse_config
 
 
 @pytest.fixture

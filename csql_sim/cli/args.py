@@ -9,8 +9,8 @@ import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from csql_sim.core.large_state import MAX_LARGE
-from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.core.state.large_state import MAX_LARGE
+from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS
 
 if TYPE_CHECKING:
     from csql_sim.infra.backends import Backend

@@ -22,18 +22,19 @@ from csql_sim.cli.args import (
 )
 from csql_sim.cli.large_plan import large_blocks, plan_large, select_policy
 from csql_sim.cli.output import REPORT_VERSION, command_parameters, emit, json_stream
-from csql_sim.core.message import (
+from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.model.search import distance
+from csql_sim.core.policies.policy import Policy
+from csql_sim.core.policies.rollout import rollout
+from csql_sim.core.state.message import (
     action_code,
     format_action_message,
     format_state_message,
     is_state_message,
     parse_state_message,
 )
-from csql_sim.core.notation import parse_state_arg
-from csql_sim.core.policy import Policy
-from csql_sim.core.r_classifier import r_classifiers
-from csql_sim.core.search import distance, rollout
-from csql_sim.core.world import Action, BlocksWorld, State, WorldError
+from csql_sim.core.state.notation import parse_state_arg
+from csql_sim.core.state.world import Action, BlocksWorld, State, WorldError
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 from csql_sim.infra.provenance import provenance
@@ -43,10 +44,10 @@ def read_task(start: str, goal: str | None, n: int | None) -> tuple[State, State
     """Parse a start and goal configuration (or n=3 state messages) of one world.
 
     A state message given as the start (the index form, or the goal form of
-    :mod:`csql_sim.core.goal_message`) carries its own goal: it is used when ``goal`` is
+    :mod:`csql_sim.core.state.goal_message`) carries its own goal: it is used when ``goal`` is
     None, and a ``goal`` that names another state is an error.
     """
-    from csql_sim.core.goal_message import is_goal_message, read_goal_message
+    from csql_sim.core.state.goal_message import is_goal_message, read_goal_message
 
     message_goal = None
     if is_goal_message(start.strip()):
@@ -146,7 +147,7 @@ def cmd_plan(args: argparse.Namespace) -> int:
         say(args, "error", f"no plan from {start.notation()} to {goal.notation()}: {result.reason}")
         return 1
     if args.plan_out is not None:
-        from csql_sim.core.ipc_plan import write_ipc_plan
+        from csql_sim.core.files.ipc_plan import write_ipc_plan
         from csql_sim.infra.outputs import PDDL_HEADER
 
         header = f"{PDDL_HEADER} plan {start.notation()} -> {goal.notation()} (objects a, b, ... are blocks A, B, ...)"
@@ -167,8 +168,8 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
     """
     from tqdm import tqdm
 
-    from csql_sim.core.pairs import check_sample_size, pair_count
-    from csql_sim.core.search import check_pairs
+    from csql_sim.core.model.pairs import check_sample_size, pair_count
+    from csql_sim.core.policies.rollout import check_pairs
 
     world = BlocksWorld.of(n)
     total_pairs = pair_count(len(world.states))
@@ -213,7 +214,7 @@ def _plan_pairs(args: argparse.Namespace, policy: Policy, n: int) -> int:
 
 
 def _pairs_arg(text: str) -> str | int:
-    from csql_sim.core.pairs import parse_pairs
+    from csql_sim.core.model.pairs import parse_pairs
 
     try:
         return parse_pairs(text)

@@ -51,10 +51,10 @@ def declare_demo(args: argparse.Namespace, outputs: Outputs) -> None:
 
 def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.cli.sim import print_episode
-    from csql_sim.core.policy import QPolicy
-    from csql_sim.core.rulebase import dumps
-    from csql_sim.core.search import check_all_pairs
-    from csql_sim.core.task import test_task
+    from csql_sim.core.files.rulebase import dumps
+    from csql_sim.core.model.task import test_task
+    from csql_sim.core.policies.policy import QPolicy
+    from csql_sim.core.policies.rollout import check_all_pairs
     from csql_sim.infra.files import write_or_keep
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode

@@ -38,8 +38,8 @@ def declare_discover(args: argparse.Namespace, outputs: Outputs) -> None:
 
 
 def cmd_discover(args: argparse.Namespace) -> int:
-    from csql_sim.core import rulebase
-    from csql_sim.core.lifted_rule import dumps_lifted
+    from csql_sim.core.classifiers.lifted_rule import dumps_lifted
+    from csql_sim.core.files import rulebase
     from csql_sim.discovery import transition_log
     from csql_sim.discovery.explore import Exploration, report_dict, report_lines
     from csql_sim.discovery.lifting import lift_rules

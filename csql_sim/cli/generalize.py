@@ -9,7 +9,7 @@ from csql_sim.infra.outputs import Outputs
 
 
 def _detectors(text: str) -> tuple[str, ...]:
-    from csql_sim.core.goal_message import DETECTORS
+    from csql_sim.core.state.goal_message import DETECTORS
 
     if text.strip().lower() == "none":
         return ()
@@ -27,7 +27,7 @@ def declare(args: argparse.Namespace, outputs: Outputs) -> None:
 
 
 def cmd_generalize(args: argparse.Namespace) -> int:
-    from csql_sim.core.rulebase import file_bytes
+    from csql_sim.core.files.rulebase import file_bytes
     from csql_sim.infra.files import write_or_keep
     from csql_sim.learners.compaction import generalize
 

@@ -4,19 +4,19 @@ Up to six blocks ``plan`` works on the enumerated world (:mod:`csql_sim.cli.core
 as before. Past six, where nothing may be enumerated:
 
 * the start and the goal are configurations with letters A-Z
-  (:func:`csql_sim.core.large_state.parse_large`) or large state messages
-  (:func:`csql_sim.core.large_message.parse_large_message`; one as ``--start`` carries its
+  (:func:`csql_sim.core.state.large_state.parse_large`) or large state messages
+  (:func:`csql_sim.core.state.large_message.parse_large_message`; one as ``--start`` carries its
   own goal);
 * the planner is lifted: ``--planner gn1`` (the named baseline,
   :class:`csql_sim.learners.gn1.Gn1Policy`) or ``--rules FILE`` for which
-  :func:`csql_sim.core.greedy_table.load_policy` returns a lifted policy (``blocks`` None);
+  :func:`csql_sim.core.policies.greedy_table.load_policy` returns a lifted policy (``blocks`` None);
   BFS and ground rule files are refused with one line;
-* plans run symbolically (:func:`csql_sim.core.relational_rollout.rollout_relational`) and
-  are measured against the exact optimum (:func:`csql_sim.core.optimum.optimal_length`),
+* plans run symbolically (:func:`csql_sim.core.policies.relational_rollout.rollout_relational`) and
+  are measured against the exact optimum (:func:`csql_sim.core.measure.optimum.optimal_length`),
   which is reported, never used to plan;
-* ``--pairs K`` draws K pairs uniformly by counting (:func:`csql_sim.core.pairs.stream_large_pairs`,
+* ``--pairs K`` draws K pairs uniformly by counting (:func:`csql_sim.core.model.pairs.stream_large_pairs`,
   exact integers); ``--pairs all`` and a K beyond the number of pairs are refused up
-  front (:func:`csql_sim.core.pairs.check_large_pairs`).
+  front (:func:`csql_sim.core.model.pairs.check_large_pairs`).
 
 A single plan exits 0 when it reaches the goal, 1 when not. A sample exits 0 when every
 pair is solved (optimality is measured, not required: optimal blocks-world planning is
@@ -32,21 +32,21 @@ from collections.abc import Sequence
 
 from csql_sim.cli.args import say, show_progress
 from csql_sim.cli.output import REPORT_VERSION, command_parameters, emit, json_stream
-from csql_sim.core.goal_message import is_goal_message
-from csql_sim.core.greedy_table import load_policy
-from csql_sim.core.large_message import (
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.model.pairs import check_large_pairs, stream_large_pairs
+from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.policy import Policy
+from csql_sim.core.policies.relational_rollout import RelationalPolicy, RelationalRollout, rollout_relational
+from csql_sim.core.state.goal_message import is_goal_message
+from csql_sim.core.state.large_message import (
     format_large_action,
     infer_large_blocks,
     message_length,
     parse_large_message,
 )
-from csql_sim.core.large_state import LETTERS, LargeState, action_index, action_name, parse_large
-from csql_sim.core.message import layout
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.pairs import check_large_pairs, stream_large_pairs
-from csql_sim.core.policy import Policy
-from csql_sim.core.relational_rollout import RelationalPolicy, RelationalRollout, rollout_relational
-from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS, Action
+from csql_sim.core.state.large_state import LETTERS, LargeState, action_index, action_name, parse_large
+from csql_sim.core.state.message import layout
+from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, Action
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.provenance import provenance
 from csql_sim.learners.gn1 import Gn1Policy
@@ -183,7 +183,7 @@ def _plan_one(args: argparse.Namespace, policy: RelationalPolicy, start: LargeSt
         say(args, "error", f"no plan from {start.notation()} to {goal.notation()}: {result.reason}")
         return 1
     if args.plan_out is not None:
-        from csql_sim.core.ipc_plan import write_ipc_plan
+        from csql_sim.core.files.ipc_plan import write_ipc_plan
         from csql_sim.infra.outputs import PDDL_HEADER
 
         header = (f"{PDDL_HEADER} plan {start.notation()} -> {goal.notation()} "

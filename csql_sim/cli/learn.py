@@ -127,7 +127,7 @@ def cmd_train(args: argparse.Namespace) -> int:
 
     domain = None
     if args.domain:
-        from csql_sim.core.rulebase import load_r_classifiers
+        from csql_sim.core.files.rulebase import load_r_classifiers
 
         domain = load_r_classifiers(args.domain, args.blocks).classifiers
     began = time.perf_counter()

@@ -41,7 +41,7 @@ def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:
 def cmd_train_lifted(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from csql_sim.core.lifted_policy import dumps_lifted_policy
+    from csql_sim.core.policies.lifted_policy import dumps_lifted_policy
     from csql_sim.infra.files import write_or_keep
     from csql_sim.infra.provenance import provenance
     from csql_sim.learners.lifted_ql import LiftedParams, train_lifted

@@ -23,9 +23,9 @@ def declare_pddl(args: argparse.Namespace, outputs: Outputs) -> None:
 def cmd_pddl(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from csql_sim.core.pddl_export import domain_text, problem_text
-    from csql_sim.core.r_classifier import r_classifiers
-    from csql_sim.core.rulebase import load_r_classifiers
+    from csql_sim.core.classifiers.r_classifier import r_classifiers
+    from csql_sim.core.files.pddl_export import domain_text, problem_text
+    from csql_sim.core.files.rulebase import load_r_classifiers
     from csql_sim.infra.files import write_or_keep
 
     if (args.start is None) != (args.goal is None):

@@ -57,8 +57,8 @@ def declare_prune(args: argparse.Namespace, outputs: Outputs) -> None:
 
 
 def cmd_show(args: argparse.Namespace) -> int:
-    from csql_sim.core.rulebase import load
-    from csql_sim.core.rulebase_shards import is_sharded
+    from csql_sim.core.files.rulebase import load
+    from csql_sim.core.files.rulebase_shards import is_sharded
     from csql_sim.learners.pruning import figure6_rows, figure6_table
 
     kind = formats.sniff(args.rules)
@@ -94,8 +94,8 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
         raise CsqlError(f"{args.rules} is a {kind} file, shown whole; --start/--goal pick the greedy path of a "
                         f"ground rule base (plan a task with 'csql-sim plan --rules {args.rules}')")
     if kind == formats.LIFTED_Q:
-        from csql_sim.core.lifted_policy import load_lifted_policy
-        from csql_sim.core.move_relations import ATOMS
+        from csql_sim.core.policies.lifted_policy import load_lifted_policy
+        from csql_sim.core.state.move_relations import ATOMS
 
         policy = load_lifted_policy(args.rules)
         lines, meta = [c.text() for c in policy.classifiers], policy.meta
@@ -103,7 +103,7 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
                 "(1: holds, 0: does not, #: either); the move of least advantage is taken"]
         field = "classifiers"
     else:
-        from csql_sim.core.lifted_rule import load_lifted
+        from csql_sim.core.classifiers.lifted_rule import load_lifted
 
         lines, meta, field = [r.text() for r in load_lifted(args.rules)], {}, "rules"
         head = [f"{len(lines)} lifted R-classifiers (they ground to the R-classifiers of any n)"]
@@ -113,7 +113,7 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
 
 
 def cmd_prune(args: argparse.Namespace) -> int:
-    from csql_sim.core.rulebase import file_bytes, load
+    from csql_sim.core.files.rulebase import file_bytes, load
     from csql_sim.infra.files import write_or_keep
     from csql_sim.learners.pruning import count_q, prune
 

@@ -38,8 +38,8 @@ from csql_sim.cli.sim_options import (
     check_evaluate_options,
     check_render_options,
 )
-from csql_sim.core.large_state import MAX_LARGE, LargeState
-from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS, State
+from csql_sim.core.state.large_state import MAX_LARGE, LargeState
+from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 from csql_sim.sim.config import MAX_ARM_BLOCKS
@@ -169,7 +169,7 @@ def evaluate_status(report: EvalReport, min_success: float | None) -> int:
 
 def render_discovery(args: argparse.Namespace) -> int:
     """``render --discovery``: a short discovery episode, failed attempts captioned as such."""
-    from csql_sim.core.message import parse_action_message
+    from csql_sim.core.state.message import parse_action_message
     from csql_sim.infra.files import write_atomic
     from csql_sim.infra.provenance import provenance
     from csql_sim.jobs.discover import record_discovery

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import argparse
 
-from csql_sim.core.world import MAX_BLOCKS
+from csql_sim.core.state.world import MAX_BLOCKS
 from csql_sim.infra.errors import CsqlError
 
 DISCOVERY_BLOCKS = 3

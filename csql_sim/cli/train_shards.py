@@ -60,7 +60,7 @@ def settle(args: argparse.Namespace) -> None:
 
 def adopt_manifest(args: argparse.Namespace) -> None:
     """``--resume``: continue with what the directory was started with; a different option given is refused."""
-    from csql_sim.core import rulebase_shards as rs
+    from csql_sim.core.files import rulebase_shards as rs
     from csql_sim.infra.provenance import plain
     from csql_sim.learners.params import resolve_params
 
@@ -88,7 +88,7 @@ def check_estimate(args: argparse.Namespace) -> int | None:
     Returns:
         With ``--dry-run``, the exit status (0: it fits, 2: it would be refused); else None.
     """
-    from csql_sim.core.state_count import state_count
+    from csql_sim.core.state.state_count import state_count
     from csql_sim.infra.workers import worker_count
     from csql_sim.learners.estimate import check_fits, estimate, parse_size
     from csql_sim.learners.shards import default_shards
@@ -121,7 +121,7 @@ def check_directory(args: argparse.Namespace) -> Path | None:
     Returns:
         The directory; None with ``--dry-run`` and no ``--out`` (the options are still checked).
     """
-    from csql_sim.core import rulebase_shards as rs
+    from csql_sim.core.files import rulebase_shards as rs
 
     if args.method != "cs-ql" or args.engine == "reference" or args.domain:
         raise CsqlError("sharded training runs cs-ql's array engine with the built-in R-classifiers "
@@ -151,7 +151,7 @@ def check_directory(args: argparse.Namespace) -> Path | None:
 
 def run(args: argparse.Namespace, out: Path) -> int:
     """``train`` into the sharded rule base ``out`` (:func:`check_directory`): shards saved as they come back."""
-    from csql_sim.core.rulebase_shards import read_manifest
+    from csql_sim.core.files.rulebase_shards import read_manifest
     from csql_sim.learners.params import default_trials, resolve_params
     from csql_sim.learners.shards import ShardRun, default_shards, read_reports, train_sharded
 
@@ -196,7 +196,7 @@ def show_sharded(args: argparse.Namespace) -> int:
     """``show DIR --start S --goal G``: Figure 6's table of the greedy path's Q-classifiers, from one shard."""
     from csql_sim.cli.core import read_task
     from csql_sim.cli.output import emit
-    from csql_sim.core.sharded_policy import ShardedPolicy, path_rulebase
+    from csql_sim.core.policies.sharded_policy import ShardedPolicy, path_rulebase
     from csql_sim.learners.pruning import figure6_rows, figure6_table
 
     policy = ShardedPolicy.open(args.rules)

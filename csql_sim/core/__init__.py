@@ -1,6 +1,9 @@
-"""The symbolic core: the blocks world, the paper's messages and classifiers, the world model.
+"""The symbolic core, by concept; never imports pybullet.
 
-World, notation and messages; R- and Q-classifiers and the one classifier list; the world
-model and its transition table; the processing block; symbolic search (BFS distances,
-greedy rollouts, all-pairs checks); policies; rule files. Never imports pybullet.
+* :mod:`~csql_sim.core.state`: the blocks world, notations, the paper's messages, relations.
+* :mod:`~csql_sim.core.classifiers`: R- and Q-classifiers, the classifier list, lifted rules.
+* :mod:`~csql_sim.core.model`: the world model, the processing block, search, goals, pairs.
+* :mod:`~csql_sim.core.files`: rule files, PDDL in and out, plan files.
+* :mod:`~csql_sim.core.policies`: every policy behind one contract, rollouts, the loader.
+* :mod:`~csql_sim.core.measure`: the exact optimum; policies and learners never import it.
 """

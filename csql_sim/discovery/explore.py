@@ -30,9 +30,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.core.message import action_messages, format_action_message, format_state_message
-from csql_sim.core.r_classifier import PreconditionRule, RClassifier, matches, r_classifiers
-from csql_sim.core.world import all_actions, all_states, is_legal, successor
+from csql_sim.core.classifiers.r_classifier import PreconditionRule, RClassifier, matches, r_classifiers
+from csql_sim.core.state.message import action_messages, format_action_message, format_state_message
+from csql_sim.core.state.world import all_actions, all_states, is_legal, successor
 from csql_sim.discovery.induction import (
     RELIABILITY,
     Evidence,

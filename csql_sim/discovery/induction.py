@@ -58,8 +58,15 @@ import itertools
 from collections import Counter, defaultdict
 from dataclasses import dataclass
 
-from csql_sim.core.message import BLOCK_FIELD, PICK_FLAG, MessageLayout, action_messages, layout, parse_action_message
-from csql_sim.core.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
+from csql_sim.core.classifiers.r_classifier import WILDCARD, AddDeleteRule, PreconditionRule, RClassifier
+from csql_sim.core.state.message import (
+    BLOCK_FIELD,
+    PICK_FLAG,
+    MessageLayout,
+    action_messages,
+    layout,
+    parse_action_message,
+)
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ add-delete rule's condition holds its action code), so its blocks have roles: th
 moved becomes ``?x`` and the block it comes from or goes onto ``?y``. :func:`lift_rule`
 replaces them in every fixed field of the rule's pattern (the condition of a precondition
 rule, the output of an add-delete rule) and returns the
-:class:`~csql_sim.core.lifted_rule.LiftedRule`, or a reason why the rule has no lifted form
+:class:`~csql_sim.core.classifiers.lifted_rule.LiftedRule`, or a reason why the rule has no lifted form
 (a fixed field about a third block, a fixed goal code).
 
 :func:`lift_rules` induces the lifted rule set: per schema (operator and rule kind), the
@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from csql_sim.core.lifted_rule import (
+from csql_sim.core.classifiers.lifted_rule import (
     OPERATORS,
     POST,
     PRE,
@@ -30,9 +30,9 @@ from csql_sim.core.lifted_rule import (
     bindings,
     ground_rules,
 )
-from csql_sim.core.message import BLOCK_FIELD, decode_code, layout, parse_action_message
-from csql_sim.core.r_classifier import WILDCARD, PreconditionRule, RClassifier
-from csql_sim.core.world import BLOCK_NAMES, Action, all_actions
+from csql_sim.core.classifiers.r_classifier import WILDCARD, PreconditionRule, RClassifier
+from csql_sim.core.state.message import BLOCK_FIELD, decode_code, layout, parse_action_message
+from csql_sim.core.state.world import BLOCK_NAMES, Action, all_actions
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
-from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS
 from csql_sim.discovery.induction import Experience
 from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError

@@ -13,7 +13,7 @@ from typing import Protocol
 
 import numpy as np
 
-from csql_sim.core.world import BLOCK_NAMES, TABLE, Action, State, all_states, is_legal, successor
+from csql_sim.core.state.world import BLOCK_NAMES, TABLE, Action, State, all_states, is_legal, successor
 
 
 @dataclass(frozen=True)

@@ -58,7 +58,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     (``S0111000ttt0000C``), as in :class:`csql_sim.envs.symbolic.BlocksWorldEnv`.
 
     ## Starting State
-    ``reset(options={"start": ..., "goal": ...})`` takes a :class:`~csql_sim.core.world.State`,
+    ``reset(options={"start": ..., "goal": ...})`` takes a :class:`~csql_sim.core.state.world.State`,
     a configuration (``"CBA"``) or a state index; either missing is drawn from
     ``np_random``. The start scene is then built: towers placed at rest, a held block
     reached by a real grasp.

@@ -23,13 +23,13 @@ from typing import Any, NamedTuple
 import gymnasium as gym
 import numpy as np
 
-from csql_sim.core.message import DIGITS, format_state_message, layout
-from csql_sim.core.notation import parse_config
-from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule
-from csql_sim.core.rulebase import load
-from csql_sim.core.transition_table import true_table
-from csql_sim.core.world import BlocksWorld, State
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.r_classifier import AddDeleteRule, PreconditionRule
+from csql_sim.core.files.rulebase import load
+from csql_sim.core.model.transition_table import true_table
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.state.message import DIGITS, format_state_message, layout
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import BlocksWorld, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.learner import Transition
 from csql_sim.learners.trial import StepLearner
@@ -100,7 +100,7 @@ class BlocksWorldEnv(gym.Env):
 
     ## Starting State
     ``reset(options={"start": ..., "goal": ...})`` takes each as a
-    :class:`~csql_sim.core.world.State`, a configuration (``"CBA"``: A on B on C) or a state
+    :class:`~csql_sim.core.state.world.State`, a configuration (``"CBA"``: A on B on C) or a state
     index; either missing is drawn uniformly from ``np_random``, distinct from the other.
 
     ## Rewards
@@ -112,7 +112,7 @@ class BlocksWorldEnv(gym.Env):
 
     ## Information
     ``reset`` and ``step`` return ``action_mask``, ``state`` and ``goal`` (as
-    :class:`~csql_sim.core.world.State`) and ``illegal``.
+    :class:`~csql_sim.core.state.world.State`) and ``illegal``.
 
     ## Seeding
     ``reset(seed=s)`` seeds ``np_random`` (Gymnasium's contract); from it a missing goal

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.task import test_task
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.model.task import test_task
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.learners.learner import UniformStream
 from csql_sim.learners.params import CSQLParams
 from csql_sim.learners.selection import boltzmann

@@ -1,8 +1,8 @@
 """The episodes of ``evaluate``: counted up front, then streamed one at a time, never all listed.
 
 Up to six blocks the pairs come from the enumerated world (all of them in rank order, or a
-seeded sample, :func:`csql_sim.core.pairs.selected_pairs`); past six they are drawn by
-counting (:func:`csql_sim.core.pairs.stream_large_pairs`). Each pair gives ``seeds``
+seeded sample, :func:`csql_sim.core.model.pairs.selected_pairs`); past six they are drawn by
+counting (:func:`csql_sim.core.model.pairs.stream_large_pairs`). Each pair gives ``seeds``
 episodes; episode k of the pair of rank (or draw) i has seed ``i * seeds + k``, so every
 episode's seed depends on its place in the order alone, whatever runs it.
 """
@@ -13,8 +13,14 @@ import itertools
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 
-from csql_sim.core.pairs import check_large_pairs, check_sample_size, pair_count, selected_pairs, stream_large_pairs
-from csql_sim.core.world import MAX_BLOCKS, all_states
+from csql_sim.core.model.pairs import (
+    check_large_pairs,
+    check_sample_size,
+    pair_count,
+    selected_pairs,
+    stream_large_pairs,
+)
+from csql_sim.core.state.world import MAX_BLOCKS, all_states
 from csql_sim.infra.errors import CsqlError
 
 

@@ -2,7 +2,7 @@
 
 Up to six blocks the pairs come from the enumerated world (all of them, or a seeded
 sample) and the policy is BFS or a rule file. For 7..10 cubes (the arm's limit) the
-states are relational, K pairs are drawn by counting (:mod:`csql_sim.core.pairs`), the
+states are relational, K pairs are drawn by counting (:mod:`csql_sim.core.model.pairs`), the
 policy is lifted (lifted rules or ``gn1``) and optimal lengths are the exact optimum's.
 """
 
@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 
 from csql_sim import __version__
-from csql_sim.core.greedy_table import GreedyTable, load_policy
-from csql_sim.core.policy import Policy
-from csql_sim.core.sharded_policy import GoalColumns, ShardedPolicy
+from csql_sim.core.policies.greedy_table import GreedyTable, load_policy
+from csql_sim.core.policies.policy import Policy
+from csql_sim.core.policies.sharded_policy import GoalColumns, ShardedPolicy
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks, ray_session
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
@@ -196,7 +196,7 @@ class PolicyData:
 
     Attributes:
         n: number of blocks.
-        best: a rule file's :class:`~csql_sim.core.greedy_table.GreedyTable` ``best`` array as
+        best: a rule file's :class:`~csql_sim.core.policies.greedy_table.GreedyTable` ``best`` array as
             bytes, or None for the BFS planner.
         dtype: the array's dtype (``numpy.dtype.str``).
         goals: for a sharded rule base, the goals whose columns ``best`` holds

@@ -1,17 +1,17 @@
 """The execute job: any planner's plan (or a rule base, or BFS) on the simulated arm, closed loop.
 
 :func:`execute_problem` reads a blocks-world PDDL problem
-(:func:`~csql_sim.core.pddl_import.read_problem`: the name mapping, the start, a full or
+(:func:`~csql_sim.core.files.pddl_import.read_problem`: the name mapping, the start, a full or
 partial goal), then either
 
-* reads an IPC plan file (:mod:`csql_sim.core.ipc_plan`) and checks it symbolically from
+* reads an IPC plan file (:mod:`csql_sim.core.files.ipc_plan`) and checks it symbolically from
   the start: the first step that is not applicable is refused with its line number
-  (:class:`~csql_sim.core.ipc_plan.PlanError`) before any physics runs; then replays it
+  (:class:`~csql_sim.core.files.ipc_plan.PlanError`) before any physics runs; then replays it
   with :class:`PlanReplay`, which stops the run as soon as perception shows a state the
   plan does not predict; or
-* follows a rule base (``rules``: :func:`~csql_sim.core.greedy_table.load_policy`) or the
+* follows a rule base (``rules``: :func:`~csql_sim.core.policies.greedy_table.load_policy`) or the
   BFS planner (``planner="bfs"``) towards the goal state nearest the start
-  (:meth:`~csql_sim.core.goal_spec.GoalSpec.nearest`), through :class:`GoalSetPolicy`.
+  (:meth:`~csql_sim.core.model.goal_spec.GoalSpec.nearest`), through :class:`GoalSetPolicy`.
 
 Execution is :func:`~csql_sim.sim.executor.run_physical_episode`: blocks move only through
 the arm's contacts, and after every action the scene is perceived. The goal is
@@ -28,13 +28,13 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from csql_sim.core.goal_spec import GoalSpec, atom_text, state_atoms
-from csql_sim.core.ipc_plan import PlanError, PlanStep, check_plan, parse_plan, read_plan
-from csql_sim.core.large_state import LETTERS, LargeState
-from csql_sim.core.notation import parse_config
-from csql_sim.core.pddl_import import BlocksProblem, parse_problem_text, read_problem
-from csql_sim.core.policy import Policy
-from csql_sim.core.world import BLOCK_NAMES, MAX_BLOCKS, Action, State
+from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_plan, read_plan
+from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
+from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
+from csql_sim.core.policies.policy import Policy
+from csql_sim.core.state.large_state import LETTERS, LargeState
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import BLOCK_NAMES, MAX_BLOCKS, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
@@ -177,7 +177,7 @@ def execute_large(start: LargeState, goal: str | LargeState | Sequence[str], pla
         CsqlError: one line, before any physics, for more than ten cubes, a partial goal,
             a plan (checked plans are for the enumerated world), BFS or a ground rule file.
     """
-    from csql_sim.core.greedy_table import load_policy
+    from csql_sim.core.policies.greedy_table import load_policy
     from csql_sim.sim.arm_state import check_arm_blocks, check_arm_policy, parse_arm_state
     from csql_sim.sim.physical import check_perception
     from csql_sim.sim.video import check_video_options
@@ -287,7 +287,7 @@ def _run_plan(bp: BlocksProblem, steps: list[PlanStep], source: dict[str, Any], 
 def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str | None, seed: int, perception: str,
                 perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
     """Follow a rule base, BFS or a named baseline (GN1) to the goal on the arm."""
-    from csql_sim.core.greedy_table import load_policy
+    from csql_sim.core.policies.greedy_table import load_policy
 
     named = planner is not None and planner != "bfs"
     inner = NAMED_POLICIES[planner]() if named else load_policy(rules, bp.n, progress=progress)

@@ -16,7 +16,7 @@ import os
 from dataclasses import dataclass
 from pathlib import Path
 
-from csql_sim.core.pddl_import import MAX_PDDL_BYTES
+from csql_sim.core.files.pddl_import import MAX_PDDL_BYTES
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import InputFileError, read_text_file
 from csql_sim.infra.provenance import provenance
@@ -49,7 +49,7 @@ def problem_files(folder: str | os.PathLike) -> list[tuple[Path, str | None]]:
     """The problem files of ``folder``, sorted (domain files are skipped), each with why it cannot be read.
 
     Each ``*.pddl`` is read with the guarded reader (:func:`csql_sim.infra.files.read_text_file`:
-    regular files only, at most :data:`~csql_sim.core.pddl_import.MAX_PDDL_BYTES`). One that
+    regular files only, at most :data:`~csql_sim.core.files.pddl_import.MAX_PDDL_BYTES`). One that
     cannot be read (a folder, a pipe, a device, a dangling link, a file too large) is kept
     with the reader's one-line reason (None for a readable file): it becomes a failed row.
     """

@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from csql_sim.core.goal_spec import GoalSpec, atom_text, holds, state_atoms
-from csql_sim.core.large_state import LETTERS, LargeState
+from csql_sim.core.model.goal_spec import GoalSpec, atom_text, holds, state_atoms
+from csql_sim.core.state.large_state import LETTERS, LargeState
 from csql_sim.sim.arm_state import parse_arm_state
 
 REPORT_FORMAT = "csql-sim execute report"
@@ -69,7 +69,7 @@ class StepReport:
 
 
 class LargeGoal:
-    """A full goal of 7..10 cubes, with the :class:`~csql_sim.core.goal_spec.GoalSpec` calls a report makes.
+    """A full goal of 7..10 cubes, with the :class:`~csql_sim.core.model.goal_spec.GoalSpec` calls a report makes.
 
     (A GoalSpec lists the states that satisfy it, which past six blocks cannot be done.)
     """

@@ -13,9 +13,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from csql_sim.core.ipc_plan import PlanStep
-from csql_sim.core.large_state import LargeState
-from csql_sim.core.world import State, WorldError
+from csql_sim.core.files.ipc_plan import PlanStep
+from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state.world import State, WorldError
 from csql_sim.jobs.execute_report import StepReport
 from csql_sim.sim.arm_state import parse_arm_state
 

@@ -18,8 +18,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from csql_sim.core.search import distance
-from csql_sim.core.task import test_task
+from csql_sim.core.model.search import distance
+from csql_sim.core.model.task import test_task
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep

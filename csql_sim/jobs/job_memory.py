@@ -10,7 +10,7 @@ records cannot fit is refused before any work, in one line naming the count.
 
 from __future__ import annotations
 
-from csql_sim.core.pairs import rounded
+from csql_sim.core.model.pairs import rounded
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.estimate import PROCESS_BYTES, available_memory, format_size
 

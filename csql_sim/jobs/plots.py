@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from csql_sim import __version__
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.outputs import PNG_TAG
 

@@ -10,8 +10,8 @@ empty in both. The goal lists ``(on x y)`` for every stacked object and ``(ontab
 for every bottom one, so it is one state.
 
 :func:`write_problem_set` writes ``domain.pddl``, the problems and, for at most six
-blocks, the optimal plan of each (:func:`~csql_sim.core.search.bfs_plan`, written as Fast
-Downward does by :func:`~csql_sim.core.ipc_plan.write_ipc_plan`). ``n`` may be 3..10;
+blocks, the optimal plan of each (:func:`~csql_sim.core.model.search.bfs_plan`, written as Fast
+Downward does by :func:`~csql_sim.core.files.ipc_plan.write_ipc_plan`). ``n`` may be 3..10;
 problems of more than six blocks are written, and ``execute`` refuses them today.
 """
 
@@ -22,9 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from csql_sim.core.ipc_plan import ipc_plan_text
-from csql_sim.core.search import bfs_plan
-from csql_sim.core.world import MAX_BLOCKS, TABLE, State
+from csql_sim.core.files.ipc_plan import ipc_plan_text
+from csql_sim.core.model.search import bfs_plan
+from csql_sim.core.state.world import MAX_BLOCKS, TABLE, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 

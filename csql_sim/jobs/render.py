@@ -6,7 +6,7 @@ import json
 import os
 from pathlib import Path
 
-from csql_sim.core.policy import Policy
+from csql_sim.core.policies.policy import Policy
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.sim.arm_state import ArmState

@@ -3,7 +3,7 @@
 Each (n, method, mode) trains one agent from the seed on random tasks, with the
 temperature reaching its floor after 60% of ``max_trials``, and checks after every 1% of
 ``max_trials`` how many pairs its greedy policy plans optimally (a pair is optimal when
-every greedy step on its path lowers the BFS distance: :mod:`csql_sim.core.optimal_pairs`).
+every greedy step on its path lowers the BFS distance: :mod:`csql_sim.core.model.optimal_pairs`).
 The cell is empty when ``max_trials`` is reached first. CS-QL runs in three modes
 (:data:`MODES`), the other methods in ``trials`` only:
 
@@ -36,7 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from csql_sim.core.optimal_pairs import count_optimal_pairs, count_optimal_steps
+from csql_sim.core.model.optimal_pairs import count_optimal_pairs, count_optimal_steps
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep

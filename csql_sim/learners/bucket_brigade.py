@@ -14,10 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from csql_sim.core.processing_block import MatchSet
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.r_classifier import RClassifier
-from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.classifiers.r_classifier import RClassifier
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.model.processing_block import MatchSet
 from csql_sim.learners.cs_ql import ClassifierSystemLearner
 from csql_sim.learners.params import BucketBrigadeParams
 from csql_sim.learners.selection import boltzmann, roulette

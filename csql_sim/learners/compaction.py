@@ -4,8 +4,8 @@ The input is a rule base in the index form (one Q-classifier per state, goal and
 action, from ``csql-sim train``). For every (state, goal) pair its Q-classifiers say which
 actions are greedy (the highest Q-value, ties kept: every action within :data:`TOLERANCE`
 of the best). The output is an ordered list of goal-form Q-classifiers
-(:mod:`csql_sim.core.goal_message`) whose default hierarchy
-(:mod:`csql_sim.core.default_hierarchy`: the first matching classifier whose action is a
+(:mod:`csql_sim.core.state.goal_message`) whose default hierarchy
+(:mod:`csql_sim.core.policies.default_hierarchy`: the first matching classifier whose action is a
 candidate acts) picks a greedy action of the input in every pair the input decides. So the
 compacted base plans exactly as well as the input did; no distance is consulted here.
 
@@ -39,15 +39,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.core.goal_message import INDEX_FORM, WILDCARD, GoalForm, form_of
-from csql_sim.core.goal_message_index import pair_messages
-from csql_sim.core.message import action_messages, layout
-from csql_sim.core.message_index import action_indices, base36_column, lookup, state_bodies
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.rulebase import RuleBase, load
-from csql_sim.core.rulebase_npz import to_arrays
-from csql_sim.core.world import BlocksWorld
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.files.rulebase import RuleBase, load
+from csql_sim.core.files.rulebase_npz import to_arrays
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.state.goal_message import INDEX_FORM, WILDCARD, GoalForm, form_of
+from csql_sim.core.state.goal_message_index import pair_messages
+from csql_sim.core.state.message import action_messages, layout
+from csql_sim.core.state.message_index import action_indices, base36_column, lookup, state_bodies
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.provenance import file_sha256, provenance
 

@@ -1,16 +1,16 @@
 """``show`` of a goal-form rule base: its Q-classifiers in list order, each with its coverage.
 
 A generalized Q-classifier decides every (state, goal) pair for which it is the first of
-the match set (:mod:`csql_sim.core.default_hierarchy`); its *coverage* is how many pairs
+the match set (:mod:`csql_sim.core.policies.default_hierarchy`); its *coverage* is how many pairs
 that is, so the coverages of a base that decides every pair sum to the number of pairs.
 """
 
 from __future__ import annotations
 
-from csql_sim.core.default_hierarchy import DefaultHierarchy
-from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.search import rollout
-from csql_sim.core.world import State
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
+from csql_sim.core.policies.rollout import rollout
+from csql_sim.core.state.world import State
 from csql_sim.infra.errors import CsqlError
 
 

@@ -10,7 +10,7 @@ cycle:
 5. *predict* the next state message with the world model (the add-delete R-classifiers);
 6. *update* the classifier that proposed the action with eq. 1, 2 and 4 (step 6, :meth:`learn`).
 
-Steps 1-3 live in :mod:`csql_sim.core.processing_block`, step 5 in :mod:`csql_sim.core.world_model`.
+Steps 1-3 live in :mod:`csql_sim.core.model.processing_block`, step 5 in :mod:`csql_sim.core.model.world_model`.
 """
 
 from __future__ import annotations
@@ -19,13 +19,13 @@ from collections.abc import Callable
 
 import numpy as np
 
-from csql_sim.core.classifier_list import ClassifierList
-from csql_sim.core.message import decode_code, layout, parse_state_message
-from csql_sim.core.processing_block import MatchSet, ProcessingBlock
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.r_classifier import RClassifier, r_classifiers
-from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.classifier_list import ClassifierList
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.classifiers.r_classifier import RClassifier, r_classifiers
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.model.processing_block import MatchSet, ProcessingBlock
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.state.message import decode_code, layout, parse_state_message
 from csql_sim.learners.learner import Transition
 from csql_sim.learners.params import CommonParams, CSQLParams
 from csql_sim.learners.replay import Experience, SlotLayout, replay_reference

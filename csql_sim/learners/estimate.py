@@ -16,8 +16,8 @@ import shutil
 from dataclasses import dataclass
 from pathlib import Path
 
-from csql_sim.core.state_count import state_count
-from csql_sim.core.world import MAX_BLOCKS
+from csql_sim.core.state.state_count import state_count
+from csql_sim.core.state.world import MAX_BLOCKS
 from csql_sim.infra.errors import CsqlError
 
 GB = 1 << 30

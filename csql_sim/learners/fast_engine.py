@@ -9,7 +9,7 @@ instead of classifier objects, and its loops are compiled with numba.
 
 The domain knowledge is the same: the candidates of a state and their predicted
 successors are read off the R-classifiers (the precondition rules matched and the
-add-delete rule applied by :class:`~csql_sim.core.world_model.WorldModel`), once per
+add-delete rule applied by :class:`~csql_sim.core.model.world_model.WorldModel`), once per
 state, when the engine is built. Nothing comes from the world's own transition table.
 """
 
@@ -24,14 +24,14 @@ from typing import Any
 
 import numpy as np
 
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.message import format_action_message, format_state_message, goal_code, layout
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.r_classifier import r_classifiers
-from csql_sim.core.rulebase import RuleBase, dumps, is_npz
-from csql_sim.core.rulebase_npz import arrays_to_bytes
-from csql_sim.core.search import greedy_argmax
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.files.rulebase import RuleBase, dumps, is_npz
+from csql_sim.core.files.rulebase_npz import arrays_to_bytes
+from csql_sim.core.model.search import greedy_argmax
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.state.message import format_action_message, format_state_message, goal_code, layout
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.kernel_calls import HELD_SIGNALS as HELD_SIGNALS  # re-exported
 from csql_sim.learners.kernel_calls import call_kernel

@@ -6,10 +6,10 @@ uncover one needed next." In the paper's four operators a move is a pick and the
 that follows, so :class:`Gn1Policy` decides:
 
 * **holding a block**: put it on its goal place if that place is ready
-  (:func:`~csql_sim.core.goal_relations.goal_place_ready`), else on the table;
+  (:func:`~csql_sim.core.state.goal_relations.goal_place_ready`), else on the table;
 * **hand empty**: pick the first misplaced clear block (block order) whose goal place is
   ready; else the first misplaced clear block not on the table that is deadlocked
-  (:func:`~csql_sim.core.goal_relations.deadlocked`), else one standing above a block
+  (:func:`~csql_sim.core.state.goal_relations.deadlocked`), else one standing above a block
   that is "needed next" (misplaced with its goal place ready, or a well-placed goal
   support of a misplaced block), else any; it will go to the table.
 * **a goal that holds a block g**: GN1 first builds the hand-empty goal with g where it
@@ -17,15 +17,15 @@ that follows, so :class:`Gn1Policy` decides:
   and picks g up last.
 
 It works on relational states of any n <= 26 and, through the same ``act``, on the
-enumerated world's states (the :class:`csql_sim.core.policy.Policy` interface).
+enumerated world's states (the :class:`csql_sim.core.policies.policy.Policy` interface).
 """
 
 from __future__ import annotations
 
-from csql_sim.core.goal_relations import deadlocked, goal_place_ready, well_placed
-from csql_sim.core.large_state import LargeState
-from csql_sim.core.move_relations import pick_action, target_goal
-from csql_sim.core.world import TABLE, Action, ActionKind, State
+from csql_sim.core.state.goal_relations import deadlocked, goal_place_ready, well_placed
+from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state.move_relations import pick_action, target_goal
+from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 
 
 def _needed_below(state: LargeState, goal: LargeState, placed: tuple[bool, ...], b: int) -> bool:

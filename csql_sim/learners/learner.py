@@ -32,10 +32,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.rulebase import RuleBase, file_bytes
-from csql_sim.core.task import test_task
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.files.rulebase import RuleBase, file_bytes
+from csql_sim.core.model.task import test_task
+from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.infra.files import write_atomic
 from csql_sim.learners.params import CommonParams
 
@@ -139,7 +139,7 @@ class Learner(ABC):
         self.world = BlocksWorld.of(n)
 
     def test_indices(self) -> tuple[int, int]:
-        """The test task's (start, goal) state indices (:func:`csql_sim.core.task.test_task`)."""
+        """The test task's (start, goal) state indices (:func:`csql_sim.core.model.task.test_task`)."""
         task = test_task(self.n)
         return self.world.state_index(task.start), self.world.state_index(task.goal)
 

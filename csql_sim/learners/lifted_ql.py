@@ -1,11 +1,11 @@
 """LQ-CS: Q-learning of lifted Q-classifiers on small worlds, for plans at any n <= 26.
 
 The learner holds one population of lifted Q-classifiers
-(:class:`~csql_sim.core.lifted_policy.LiftedQClassifier`: a condition over the relations of
-a move, :mod:`csql_sim.core.move_relations`, and the move's kind), **empty at the start**.
+(:class:`~csql_sim.core.policies.lifted_policy.LiftedQClassifier`: a condition over the relations of
+a move, :mod:`csql_sim.core.state.move_relations`, and the move's kind), **empty at the start**.
 Each trial draws a world size from ``sizes`` (3..5 blocks) and a start and a goal uniformly
-by counting (:func:`csql_sim.core.state_count.sample_state`), and runs Q-learning moves
-through the world model of lifted rules (:data:`csql_sim.core.lifted_rule.BLOCKS_WORLD`):
+by counting (:func:`csql_sim.core.state.state_count.sample_state`), and runs Q-learning moves
+through the world model of lifted rules (:data:`csql_sim.core.classifiers.lifted_rule.BLOCKS_WORLD`):
 
 * **match and cover**: every legal move is bound to ``?x`` and ``?d``; a move that no
   classifier matches is covered by a new classifier whose condition is the move's
@@ -22,7 +22,7 @@ through the world model of lifted rules (:data:`csql_sim.core.lifted_rule.BLOCKS
   differ in one atom only, both with ``min_experience`` updates and excesses within
   ``tau / 2``, are merged into one with ``#`` there.
 
-The learned classifiers plan greedily (:class:`~csql_sim.core.lifted_policy.LiftedPolicy`)
+The learned classifiers plan greedily (:class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy`)
 for any number of blocks up to 26: no atom names a block, so nothing is specific to the
 sizes trained on.
 """
@@ -36,13 +36,13 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from csql_sim.core.goal_relations import well_placed
-from csql_sim.core.large_state import LargeState
-from csql_sim.core.lifted_model import LiftedWorldModel
-from csql_sim.core.lifted_policy import LiftedPolicy, LiftedQClassifier, condition_holds
-from csql_sim.core.lifted_rule import BLOCKS_WORLD
-from csql_sim.core.move_relations import ATOMS, Move, MoveRelations, after, pick_action, put_action, target_goal
-from csql_sim.core.state_count import sample_state
+from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD
+from csql_sim.core.model.lifted_model import LiftedWorldModel
+from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier, condition_holds
+from csql_sim.core.state.goal_relations import well_placed
+from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state.move_relations import ATOMS, Move, MoveRelations, after, pick_action, put_action, target_goal
+from csql_sim.core.state.state_count import sample_state
 from csql_sim.learners.params import ParamsError
 
 TRAIN_SIZES = (3, 4, 5)

@@ -21,11 +21,11 @@ from collections.abc import Callable
 
 import numpy as np
 
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.message import format_action_message, format_state_message, goal_code, layout
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.rulebase import RuleBase, dumps, is_npz
-from csql_sim.core.rulebase_npz import arrays_to_bytes
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.files.rulebase import RuleBase, dumps, is_npz
+from csql_sim.core.files.rulebase_npz import arrays_to_bytes
+from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.state.message import format_action_message, format_state_message, goal_code, layout
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.fast_engine import COMPENSATED_SUM, call_kernel, fk
 from csql_sim.learners.learner import BATCH, TEST_EVERY, Curve, Learner

@@ -9,11 +9,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.message import format_action_message, format_state_message, parse_state_message
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.state.message import format_action_message, format_state_message, parse_state_message
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.learners.learner import Transition
 from csql_sim.learners.params import TabularParams
 from csql_sim.learners.selection import boltzmann

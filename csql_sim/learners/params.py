@@ -309,7 +309,7 @@ def defaults_for_blocks(method: str, n: int) -> CommonParams:
     base = default_params(method)
     if n <= 3:
         return base
-    from csql_sim.core.world import all_states
+    from csql_sim.core.state.world import all_states
 
     overrides: dict = {
         "t_decay": (base.t_min / base.t0) ** (1.0 / (0.6 * default_trials(n))),

@@ -4,14 +4,14 @@ from __future__ import annotations
 
 import numbers
 
-from csql_sim.core.message import format_action_message, format_state_message
-from csql_sim.core.notation import parse_state_arg
-from csql_sim.core.policy import QPolicy
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.search import rollout
-from csql_sim.core.world import State, WorldError
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.policies.policy import QPolicy
+from csql_sim.core.policies.rollout import rollout
+from csql_sim.core.state.message import format_action_message, format_state_message
+from csql_sim.core.state.notation import parse_state_arg
+from csql_sim.core.state.world import State, WorldError
 from csql_sim.infra.errors import CsqlError
 
 HEADER = ("T", "Condition", "Action", "Strength", "Q-value", "Age", "PredErr")

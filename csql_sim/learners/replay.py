@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.model.world_model import WorldModel
 
 
 @dataclass(frozen=True)

@@ -3,11 +3,11 @@
 A goal's Q-classifiers depend only on the trials toward that goal, so CS-QL's array engine
 (:class:`~csql_sim.learners.fast_engine.FastCSQL`) trains a *shard* of goals as one engine
 restricted to those goals. Shard ``k`` of ``S`` holds the goals ``k * count // S`` ..
-``(k + 1) * count // S - 1`` (:func:`~csql_sim.core.rulebase_shards.goal_range`), draws its
+``(k + 1) * count // S - 1`` (:func:`~csql_sim.core.files.rulebase_shards.goal_range`), draws its
 random stream from ``SeedSequence(seed, spawn_key=(k,))`` and runs its share of the random
 training trials (a goal among its own, a start among the other states), then the planning
 sweep over its goals. Nothing depends on which worker or backend ran it, so the rule base
-(:mod:`csql_sim.core.rulebase_shards`) is byte-identical for 1 or 2 workers, local or Ray.
+(:mod:`csql_sim.core.files.rulebase_shards`) is byte-identical for 1 or 2 workers, local or Ray.
 
 Each shard is written (atomically, with its SHA-256 in the manifest) as soon as it comes
 back, so a run that stops early leaves every finished shard; ``resume`` trains the rest.
@@ -30,11 +30,11 @@ from typing import NamedTuple
 
 import numpy as np
 
-from csql_sim.core import rulebase_shards as rs
-from csql_sim.core.r_classifier import r_classifiers
-from csql_sim.core.search import reverse_bfs
-from csql_sim.core.transition_table import true_table
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.files import rulebase_shards as rs
+from csql_sim.core.model.search import reverse_bfs
+from csql_sim.core.model.transition_table import true_table
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_json_file, write_atomic
@@ -178,7 +178,7 @@ def count_optimal(arrays: rs.ShardArrays, model: ModelArrays, n: int, lo: int, h
 
     A pair is optimal when every greedy step on its path lowers the distance by one
     (decided on the policy graph per goal, in order of distance,
-    :mod:`csql_sim.core.optimal_pairs`); the second count is of the pairs whose first
+    :mod:`csql_sim.core.model.optimal_pairs`); the second count is of the pairs whose first
     greedy step does, an upper bound of the first.
     """
     table = true_table(n)

@@ -16,10 +16,10 @@ import os
 
 import numpy as np
 
-from csql_sim.core.r_classifier import RClassifier
-from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.world import BlocksWorld, check_n
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.r_classifier import RClassifier
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.state.world import BlocksWorld, check_n
 from csql_sim.infra.provenance import provenance
 from csql_sim.learners.bucket_brigade import BucketBrigade, BucketBrigadeRoulette
 from csql_sim.learners.cs_ql import CSQL, ClassifierSystemLearner
@@ -156,7 +156,7 @@ def phase_counts(learner: Learner) -> dict:
     the distinct (state, action) pairs trials experienced and the replay backups where the
     learner records them.
     """
-    from csql_sim.core.optimal_pairs import count_optimal_pairs, count_optimal_steps
+    from csql_sim.core.model.optimal_pairs import count_optimal_pairs, count_optimal_steps
 
     q_greedy = getattr(learner, "q_greedy", None)
     best = q_greedy() if q_greedy is not None else learner.greedy_table().best

@@ -29,7 +29,7 @@ from typing import Protocol
 
 import numpy as np
 
-from csql_sim.core.message import format_state_message
+from csql_sim.core.state.message import format_state_message
 from csql_sim.learners.learner import TEST_EVERY, Curve, Learner, Transition, UniformStream
 from csql_sim.learners.params import CommonParams
 

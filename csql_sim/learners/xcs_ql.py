@@ -3,7 +3,7 @@
 CS-QL (:class:`~csql_sim.learners.cs_ql.CSQL`) runs as before and is the *critic*: its
 trials on the world model and its backups (eq. 1-2) learn a Q-value per state, goal and
 candidate action. Beside it lives a **population** of generalized Q-classifiers over the
-goal form of the message (:mod:`csql_sim.core.goal_message`), the *actors*; they alone
+goal form of the message (:mod:`csql_sim.core.state.goal_message`), the *actors*; they alone
 decide the plans the learner writes. Every :attr:`ActorParams.epoch` trials (and after
 the sweep) the population is revised over the (state, goal) pairs visited so far, as a
 supervised XCS (UCS, Bernado-Mansilla and Garrell 2003) does:
@@ -22,7 +22,7 @@ supervised XCS (UCS, Bernado-Mansilla and Garrell 2003) does:
 * **deletion**: above ``max_population`` actors, the lowest fitness go.
 
 The rule base it writes is the population **condensed** into a default hierarchy
-(:mod:`csql_sim.core.default_hierarchy`): repeatedly the actor that decides the most
+(:mod:`csql_sim.core.policies.default_hierarchy`): repeatedly the actor that decides the most
 still-open pairs and is right on every open pair it matches, then literals and actors are
 dropped while the list stays right (the offline compaction's pruning). A pair no actor can
 decide rightly is covered by its own specific actor.
@@ -35,14 +35,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.default_hierarchy import DefaultHierarchy
-from csql_sim.core.goal_message import WILDCARD, GoalForm
-from csql_sim.core.goal_message_index import pair_messages
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.message import action_messages, parse_state_message
-from csql_sim.core.q_classifier import QClassifier
-from csql_sim.core.r_classifier import RClassifier
-from csql_sim.core.rulebase import RuleBase
+from csql_sim.core.classifiers.q_classifier import QClassifier
+from csql_sim.core.classifiers.r_classifier import RClassifier
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
+from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.state.goal_message import WILDCARD, GoalForm
+from csql_sim.core.state.goal_message_index import pair_messages
+from csql_sim.core.state.message import action_messages, parse_state_message
 from csql_sim.learners.compaction import TOLERANCE, Problem, Rule, condition_of, decision_list, simplify
 from csql_sim.learners.cs_ql import CSQL
 from csql_sim.learners.learner import TEST_EVERY, Curve, Transition

@@ -1,11 +1,11 @@
 """States on the arm: the enumerated world's (n <= 6) or relational ones (7..10 cubes).
 
-For n <= 6 the arm works on :class:`csql_sim.core.world.State`, with the paper's message
+For n <= 6 the arm works on :class:`csql_sim.core.state.world.State`, with the paper's message
 form (goal by its index), BFS optima and the ground R-classifiers, exactly as before. For
 7..10 cubes (:data:`~csql_sim.sim.config.MAX_ARM_BLOCKS`) the states are
-:class:`csql_sim.core.large_state.LargeState` records: messages take the large form
-(:func:`csql_sim.core.large_message.format_large_message`), optimal lengths come from
-:func:`csql_sim.core.optimum.optimal_length` (measuring only), the world model interprets
+:class:`csql_sim.core.state.large_state.LargeState` records: messages take the large form
+(:func:`csql_sim.core.state.large_message.format_large_message`), optimal lengths come from
+:func:`csql_sim.core.measure.optimum.optimal_length` (measuring only), the world model interprets
 the lifted rules (:class:`RelationalWorldModel`), and the policy must be lifted (BFS and
 ground rule files enumerate the world: refused). Every name here is the same function of
 the state for both kinds, so the rest of the simulator need not ask which one it has.
@@ -15,16 +15,16 @@ from __future__ import annotations
 
 from typing import Any
 
-from csql_sim.core.large_message import format_large_message
-from csql_sim.core.large_state import LETTERS, LargeState, action_name, parse_large
-from csql_sim.core.lifted_model import LiftedWorldModel
-from csql_sim.core.lifted_rule import BLOCKS_WORLD
-from csql_sim.core.message import action_code, format_state_message
-from csql_sim.core.notation import parse_config
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.search import distance
-from csql_sim.core.world import MAX_BLOCKS, MIN_BLOCKS, Action, BlocksWorld, State, WorldError
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.model.lifted_model import LiftedWorldModel
+from csql_sim.core.model.search import distance
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.state.large_message import format_large_message
+from csql_sim.core.state.large_state import LETTERS, LargeState, action_name, parse_large
+from csql_sim.core.state.message import action_code, format_state_message
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, Action, BlocksWorld, State, WorldError
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.config import MAX_ARM_BLOCKS
 
@@ -75,8 +75,8 @@ def to_arm_state(state: State | LargeState) -> ArmState:
 def parse_arm_state(text: str, n: int | None = None) -> ArmState:
     """A configuration in the notation (``JIHGFEDCBA``, ``A,B+C``) as the arm's kind of state.
 
-    Up to six blocks it is read exactly as :func:`csql_sim.core.notation.parse_config` reads
-    it (the same errors); past six by :func:`csql_sim.core.large_state.parse_large`.
+    Up to six blocks it is read exactly as :func:`csql_sim.core.state.notation.parse_config` reads
+    it (the same errors); past six by :func:`csql_sim.core.state.large_state.parse_large`.
     """
     if n is not None:
         return parse_config(text, n) if n <= MAX_BLOCKS else parse_large(text, n)
@@ -120,9 +120,9 @@ class Messages:
 class RelationalWorldModel:
     """The executor's world-model interface for 7..10 cubes: the lifted rules, read on relational states.
 
-    :class:`csql_sim.core.world_model.WorldModel` grounds R-classifiers into messages of
+    :class:`csql_sim.core.model.world_model.WorldModel` grounds R-classifiers into messages of
     the enumerated world; past six blocks the same four schemas are interpreted directly
-    (:class:`csql_sim.core.lifted_model.LiftedWorldModel`). ``goal`` arguments are accepted
+    (:class:`csql_sim.core.model.lifted_model.LiftedWorldModel`). ``goal`` arguments are accepted
     for the same call shape and ignored (the rules do not read the goal).
     """
 

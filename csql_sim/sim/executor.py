@@ -4,10 +4,10 @@
 steps are: draw the :class:`PerturbationPlan`, then repeat :meth:`Episode.step` (choose
 an action, predict, execute, perceive), then :meth:`Episode.finish`. After every
 primitive the perceived state is compared with the prediction of the
-:class:`~csql_sim.core.world_model.WorldModel` passed in (the add-delete R-classifiers by
+:class:`~csql_sim.core.model.world_model.WorldModel` passed in (the add-delete R-classifiers by
 default). A mismatch is logged and the loop continues from the perceived state, up to a
 cap on actions. Success is :meth:`PhysicalWorld.reached`: the task's
-:meth:`~csql_sim.core.task.Task.is_success` on the perceived state, with the scene settled;
+:meth:`~csql_sim.core.model.task.Task.is_success` on the perceived state, with the scene settled;
 it is never inferred from the plan.
 
 Up to six cubes the states are the enumerated world's, the messages the paper's form and
@@ -24,11 +24,11 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from csql_sim.core.policy import Policy
-from csql_sim.core.search import BfsPolicy
-from csql_sim.core.task import Task
-from csql_sim.core.world import Action
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.model.search import BfsPolicy
+from csql_sim.core.model.task import Task
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.policies.policy import Policy
+from csql_sim.core.state.world import Action
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.arm_state import (
     ArmState,

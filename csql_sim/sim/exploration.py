@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.core.world import Action, State, all_states
+from csql_sim.core.state.world import Action, State, all_states
 from csql_sim.discovery.world import Attempt
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
 from csql_sim.sim.perturbation import PERTURBATION, Perturbation, nudge

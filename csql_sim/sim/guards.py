@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.world import Action, ActionKind
+from csql_sim.core.state.world import Action, ActionKind
 from csql_sim.sim.arm_state import letter
 from csql_sim.sim.perception import Observation, Tolerances, gripper_closed_on_cube, holding, on, on_table
 from csql_sim.sim.primitives import CarryHook, Pick, Place, Status

@@ -2,8 +2,8 @@
 
 One small predicate per relation, each with named tolerances in :class:`Tolerances`.
 Both perception modes produce an :class:`Observation` (estimated cube centres and the
-gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.core.world.State`
-(n <= 6) or a :class:`~csql_sim.core.large_state.LargeState` (7..10 cubes).
+gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.core.state.world.State`
+(n <= 6) or a :class:`~csql_sim.core.state.large_state.LargeState` (7..10 cubes).
 """
 
 from __future__ import annotations
@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.message import format_state_message
-from csql_sim.core.world import HAND, TABLE, WorldError
+from csql_sim.core.state.message import format_state_message
+from csql_sim.core.state.world import HAND, TABLE, WorldError
 from csql_sim.sim.arm_state import ArmState, Messages, arm_state, letter
 from csql_sim.sim.robot import Panda
 from csql_sim.sim.scene import Scene, rotation_matrix

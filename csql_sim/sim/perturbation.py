@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.world import Action
+from csql_sim.core.state.world import Action
 from csql_sim.sim.arm_state import letter
 from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.primitives import CarryHook

@@ -7,8 +7,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from csql_sim.core.task import Task
-from csql_sim.core.world import Action
+from csql_sim.core.model.task import Task
+from csql_sim.core.state.world import Action
 from csql_sim.sim.arm_state import ArmState, SimError, check_arm_blocks, letter
 from csql_sim.sim.camera import CAMERA_TOLERANCES, Camera, perception_cameras
 from csql_sim.sim.config import SimConfig, config_for
@@ -40,8 +40,8 @@ class PhysicalWorld:
     """A scene with its Panda, the seeded generator and a perception mode.
 
     Args:
-        n: number of cubes, 2..10; states are :class:`~csql_sim.core.world.State` records for
-            n <= 6 and :class:`~csql_sim.core.large_state.LargeState` records past six.
+        n: number of cubes, 2..10; states are :class:`~csql_sim.core.state.world.State` records for
+            n <= 6 and :class:`~csql_sim.core.state.large_state.LargeState` records past six.
         seed: seeds the one generator used for putdown spots and perturbations.
         perception: ``"pose"`` (body poses) or ``"camera"`` (colour + depth images, rgbd.py).
         config: scene settings (default: :func:`~csql_sim.sim.config.config_for` n).
@@ -127,7 +127,7 @@ class PhysicalWorld:
     def reached(self, perceived: Perceived, goal: ArmState) -> bool:
         """The success predicate of every physical episode: the task's, on what was perceived, once settled.
 
-        :meth:`csql_sim.core.task.Task.is_success` decides from the perceived state (never the
+        :meth:`csql_sim.core.model.task.Task.is_success` decides from the perceived state (never the
         plan), and every free cube must be at rest.
         """
         return Task.is_success(perceived.state, goal) and self.is_settled()

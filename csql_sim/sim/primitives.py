@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from csql_sim.core.world import Action, ActionKind
+from csql_sim.core.state.world import Action, ActionKind
 from csql_sim.sim.arm_state import letter
 from csql_sim.sim.layout import putdown_spots, spot_yaw
 from csql_sim.sim.perception import Observation, settled, wrap_quarter

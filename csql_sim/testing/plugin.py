@@ -20,7 +20,7 @@ whether the goal was reached, judged from what the arm's perception saw::
 * :meth:`Arm.execute_problem` takes a PDDL problem file (and domain) instead.
 
 A plan that is not applicable is refused before anything moves: ``arm.execute`` raises
-:class:`~csql_sim.core.ipc_plan.PlanError` naming the step. Failure messages:
+:class:`~csql_sim.core.files.ipc_plan.PlanError` naming the step. Failure messages:
 ``assert result.reached`` shows a one-line summary (the failing step and what was
 perceived); :func:`assert_reached` (or ``assert result.reached, result.explain()``) shows
 every step; and a failed test that used the fixture gets a report section

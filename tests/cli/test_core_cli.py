@@ -5,8 +5,8 @@ import sys
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core.notation import parse_config
-from csql_sim.core.search import distance
+from csql_sim.core.model.search import distance
+from csql_sim.core.state.notation import parse_config
 
 
 def run(capsys, *argv):
@@ -79,8 +79,8 @@ def test_state_message_start_keeps_its_goal(capsys):
 
 
 def test_plan_without_a_plan_exits_1(tmp_path, capsys):
-    from csql_sim.core.r_classifier import r_classifiers
-    from csql_sim.core.rulebase import RuleBase, save
+    from csql_sim.core.classifiers.r_classifier import r_classifiers
+    from csql_sim.core.files.rulebase import RuleBase, save
 
     empty = save(tmp_path / "empty.yaml", RuleBase(3, list(r_classifiers(3))))
     code, out, err = run(capsys, "plan", "--rules", str(empty), "--start", "CBA", "--goal", "BAC")

@@ -4,10 +4,10 @@ import imageio.v2 as imageio
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core.classifier_list import ClassifierList
-from csql_sim.core.policy import QPolicy
-from csql_sim.core.rulebase import load
-from csql_sim.core.search import check_all_pairs
+from csql_sim.core.classifiers.classifier_list import ClassifierList
+from csql_sim.core.files.rulebase import load
+from csql_sim.core.policies.policy import QPolicy
+from csql_sim.core.policies.rollout import check_all_pairs
 
 
 def test_demo_learns_prunes_executes_and_writes_video(tmp_path, capsys):

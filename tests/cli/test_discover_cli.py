@@ -1,8 +1,8 @@
 import json
 
 from csql_sim.cli import main
-from csql_sim.core import rulebase
-from csql_sim.core.r_classifier import load_paper_rules
+from csql_sim.core.classifiers.r_classifier import load_paper_rules
+from csql_sim.core.files import rulebase
 from csql_sim.discovery import transition_log
 from csql_sim.discovery.induction import induce_rules
 

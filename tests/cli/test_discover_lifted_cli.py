@@ -3,8 +3,8 @@ import json
 import numpy as np
 
 from csql_sim.cli import main
-from csql_sim.core.lifted_rule import BLOCKS_WORLD, load_lifted
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD, load_lifted
+from csql_sim.core.model.world_model import WorldModel
 
 
 def test_discover_writes_the_lifted_rules_beside_the_rule_file(tmp_path, capsys):

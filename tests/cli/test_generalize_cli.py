@@ -3,7 +3,7 @@
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core.rulebase import load
+from csql_sim.core.files.rulebase import load
 from csql_sim.infra.provenance import file_sha256
 
 

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core.r_classifier import r_classifiers
-from csql_sim.core.rulebase import RuleBase, load, save
+from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.files.rulebase import RuleBase, load, save
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.params import ParamsError, load_params, resolve_params
 from csql_sim.learners.pruning import prune
@@ -183,7 +183,7 @@ def test_prune_keeps_a_plain_float(trained, tmp_path):
 @pytest.mark.parametrize("keep", ["add-delete only", "one of each"])
 def test_a_domain_with_dead_end_states_is_refused_before_training(capsys, tmp_path, keep):
     """Valid rules under which some state has no legal action: one line, not an empty-max traceback."""
-    from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule
+    from csql_sim.core.classifiers.r_classifier import AddDeleteRule, PreconditionRule
 
     rules = r_classifiers(3)
     if keep == "add-delete only":

@@ -4,7 +4,7 @@ import json
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core.rulebase import load
+from csql_sim.core.files.rulebase import load
 
 
 def run(capsys, *argv):

@@ -9,8 +9,8 @@ import pytest
 import yaml
 
 from csql_sim.cli import main
-from csql_sim.core.r_classifier import r_classifiers
-from csql_sim.core.rulebase import RuleBase, load, save
+from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.files.rulebase import RuleBase, load, save
 
 
 def run(capsys, *argv):

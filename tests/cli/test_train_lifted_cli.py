@@ -5,7 +5,7 @@ import json
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core.lifted_policy import load_lifted_policy
+from csql_sim.core.policies.lifted_policy import load_lifted_policy
 
 
 def test_train_lifted_writes_a_file_plan_can_use(tmp_path, capsys):

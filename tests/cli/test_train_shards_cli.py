@@ -5,7 +5,7 @@ import json
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core import rulebase_shards as rs
+from csql_sim.core.files import rulebase_shards as rs
 
 
 def one_error_line(capsys):

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.r_classifier import generate_rules, load_paper_rules
-from csql_sim.core.world import TABLE, State
+from csql_sim.core.classifiers.r_classifier import generate_rules, load_paper_rules
+from csql_sim.core.state.world import TABLE, State
 from csql_sim.discovery.explore import Exploration, explore
 from csql_sim.discovery.world import SymbolicWorld
 from csql_sim.jobs.discover import discover
@@ -70,8 +70,8 @@ def test_exploration_restarts_when_nothing_is_perceived():
 
 
 def test_a_world_model_built_from_discovered_rules_is_the_true_world():
-    from csql_sim.core.world import all_actions, all_states, is_legal, successor
-    from csql_sim.core.world_model import WorldModel
+    from csql_sim.core.model.world_model import WorldModel
+    from csql_sim.core.state.world import all_actions, all_states, is_legal, successor
 
     model = WorldModel(discover(3, "symbolic", seed=7).rules, 3)
     for s in all_states(3):
@@ -82,7 +82,7 @@ def test_a_world_model_built_from_discovered_rules_is_the_true_world():
 
 
 def _paper_model():
-    from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule
+    from csql_sim.core.classifiers.r_classifier import AddDeleteRule, PreconditionRule
     from csql_sim.discovery.induction import InducedRules
 
     rules = load_paper_rules()
@@ -92,9 +92,9 @@ def _paper_model():
 
 
 def test_configurations_the_rules_predict_stay_open_until_visited():
-    from csql_sim.core.message import action_messages, format_state_message
-    from csql_sim.core.notation import parse_config
-    from csql_sim.core.world import all_actions, is_legal
+    from csql_sim.core.state.message import action_messages, format_state_message
+    from csql_sim.core.state.notation import parse_config
+    from csql_sim.core.state.world import all_actions, is_legal
     from csql_sim.discovery.explore import TRY_CAP, Curiosity
     from csql_sim.discovery.induction import Evidence
 

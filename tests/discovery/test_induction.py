@@ -1,8 +1,8 @@
 import pytest
 
-from csql_sim.core.message import format_action_message, format_state_message, layout
-from csql_sim.core.notation import parse_action_name, parse_config
-from csql_sim.core.r_classifier import generate_rules, load_paper_rules
+from csql_sim.core.classifiers.r_classifier import generate_rules, load_paper_rules
+from csql_sim.core.state.message import format_action_message, format_state_message, layout
+from csql_sim.core.state.notation import parse_action_name, parse_config
 from csql_sim.discovery.explore import exhaustive_transitions
 from csql_sim.discovery.induction import (
     Evidence,
@@ -78,8 +78,8 @@ def test_inconsistent_evidence_makes_no_precondition():
 
 @pytest.mark.parametrize("n", [2])
 def test_two_blocks_give_equivalent_shorter_conditions(n):
-    from csql_sim.core.r_classifier import matches
-    from csql_sim.core.world import all_actions, all_states, is_legal
+    from csql_sim.core.classifiers.r_classifier import matches
+    from csql_sim.core.state.world import all_actions, all_states, is_legal
 
     rules = {r.action: r.condition for r in induce_rules(exhaustive_transitions(n), n) if r.action[0] == "A"}
     for s in all_states(n):

@@ -1,7 +1,7 @@
 import pytest
 
-from csql_sim.core.lifted_rule import BLOCKS_WORLD, ground_rules
-from csql_sim.core.r_classifier import AddDeleteRule, PreconditionRule, r_classifiers
+from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD, ground_rules
+from csql_sim.core.classifiers.r_classifier import AddDeleteRule, PreconditionRule, r_classifiers
 from csql_sim.discovery.lifting import lift_rule, lift_rules
 from csql_sim.jobs.discover import discover
 

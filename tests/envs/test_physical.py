@@ -4,7 +4,7 @@ import sys
 
 import numpy as np
 
-from csql_sim.core.search import BfsPolicy
+from csql_sim.core.model.search import BfsPolicy
 from csql_sim.envs.physical import PhysicalBlocksEnv
 
 
@@ -50,7 +50,7 @@ def test_same_learning_agent_runs_in_symbolic_and_physical_env():
 # observation and the final cube poses as JSON (floats written exactly by repr).
 _EPISODE = """
 import json, sys
-from csql_sim.core.search import BfsPolicy
+from csql_sim.core.model.search import BfsPolicy
 from csql_sim.envs.physical import PhysicalBlocksEnv
 env = PhysicalBlocksEnv(3)
 obs, info = env.reset(seed=int(sys.argv[1]))

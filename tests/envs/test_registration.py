@@ -5,12 +5,12 @@ import gymnasium
 import numpy as np
 import pytest
 
-from csql_sim.core.message import format_state_message
-from csql_sim.core.notation import parse_config
-from csql_sim.core.r_classifier import PreconditionRule, r_classifiers
-from csql_sim.core.rulebase import RuleBase, save
-from csql_sim.core.search import bfs_plan
-from csql_sim.core.world import BlocksWorld, successor
+from csql_sim.core.classifiers.r_classifier import PreconditionRule, r_classifiers
+from csql_sim.core.files.rulebase import RuleBase, save
+from csql_sim.core.model.search import bfs_plan
+from csql_sim.core.state.message import format_state_message
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import BlocksWorld, successor
 from csql_sim.envs.registration import BLOCKS_WORLD_ID, PANDA_BLOCKS_ID, register_envs
 from csql_sim.infra.errors import CsqlError
 

@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.message import format_state_message
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.state.message import format_state_message
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.envs.symbolic import BlocksWorldEnv, run_env_episode
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.training import make_learner

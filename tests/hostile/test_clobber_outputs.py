@@ -12,7 +12,7 @@ import pytest
 from hostile_cli import csql, digest
 
 from csql_sim.cli import main
-from csql_sim.core.lifted_rule import BLOCKS_WORLD, dumps_lifted
+from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD, dumps_lifted
 from csql_sim.infra import formats
 
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 from hostile_cli import csql, digest
 
-from csql_sim.core import rulebase_shards as rs
+from csql_sim.core.files import rulebase_shards as rs
 
 TRAIN = ["train", "--blocks", "4", "--shards", "4", "--workers", "1", "--quiet", "--out"]
 VICTIM = b"precious: not a shard\n"

@@ -33,7 +33,7 @@ exec sleep 300
 
 WRITE_WITH_A_STUCK_ENCODER = """
 import sys
-from csql_sim.core.notation import parse_config
+from csql_sim.core.state.notation import parse_config
 from csql_sim.sim import video, video_writers
 from csql_sim.sim.executor import run_physical_episode
 

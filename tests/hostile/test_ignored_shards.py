@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 from hostile_cli import csql
 
-from csql_sim.core import rulebase_shards as rs
+from csql_sim.core.files import rulebase_shards as rs
 
 
 @pytest.fixture

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 from hostile_cli import csql, digest
 
-from csql_sim.core import rulebase_shards as rs
+from csql_sim.core.files import rulebase_shards as rs
 
 SHIPPED = Path(__file__).resolve().parents[2] / "assets" / "rules" / "lifted.json"
 DEEP = "[" * 100_000

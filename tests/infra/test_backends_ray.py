@@ -166,7 +166,7 @@ def test_workers_are_capped_at_the_cores_and_the_tasks(monkeypatch):
 
 
 def test_a_thousand_workers_start_a_pool_of_the_cores(monkeypatch):
-    from csql_sim.core.notation import parse_config
+    from csql_sim.core.state.notation import parse_config
 
     asked = []
     real = backends.worker_pool

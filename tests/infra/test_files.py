@@ -96,8 +96,8 @@ def test_read_text_file_refuses_fifos_without_blocking(tmp_path):
 # ------------------------------------------------------------------ the output policy (csql_sim.infra.outputs)
 def _ours(tmp_path):
     """One file of each kind the tool writes and recognises, by its own header."""
-    from csql_sim.core.r_classifier import r_classifiers
-    from csql_sim.core.rulebase import RuleBase, save
+    from csql_sim.core.classifiers.r_classifier import r_classifiers
+    from csql_sim.core.files.rulebase import RuleBase, save
     from csql_sim.discovery import transition_log
 
     rules = RuleBase(3, r_classifiers(3), {"source": "test"})

@@ -1,8 +1,8 @@
 import pytest
 
-from csql_sim.core.policy import QPolicy
-from csql_sim.core.r_classifier import load_paper_rules
-from csql_sim.core.search import check_all_pairs
+from csql_sim.core.classifiers.r_classifier import load_paper_rules
+from csql_sim.core.policies.policy import QPolicy
+from csql_sim.core.policies.rollout import check_all_pairs
 from csql_sim.jobs.discover import discover
 from csql_sim.learners.training import train
 

@@ -5,7 +5,7 @@ import pytest
 
 from csql_sim.cli import OneLineParser
 from csql_sim.cli import sim as sim_cli
-from csql_sim.core.world import all_states
+from csql_sim.core.state.world import all_states
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import (
     EpisodeRunner,
@@ -36,7 +36,7 @@ def test_specs():
 
 
 def test_runner_turns_an_error_into_a_failed_summary():
-    from csql_sim.core.search import BfsPolicy
+    from csql_sim.core.model.search import BfsPolicy
 
     runner = EpisodeRunner(BfsPolicy(), 3, perturb=False, perception="pose")
     bad = runner.run(EpisodeSpec(start="A,B,C", goal="AB", seed=4))  # goal of another world
@@ -116,8 +116,8 @@ def test_cli_bad_input_is_csql_error(tmp_path):
 
 
 def test_evaluate_exit_status(tmp_path, capsys):
-    from csql_sim.core.r_classifier import r_classifiers
-    from csql_sim.core.rulebase import RuleBase, save
+    from csql_sim.core.classifiers.r_classifier import r_classifiers
+    from csql_sim.core.files.rulebase import RuleBase, save
 
     empty = save(tmp_path / "empty.yaml", RuleBase(3, list(r_classifiers(3))))
     p = _parser()
@@ -175,7 +175,7 @@ def test_a_bug_in_a_worker_task_stops_the_evaluation(monkeypatch):
 def test_the_rule_file_is_read_once_and_the_workers_get_the_policy_as_data(tmp_path, monkeypatch):
     import csql_sim.jobs.evaluate as ev
     from csql_sim.cli import main
-    from csql_sim.core.greedy_table import GreedyTable
+    from csql_sim.core.policies.greedy_table import GreedyTable
 
     rules = tmp_path / "r.yaml"
     assert main(["train", "--trials", "300", "--out", str(rules), "--quiet"]) == 0
@@ -200,8 +200,8 @@ def test_the_rule_file_is_read_once_and_the_workers_get_the_policy_as_data(tmp_p
 
 
 def test_an_evaluation_never_runs_the_policy_of_an_earlier_one(tmp_path):
-    from csql_sim.core.r_classifier import r_classifiers
-    from csql_sim.core.rulebase import RuleBase, save
+    from csql_sim.core.classifiers.r_classifier import r_classifiers
+    from csql_sim.core.files.rulebase import RuleBase, save
 
     empty = save(tmp_path / "empty.yaml", RuleBase(3, list(r_classifiers(3))))
     here = {"pairs": 1, "workers": 1, "progress": False}  # one worker: the episodes run in this process

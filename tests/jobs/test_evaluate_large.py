@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from csql_sim.cli import main
-from csql_sim.core.large_state import LargeState, action_name, legal_actions, parse_large, successor
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.r_classifier import r_classifiers
-from csql_sim.core.rulebase import RuleBase, save
-from csql_sim.core.state_count import pair_count, sample_pairs
+from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.files.rulebase import RuleBase, save
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.state.large_state import LargeState, action_name, legal_actions, parse_large, successor
+from csql_sim.core.state.state_count import pair_count, sample_pairs
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import PolicyData, evaluate, make_specs
 from csql_sim.jobs.execute import execute_task

@@ -10,12 +10,12 @@ import pytest
 from csql_sim.cli import OneLineParser
 from csql_sim.cli import execute as execute_cli
 from csql_sim.cli.output import plan_outputs
-from csql_sim.core.ipc_plan import PlanError
-from csql_sim.core.notation import parse_config
-from csql_sim.core.pddl_export import domain_text as export_domain_text
-from csql_sim.core.pddl_export import problem_text as export_problem_text
-from csql_sim.core.r_classifier import r_classifiers
-from csql_sim.core.search import bfs_plan
+from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.files.ipc_plan import PlanError
+from csql_sim.core.files.pddl_export import domain_text as export_domain_text
+from csql_sim.core.files.pddl_export import problem_text as export_problem_text
+from csql_sim.core.model.search import bfs_plan
+from csql_sim.core.state.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.execute import execute_problem, execute_task
 from csql_sim.jobs.problems import DOMAIN_TEXT, generate_problem, task_problem_text
@@ -138,7 +138,7 @@ def test_pyperplans_plans_execute(tmp_path):
 
 
 def test_a_rule_base_drives_the_arm(tmp_path):
-    from csql_sim.core.rulebase import save
+    from csql_sim.core.files.rulebase import save
     from csql_sim.learners.training import train
 
     rules = tmp_path / "rules.yaml"

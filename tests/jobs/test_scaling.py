@@ -6,7 +6,7 @@ import io
 import numpy as np
 import pytest
 
-from csql_sim.core.search import count_optimal_greedy
+from csql_sim.core.model.search import count_optimal_greedy
 from csql_sim.jobs.scaling import COLUMNS, csv_text, peak_rss_bytes, reset_peak_rss, run_cell, run_scaling
 from csql_sim.learners.training import make_learner
 

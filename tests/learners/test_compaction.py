@@ -2,10 +2,11 @@
 
 import pytest
 
-from csql_sim.core.default_hierarchy import DefaultHierarchy
-from csql_sim.core.goal_message import GoalForm
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.search import check_all_pairs, count_optimal_greedy
+from csql_sim.core.model.search import count_optimal_greedy
+from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
+from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.policies.rollout import check_all_pairs
+from csql_sim.core.state.goal_message import GoalForm
 from csql_sim.learners.compaction import compact, greedy_sets
 from csql_sim.learners.training import train
 
@@ -34,7 +35,7 @@ def test_plain_goal_form_without_detectors_also_plans_optimally(trained3):
 
 def test_compaction_follows_the_input_not_bfs(trained3):
     # keep only the Q-classifiers of goal 0: every other pair is left open (undecided)
-    from csql_sim.core.rulebase import RuleBase
+    from csql_sim.core.files.rulebase import RuleBase
 
     goal0 = [c for c in trained3.classifiers if c.kind == "R" or c.condition.endswith("0")]
     rb = RuleBase(3, goal0, dict(trained3.meta))

@@ -5,8 +5,8 @@ import pathlib
 import numpy as np
 import pytest
 
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.rulebase import dumps, load
+from csql_sim.core.files.rulebase import dumps, load
+from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.learners.learner import Curve, Learner
 from csql_sim.learners.training import make_learner, train_learner
 

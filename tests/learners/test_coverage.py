@@ -1,9 +1,9 @@
 """``show`` of a goal-form base: list order, coverage per classifier, the classifiers along one plan."""
 
-from csql_sim.core.goal_message import GoalForm
-from csql_sim.core.notation import parse_state_arg
-from csql_sim.core.rulebase import RuleBase
-from csql_sim.core.search import bfs_plan
+from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.model.search import bfs_plan
+from csql_sim.core.state.goal_message import GoalForm
+from csql_sim.core.state.notation import parse_state_arg
 from csql_sim.learners.compaction import compact
 from csql_sim.learners.coverage import coverage_rows, coverage_table
 from csql_sim.learners.training import train

@@ -1,12 +1,12 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.message import format_state_message, parse_state_message
-from csql_sim.core.notation import parse_config
-from csql_sim.core.policy import QPolicy
-from csql_sim.core.rulebase import dumps
-from csql_sim.core.search import check_all_pairs
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.files.rulebase import dumps
+from csql_sim.core.policies.policy import QPolicy
+from csql_sim.core.policies.rollout import check_all_pairs
+from csql_sim.core.state.message import format_state_message, parse_state_message
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.learners.cs_ql import CSQL
 from csql_sim.learners.learner import Transition
 from csql_sim.learners.pruning import count_q, figure6_table, greedy_path, prune

@@ -4,9 +4,9 @@ import sys
 import numpy as np
 import pytest
 
-from csql_sim.core.rulebase import dumps
-from csql_sim.core.search import check_pairs
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.files.rulebase import dumps
+from csql_sim.core.policies.rollout import check_pairs
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.learners.fast_engine import FastCSQL, world_model
 from csql_sim.learners.params import ParamsError
 from csql_sim.learners.pruning import prune
@@ -64,7 +64,7 @@ def test_n4_defaults_prune_to_one_optimal_classifier_per_pair():
     pruned = prune(rb, 0.1)
     q = [c for c in pruned.classifiers if c.kind == "Q"]
     assert len(q) == 15_500 == len({c.condition for c in q})
-    from csql_sim.core.greedy_table import GreedyTable
+    from csql_sim.core.policies.greedy_table import GreedyTable
 
     results = list(check_pairs(GreedyTable.from_rulebase(pruned), 4, "all"))
     assert len(results) == 15_500 and all(r.optimal for r in results)

@@ -13,7 +13,7 @@ import time
 
 import pytest
 
-from csql_sim.core.rulebase import dumps
+from csql_sim.core.files.rulebase import dumps
 from csql_sim.learners import fast_engine
 from csql_sim.learners.training import make_learner, train
 

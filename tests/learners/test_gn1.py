@@ -1,13 +1,14 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.large_state import LargeState, parse_large
-from csql_sim.core.move_relations import target_goal
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.relational_rollout import rollout_relational
-from csql_sim.core.search import check_pairs, distance_matrix
-from csql_sim.core.state_count import sample_pairs
-from csql_sim.core.world import all_states
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.model.search import distance_matrix
+from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.policies.rollout import check_pairs
+from csql_sim.core.state.large_state import LargeState, parse_large
+from csql_sim.core.state.move_relations import target_goal
+from csql_sim.core.state.state_count import sample_pairs
+from csql_sim.core.state.world import all_states
 from csql_sim.learners.gn1 import Gn1Policy
 
 

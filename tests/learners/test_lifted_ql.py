@@ -6,10 +6,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from csql_sim.core.lifted_policy import load_lifted_policy
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.relational_rollout import rollout_relational
-from csql_sim.core.state_count import sample_pairs, state_count, unrank_state
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.policies.lifted_policy import load_lifted_policy
+from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.state_count import sample_pairs, state_count, unrank_state
 from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
 from csql_sim.learners.params import ParamsError
 

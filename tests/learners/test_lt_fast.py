@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.greedy_table import GreedyTable
-from csql_sim.core.rulebase import load
+from csql_sim.core.files.rulebase import load
+from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners import lt_fast
 from csql_sim.learners.learner import Learner

@@ -1,8 +1,8 @@
 import pytest
 
-from csql_sim.core.message import format_state_message
-from csql_sim.core.task import test_task
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.model.task import test_task
+from csql_sim.core.state.message import format_state_message
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.learners.learner import Transition
 from csql_sim.learners.pruning import count_q
 from csql_sim.learners.training import make_learner, train

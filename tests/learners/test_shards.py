@@ -6,12 +6,13 @@ import importlib.util
 import numpy as np
 import pytest
 
-from csql_sim.core import rulebase_shards as rs
-from csql_sim.core.greedy_table import load_policy
-from csql_sim.core.rulebase_yaml import RuleBaseError
-from csql_sim.core.search import check_pairs, true_distances
-from csql_sim.core.sharded_policy import ShardedPolicy
-from csql_sim.core.world import BlocksWorld
+from csql_sim.core.files import rulebase_shards as rs
+from csql_sim.core.files.rulebase_yaml import RuleBaseError
+from csql_sim.core.model.search import true_distances
+from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.rollout import check_pairs
+from csql_sim.core.policies.sharded_policy import ShardedPolicy
+from csql_sim.core.state.world import BlocksWorld
 from csql_sim.infra.backends import Backend
 from csql_sim.learners.params import defaults_for_blocks
 from csql_sim.learners.shards import ShardRun, shard_trials, train_sharded

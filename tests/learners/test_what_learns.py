@@ -4,9 +4,9 @@ optimal-pair count is a rollout of every pair."""
 import numpy as np
 import pytest
 
-from csql_sim.core.optimal_pairs import count_optimal_pairs, count_optimal_steps
-from csql_sim.core.search import distance_matrix
-from csql_sim.core.transition_table import true_table
+from csql_sim.core.model.optimal_pairs import count_optimal_pairs, count_optimal_steps
+from csql_sim.core.model.search import distance_matrix
+from csql_sim.core.model.transition_table import true_table
 from csql_sim.learners.params import ParamsError
 from csql_sim.learners.training import make_learner, train_learner
 

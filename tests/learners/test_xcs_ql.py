@@ -3,10 +3,11 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.default_hierarchy import DefaultHierarchy
-from csql_sim.core.greedy_table import load_policy
-from csql_sim.core.rulebase import save
-from csql_sim.core.search import check_all_pairs, count_optimal_greedy
+from csql_sim.core.files.rulebase import save
+from csql_sim.core.model.search import count_optimal_greedy
+from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
+from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.rollout import check_all_pairs
 from csql_sim.learners.compaction import compact
 from csql_sim.learners.params import defaults_for_blocks, with_overrides
 from csql_sim.learners.training import train

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.large_state import LargeState, action_name, legal_actions, successor
-from csql_sim.core.optimum import optimal_length
-from csql_sim.core.state_count import sample_pairs
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.state.large_state import LargeState, action_name, legal_actions, successor
+from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.learners.gn1 import Gn1Policy
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld

@@ -1,10 +1,10 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.notation import parse_config
-from csql_sim.core.search import distance
-from csql_sim.core.world import all_states
-from csql_sim.core.world_model import WorldModel
+from csql_sim.core.model.search import distance
+from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import all_states
 from csql_sim.sim.executor import Perturbation, PerturbationPlan, run_physical_episode
 
 
@@ -120,7 +120,7 @@ def test_start_with_held_block(held):
 
 def test_learned_rule_base_runs_on_the_arm(task, tmp_path):
     from csql_sim.cli import main
-    from csql_sim.core.greedy_table import load_policy
+    from csql_sim.core.policies.greedy_table import load_policy
 
     out = tmp_path / "rules.yaml"
     assert main(["train", "--out", str(out), "--no-progress"]) == 0
@@ -133,7 +133,7 @@ def test_learned_rule_base_runs_on_the_arm(task, tmp_path):
 
 def test_rule_base_for_other_world_is_rejected(tmp_path):
     from csql_sim.cli import main
-    from csql_sim.core.greedy_table import load_policy
+    from csql_sim.core.policies.greedy_table import load_policy
     from csql_sim.infra.errors import CsqlError
 
     out = tmp_path / "rules2.yaml"
@@ -150,7 +150,7 @@ def test_four_blocks_reverse_tower():
 
 
 def test_on_action_reports_progress_once_per_action():
-    from csql_sim.core.notation import parse_config as config
+    from csql_sim.core.state.notation import parse_config as config
     from csql_sim.sim.executor import run_physical_episode as execute
 
     calls: list[int] = []

@@ -3,8 +3,8 @@ from dataclasses import replace
 import numpy as np
 
 from csql_sim.cli import main
-from csql_sim.core.notation import parse_action_name
-from csql_sim.core.world import BLOCK_NAMES, legal_actions
+from csql_sim.core.state.notation import parse_action_name
+from csql_sim.core.state.world import BLOCK_NAMES, legal_actions
 from csql_sim.discovery.explore import Exploration, explore
 from csql_sim.jobs.discover import record_discovery
 from csql_sim.sim.config import DEFAULT_CONFIG

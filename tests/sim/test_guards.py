@@ -1,6 +1,6 @@
 import pytest
 
-from csql_sim.core.notation import parse_action_name, parse_config
+from csql_sim.core.state.notation import parse_action_name, parse_config
 from csql_sim.sim.physical import PhysicalWorld
 
 

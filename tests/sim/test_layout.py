@@ -1,8 +1,8 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.notation import parse_config
-from csql_sim.core.world import all_states
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import all_states
 from csql_sim.sim.config import DEFAULT_CONFIG
 from csql_sim.sim.layout import Placement, place_towers, start_layout, tower_slot
 from csql_sim.sim.scene import Scene

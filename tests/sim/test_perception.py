@@ -3,9 +3,9 @@ import math
 import numpy as np
 import pytest
 
-from csql_sim.core.message import format_state_message
-from csql_sim.core.notation import parse_config
-from csql_sim.core.world import HAND, BlocksWorld, all_states
+from csql_sim.core.state.message import format_state_message
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import HAND, BlocksWorld, all_states
 from csql_sim.sim.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERA, capture
 from csql_sim.sim.perception import interpret, observe_poses, state_message
 from csql_sim.sim.physical import PhysicalWorld

@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from csql_sim.core.notation import parse_action_name, parse_config
+from csql_sim.core.state.notation import parse_action_name, parse_config
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.recovery import Flatten, recovery_for

@@ -5,7 +5,7 @@ import imageio.v2 as imageio
 import numpy as np
 import pytest
 
-from csql_sim.core.notation import parse_config
+from csql_sim.core.state.notation import parse_config
 from csql_sim.sim.camera import RENDER_CAMERA, capture
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.renderer import RendererError, close_quietly, egl_available, egl_plugin_path, resolve_renderer

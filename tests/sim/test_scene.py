@@ -2,7 +2,7 @@ import dataclasses
 
 import pytest
 
-from csql_sim.core.notation import parse_config
+from csql_sim.core.state.notation import parse_config
 from csql_sim.sim.config import DEFAULT_CONFIG
 from csql_sim.sim.physical import PhysicalWorld, SimError
 from csql_sim.sim.scene import Scene

@@ -2,7 +2,7 @@ import os
 
 import pytest
 
-from csql_sim.core.notation import parse_config
+from csql_sim.core.state.notation import parse_config
 from csql_sim.jobs.evaluate import evaluate
 from csql_sim.sim.executor import run_physical_episode
 

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from csql_sim.core.large_message import format_large_message, parse_large_message
-from csql_sim.core.large_state import LargeState, parse_large
-from csql_sim.core.notation import parse_config
-from csql_sim.core.world import HAND, Action, ActionKind, State
+from csql_sim.core.state.large_message import format_large_message, parse_large_message
+from csql_sim.core.state.large_state import LargeState, parse_large
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import HAND, Action, ActionKind, State
 from csql_sim.learners.gn1 import Gn1Policy
 from csql_sim.sim.arm_state import SimError, parse_arm_state, to_arm_state
 from csql_sim.sim.camera import CAMERA_TOLERANCES, capture, perception_cameras

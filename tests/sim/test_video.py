@@ -1,7 +1,7 @@
 import imageio.v2 as imageio
 import pytest
 
-from csql_sim.core.notation import parse_config
+from csql_sim.core.state.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.video import ReplayRenderer, caption_image, check_video_options, video_frame_count, write_video
@@ -21,8 +21,8 @@ def test_recording_in_simulated_time(recording):
     # every caption reads "step k/K  <what>  <message>"; the first names the start and the goal
     total = recording.actions
     assert total == r.length == 2
-    from csql_sim.core.message import format_state_message
-    from csql_sim.core.world import BlocksWorld
+    from csql_sim.core.state.message import format_state_message
+    from csql_sim.core.state.world import BlocksWorld
 
     start_message = format_state_message(parse_config("A,B,C"), BlocksWorld.of(3).state_index(parse_config("AB,C")))
     texts = [f.caption.text(total) for f in recording.frames]

@@ -12,7 +12,7 @@ import sys
 
 import pytest
 
-from csql_sim.core.notation import parse_config
+from csql_sim.core.state.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim import video
 from csql_sim.sim.executor import run_physical_episode

@@ -38,7 +38,7 @@ def test_a_plan_that_reaches_the_goal_passes(pytester):
 def test_a_failing_plan_says_which_step_failed_and_what_was_perceived(pytester):
     pytester.makepyfile("""
         import pytest
-        from csql_sim.core.ipc_plan import PlanError
+        from csql_sim.core.files.ipc_plan import PlanError
         from csql_sim.testing.plugin import assert_reached
 
         def test_bare_assert(arm):

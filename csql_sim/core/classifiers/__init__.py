@@ -1,0 +1,1 @@
+"""The classifiers: R- and Q-classifiers, the one classifier list, lifted rules."""

@@ -1,0 +1,1 @@
+"""Rule files (YAML, npz, shards), PDDL in and out, IPC plan files."""

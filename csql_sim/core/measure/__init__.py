@@ -1,0 +1,1 @@
+"""Measuring, never planning: the exact optimum. Policies and learners never import it."""

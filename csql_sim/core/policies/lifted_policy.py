@@ -1,0 +1,212 @@
+"""Lifted Q-classifiers: conditions over the relations of a move, for any number of blocks.
+
+A lifted Q-classifier reads the relations of a move (:mod:`csql_sim.core.state.move_relations`)
+instead of a state message, so one classifier speaks of every block at once. It is
+written, in the paper's style of ``#`` for don't care, as::
+
+    Q 1110#1# move(?x,?d)->table  advantage=0.007 error=0.015 experience=4743
+
+* the condition, one character per atom of :data:`~csql_sim.core.state.move_relations.ATOMS`
+  (``misplaced(?x)``, ``goal-on(?x,?d)``, ``ready(?d)``, ``deadlocked(?x)``,
+  ``above-needed(?x)``, ``least-stuck(?x)``, ``deadlock``): ``1`` holds, ``0`` does not,
+  ``#`` either;
+* the action: move ``?x`` to the table (``->table``) or onto a block ``?d`` (``->block``);
+* the learned **advantage**: how many moves more than the state's best move the
+  classifier expects its move to cost (0: a best move), with the mean absolute error of
+  that prediction and its experience (updates).
+
+:class:`LiftedPolicy` (greedy, any n <= 26) binds ``?x`` and ``?d`` to every legal move of
+the state (the held block's puts when a block is held), gives each move the advantage of
+its most specific matching classifier (a default hierarchy: exceptions before the general
+rule; ties, the smaller error) and takes the move of least advantage (ties, the first in
+move order): with the hand empty it picks that move's block up; holding a block, it puts
+it down. It is Markov: the same state and goal give the same action. The lookahead is the
+one move of ``least-stuck``; nothing searches further.
+
+The file (:func:`dumps_lifted_policy`) is JSON, format ``csql-sim lifted q-classifiers``,
+version 1, with the atoms named, the classifiers as lines and the run's provenance.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from csql_sim.core.classifiers.lifted_rule import read_versioned_json
+from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, target_goal
+from csql_sim.core.state.world import Action, State
+from csql_sim.infra import formats
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.files import read_text_file
+
+LIFTED_Q_FORMAT = formats.LIFTED_Q
+LIFTED_Q_VERSION = 1
+MAX_LIFTED_Q_BYTES = 1 << 20
+MAX_CLASSIFIERS = 4096
+MAX_EXPERIENCE_DIGITS = 18
+"""A classifier's experience (updates) fits in 18 digits; longer is a corrupt or hostile file."""
+_NUM = r"(-?\d+(?:\.\d+)?)"
+_LINE = re.compile(r"Q ([01#]+) move\(\?x,\?d\)->(table|block)\s+advantage=" + _NUM +
+            r"\s+error=(\d+(?:\.\d+)?)\s+experience=(\d+)")
+
+
+class LiftedPolicyError(CsqlError):
+    """A lifted Q-classifier file or line that does not follow the documented form."""
+
+
+def condition_holds(condition: str, bits: tuple[int, ...]) -> bool:
+    """Whether a condition (``1``, ``0``, ``#`` per atom) holds for a move's relations."""
+    return all(c == "#" or int(c) == b for c, b in zip(condition, bits, strict=True))
+
+
+@dataclass(frozen=True)
+class LiftedQClassifier:
+    """One lifted Q-classifier (see the module docstring)."""
+
+    condition: str
+    kind: str
+    advantage: float = 0.0
+    error: float = 0.0
+    experience: int = 0
+
+    def __post_init__(self) -> None:
+        if len(self.condition) != len(ATOMS) or set(self.condition) - set("01#"):
+            raise LiftedPolicyError(f"condition {self.condition!r}: expected {len(ATOMS)} characters of 0, 1, #")
+        if self.kind not in KINDS:
+            raise LiftedPolicyError(f"move kind {self.kind!r}: expected one of {', '.join(KINDS)}")
+
+    def matches(self, bits: tuple[int, ...], kind: str) -> bool:
+        """Whether the condition holds for a move with relations ``bits`` of kind ``kind``."""
+        return kind == self.kind and condition_holds(self.condition, bits)
+
+    @property
+    def generality(self) -> int:
+        """The number of ``#`` in the condition."""
+        return self.condition.count("#")
+
+    def text(self) -> str:
+        """The classifier's line."""
+        return (f"Q {self.condition} move(?x,?d)->{self.kind}  advantage={self.advantage:.3f} "
+                f"error={self.error:.3f} experience={self.experience}")
+
+    def words(self) -> str:
+        """The condition in words: the atoms that must hold (and, with ``not``, must not)."""
+        parts = [atom if c == "1" else f"not {atom}" for atom, c in zip(ATOMS, self.condition, strict=True) if c != "#"]
+        return f"move ?x to {'the table' if self.kind == 'table' else 'block ?d'} if {' and '.join(parts) or 'always'}"
+
+
+def parse_lifted_q(line: str) -> LiftedQClassifier:
+    """Read one classifier line (:meth:`LiftedQClassifier.text`)."""
+    found = _LINE.fullmatch(line.strip())
+    if not found:
+        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: expected 'Q <condition> move(?x,?d)->table|block "
+                                "advantage=A error=R experience=N'")
+    cond, kind, advantage, error, experience = found.groups()
+    if len(experience) > MAX_EXPERIENCE_DIGITS:
+        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: experience has {len(experience):,} digits "
+                                f"(at most {MAX_EXPERIENCE_DIGITS})")
+    numbers = float(advantage), float(error)
+    if not all(math.isfinite(x) for x in numbers):
+        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: advantage and error must be finite numbers")
+    return LiftedQClassifier(cond, kind, *numbers, int(experience))
+
+
+def most_specific(classifiers: Iterable[LiftedQClassifier], bits: tuple[int, ...], kind: str
+                  ) -> LiftedQClassifier | None:
+    """The matching classifier with the fewest ``#`` (ties: the smaller error, then list order)."""
+    best = None
+    for c in classifiers:
+        if c.matches(bits, kind) and (best is None or (c.generality, c.error) < (best.generality, best.error)):
+            best = c
+    return best
+
+
+class LiftedPolicy:
+    """Greedy policy over lifted Q-classifiers, for relational states of any n <= 26 (module docstring)."""
+
+    name = "rules"
+    blocks: int | None = None
+
+    def __init__(self, classifiers: Iterable[LiftedQClassifier], meta: dict | None = None) -> None:
+        self.classifiers = tuple(classifiers)
+        self.meta = dict(meta or {})
+        self._match: dict[tuple[tuple[int, ...], str], LiftedQClassifier | None] = {}
+
+    def classifier_for(self, bits: tuple[int, ...], kind: str) -> LiftedQClassifier | None:
+        """The most specific classifier matching a move's relations (remembered: the classifiers never change)."""
+        key = (bits, kind)
+        if key not in self._match:
+            self._match[key] = most_specific(self.classifiers, bits, kind)
+        return self._match[key]
+
+    def choose(self, relations: MoveRelations) -> Move | None:
+        """The move of least predicted advantage (ties: move order), or None if no classifier matches any."""
+        best, best_value = None, 0.0
+        for move in relations.moves:
+            c = self.classifier_for(relations.bits(move), move.kind)
+            if c is not None and (best is None or c.advantage < best_value):
+                best, best_value = move, c.advantage
+        return best
+
+    def act(self, state: LargeState | State, goal: LargeState | State) -> Action | None:
+        """The next action towards ``goal``: None at the goal or when no classifier matches."""
+        state, goal = _relational(state), _relational(goal)
+        if state == goal:
+            return None
+        target = target_goal(state, goal)
+        if state == target:
+            return pick_action(state, goal.held)
+        move = self.choose(MoveRelations(state, target))
+        if move is None:
+            return None
+        return put_action(move) if state.held is not None else pick_action(state, move.block)
+
+
+def _relational(state: LargeState | State) -> LargeState:
+    return state if isinstance(state, LargeState) else LargeState.from_state(state)
+
+
+# ---------------------------------------------------------------- the file
+
+
+def dumps_lifted_policy(classifiers: Iterable[LiftedQClassifier], meta: dict) -> str:
+    """The file's text: JSON with the format, version, atoms, ``meta`` and one line per classifier."""
+    doc = {"format": LIFTED_Q_FORMAT, "version": LIFTED_Q_VERSION, "atoms": list(ATOMS), "meta": meta,
+           "classifiers": [c.text() for c in classifiers]}
+    return json.dumps(doc, indent=2) + "\n"
+
+
+def loads_lifted_policy(text: str, source: str = "lifted Q-classifier file") -> LiftedPolicy:
+    """The policy of a file's text; raises LiftedPolicyError naming the source and what is wrong."""
+    doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, LIFTED_Q_VERSION, LiftedPolicyError)
+    if doc.get("atoms") != list(ATOMS):
+        raise LiftedPolicyError(f"{source} names other atoms than this csql-sim's {', '.join(ATOMS)}")
+    lines, meta = doc.get("classifiers"), doc.get("meta", {})
+    if not isinstance(lines, list) or not all(isinstance(x, str) for x in lines) or not isinstance(meta, dict):
+        raise LiftedPolicyError(f"{source}: 'classifiers' must be a list of lines and 'meta' an object")
+    if not 0 < len(lines) <= MAX_CLASSIFIERS:
+        raise LiftedPolicyError(f"{source} holds {len(lines)} classifiers; expected 1..{MAX_CLASSIFIERS}")
+    try:
+        return LiftedPolicy([parse_lifted_q(x) for x in lines], meta)
+    except LiftedPolicyError as exc:
+        raise LiftedPolicyError(f"{source}: {exc}") from None
+
+
+def load_lifted_policy(path: str | os.PathLike) -> LiftedPolicy:
+    """Read a lifted Q-classifier file (regular file, size-capped)."""
+    text = read_text_file(path, MAX_LIFTED_Q_BYTES, "lifted Q-classifier file")
+    return loads_lifted_policy(text, f"lifted Q-classifier file {os.fspath(path)!r}")
+
+
+def is_lifted_policy(path: str | os.PathLike) -> bool:
+    """Whether ``path`` is a regular file that says it is a lifted Q-classifier file (first bytes)."""
+    return formats.sniff(path) == LIFTED_Q_FORMAT
+
+
+__all__ = ["LiftedPolicy", "LiftedQClassifier", "dumps_lifted_policy", "is_lifted_policy", "load_lifted_policy",
+           "loads_lifted_policy", "most_specific", "parse_lifted_q"]

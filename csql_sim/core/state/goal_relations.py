@@ -1,0 +1,140 @@
+"""Relations between a state and a goal: well placed, goal place ready, and the deadlock graph.
+
+These are the derived relations of blocks-world planning (Gupta and Nau 1992), computed
+from a state and a goal alone (any n <= 26, :class:`~csql_sim.core.state.large_state.LargeState`):
+
+* **well placed**: a block stands on its goal support (the table, the hand, or a block)
+  and, when that is a block, the block is well placed too. A block that is not well
+  placed is **misplaced** and must move at least once.
+* **goal place ready**: a block's goal support is the table, or a well-placed block that
+  is clear: the block can go there for good.
+* **the deadlock graph** (:func:`precedences`): for hand-empty states and goals, an edge
+  b -> x between misplaced blocks says that x must leave its place before b can make its
+  final move. A cycle is a deadlock: some block in it must visit the table first.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state.world import TABLE, WorldError
+
+
+def well_placed(state: LargeState, goal: LargeState) -> tuple[bool, ...]:
+    """Per block: on its goal support, with everything below it well placed."""
+    if state.n != goal.n:
+        raise WorldError(f"state has {state.n} blocks but goal has {goal.n}")
+    memo: dict[int, bool] = {}
+
+    def placed(b: int) -> bool:
+        if b not in memo:
+            s = state.support[b]
+            memo[b] = s == goal.support[b] and (s < 0 or placed(s))
+        return memo[b]
+
+    return tuple(placed(b) for b in range(state.n))
+
+
+def goal_place_ready(state: LargeState, goal: LargeState, placed: tuple[bool, ...], b: int) -> bool:
+    """Whether block b can be put on its goal support for good now (the table, or a clear well-placed block)."""
+    d = goal.support[b]
+    if d == TABLE:
+        return True
+    return d >= 0 and placed[d] and state.is_clear(d) and state.held != d
+
+
+@dataclass(frozen=True)
+class Precedences:
+    """The ordering constraints between the moves of misplaced blocks (hand-empty state and goal).
+
+    Every misplaced block b has a final move (onto its goal support); a block in the set
+    that visits the table also has a first move (onto the table). ``first(b)`` is the table
+    visit when there is one, else the final move.
+
+    Attributes:
+        misplaced: the misplaced blocks, ascending.
+        on_top: ``(x, b)``: x stands directly on b, so first(x) precedes first(b).
+        blocking: ``(x, b)``: x stands directly on b's goal support, so first(x) precedes final(b).
+        below_first: ``(d, b)``: d is b's misplaced goal support, so final(d) precedes final(b).
+    """
+
+    misplaced: tuple[int, ...]
+    on_top: tuple[tuple[int, int], ...]
+    blocking: tuple[tuple[int, int], ...]
+    below_first: tuple[tuple[int, int], ...]
+
+    def graph(self) -> dict[int, set[int]]:
+        """The deadlock graph: b -> x when x's first move must precede b's final move (no table visits)."""
+        out: dict[int, set[int]] = {b: set() for b in self.misplaced}
+        for x, b in (*self.on_top, *self.blocking, *self.below_first):
+            out[b].add(x)
+        return out
+
+
+def precedences(state: LargeState, goal: LargeState) -> Precedences:
+    """The constraints of :class:`Precedences` (both states hand-empty)."""
+    if state.held is not None or goal.held is not None:
+        raise WorldError("the deadlock graph is defined for hand-empty states and goals")
+    placed = well_placed(state, goal)
+    misplaced = tuple(b for b in range(state.n) if not placed[b])
+    on_top, blocking, below = [], [], []
+    for b in misplaced:
+        x = state.above_of[b]
+        if x is not None:
+            on_top.append((x, b))
+        d = goal.support[b]
+        if d >= 0:
+            top = state.above_of[d]
+            if top is not None:
+                blocking.append((top, b))
+            if not placed[d]:
+                below.append((d, b))
+    return Precedences(misplaced, tuple(on_top), tuple(blocking), tuple(below))
+
+
+def strongly_connected(graph: dict[int, set[int]]) -> list[list[int]]:
+    """The strongly connected components of ``graph`` (Tarjan, iterative), each sorted."""
+    index: dict[int, int] = {}
+    low: dict[int, int] = {}
+    stack: list[int] = []
+    on_stack: set[int] = set()
+    out: list[list[int]] = []
+    for root in graph:
+        if root in index:
+            continue
+        work = [(root, iter(sorted(graph[root])))]
+        index[root] = low[root] = len(index)
+        stack.append(root)
+        on_stack.add(root)
+        while work:
+            v, children = work[-1]
+            w = next(children, None)
+            if w is not None:
+                if w not in index:
+                    index[w] = low[w] = len(index)
+                    stack.append(w)
+                    on_stack.add(w)
+                    work.append((w, iter(sorted(graph[w]))))
+                elif w in on_stack:
+                    low[v] = min(low[v], index[w])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[v])
+            if low[v] == index[v]:
+                component = []
+                while True:
+                    w = stack.pop()
+                    on_stack.discard(w)
+                    component.append(w)
+                    if w == v:
+                        break
+                out.append(sorted(component))
+    return out
+
+
+def deadlocked(state: LargeState, goal: LargeState) -> frozenset[int]:
+    """The misplaced blocks on a cycle of the deadlock graph (hand-empty state and goal)."""
+    graph = precedences(state, goal).graph()
+    return frozenset(b for c in strongly_connected(graph) for b in c if len(c) > 1 or b in graph[b])

@@ -1,0 +1,151 @@
+"""Moves and the relations that describe them: what a lifted Q-classifier's condition reads.
+
+A **move** binds the variables of the lifted Q-classifiers: ``?x``, the block moved, and
+``?d``, where it goes (the table or a block ``?y``). In the paper's four operators a move is
+a pick and the put that follows (two steps); when a block is already held, the move is the
+put alone. Moves are judged towards the **target**, the goal without a held block
+(:func:`target_goal`); a goal that holds a block ends with that block's pick.
+
+The relations of a move, in this order, are the atoms a condition tests (``1`` holds,
+``0`` does not, ``#`` either; :data:`ATOMS`):
+
+====================  ===================================================================
+``misplaced(?x)``     ?x is not well placed (:func:`~csql_sim.core.state.goal_relations.well_placed`)
+``goal-on(?x,?d)``    ?d is ?x's support in the target
+``ready(?d)``         ?d is the table, or a well-placed block with nothing on it
+``deadlocked(?x)``    ?x is on a cycle of the deadlock graph
+                      (:func:`~csql_sim.core.state.goal_relations.deadlocked`; a held block
+                      counts as standing on the table)
+``above-needed(?x)``  a block under ?x is needed next: misplaced with its goal place
+                      ready, or the well-placed goal support of a misplaced block
+``least-stuck(?x)``   one move of lookahead, for moves to the table: after this move,
+                      no other move to the table would leave fewer blocks deadlocked
+``deadlock``          some block is deadlocked (a relation of the state, not the move:
+                      it tells states that need a detour from those that do not)
+====================  ===================================================================
+
+The move's kind (``table`` or ``block``) is the classifier's action, not an atom. The
+lookahead is one move through the lifted world model; nothing searches further.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from csql_sim.core.state.goal_relations import deadlocked, well_placed
+from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state.world import TABLE, Action, ActionKind
+
+ATOMS = ("misplaced(?x)", "goal-on(?x,?d)", "ready(?d)", "deadlocked(?x)", "above-needed(?x)", "least-stuck(?x)",
+         "deadlock")
+"""The relations of a move, in condition order."""
+KINDS = ("table", "block")
+"""A move's kind: to the table, or onto a block."""
+
+
+@dataclass(frozen=True)
+class Move:
+    """Block ``block`` to ``onto`` (TABLE or a block index)."""
+
+    block: int
+    onto: int
+
+    @property
+    def kind(self) -> str:
+        """``table`` or ``block``."""
+        return "table" if self.onto == TABLE else "block"
+
+
+def pick_action(state: LargeState, b: int) -> Action:
+    """The action that lifts block b from where it stands."""
+    s = state.support[b]
+    return Action(ActionKind.PICKUP, b) if s == TABLE else Action(ActionKind.UNSTACK, b, s)
+
+
+def put_action(move: Move) -> Action:
+    """The action that puts the moved block down."""
+    if move.onto == TABLE:
+        return Action(ActionKind.PUTDOWN, move.block)
+    return Action(ActionKind.STACK, move.block, move.onto)
+
+
+def target_goal(state: LargeState, goal: LargeState) -> LargeState:
+    """The goal without its held block g: g where it stands if nothing must go on it there, else on the table."""
+    g = goal.held
+    if g is None:
+        return goal
+    s = state.support[g]
+    keep = s >= 0 and goal.above_of[s] is None
+    support = list(goal.support)
+    support[g] = s if keep else TABLE
+    return LargeState(tuple(support))
+
+
+def after(state: LargeState, move: Move) -> LargeState:
+    """The hand-empty state after ``move`` (the pick, if any, and the put)."""
+    support = list(state.support)
+    support[move.block] = move.onto
+    return LargeState(tuple(support))
+
+
+def moves(state: LargeState) -> tuple[Move, ...]:
+    """The legal moves: the held block's puts, or every clear block to the table and onto every other clear block."""
+    held = state.held
+    clear = [b for b in range(state.n) if state.is_clear(b)]
+    movers = [held] if held is not None else clear
+    out = []
+    for x in movers:
+        if state.support[x] != TABLE:
+            out.append(Move(x, TABLE))
+        out.extend(Move(x, y) for y in clear if y != x and state.support[x] != y)
+    return tuple(out)
+
+
+def _needed_below(state: LargeState, target: LargeState, placed: tuple[bool, ...], b: int) -> bool:
+    supports = {target.support[c] for c in range(state.n) if not placed[c]}
+    below = state.support[b]
+    while below >= 0:
+        if placed[below] and below in supports:
+            return True
+        if not placed[below] and _ready(state, placed, target.support[below], below):
+            return True
+        below = state.support[below]
+    return False
+
+
+def _ready(state: LargeState, placed: tuple[bool, ...], d: int, mover: int) -> bool:
+    """Whether ``d`` can take ``mover`` for good: the table, or a clear well-placed block."""
+    if d == TABLE:
+        return True
+    return d >= 0 and d != mover and placed[d] and state.is_clear(d)
+
+
+class MoveRelations:
+    """The relations of every legal move of one state towards one target (:data:`ATOMS`)."""
+
+    def __init__(self, state: LargeState, target: LargeState) -> None:
+        self.state, self.target = state, target
+        self.placed = well_placed(state, target)
+        held = state.held  # a held block counts as standing on the table for the deadlock graph
+        self.stuck = deadlocked(state if held is None else after(state, Move(held, TABLE)), target)
+        self.moves = moves(state)
+        stuck_after = {m: len(deadlocked(after(state, m), target)) for m in self.moves if m.onto == TABLE}
+        self.least = min(stuck_after.values(), default=0)
+        self.stuck_after = stuck_after
+
+    def bits(self, move: Move) -> tuple[int, ...]:
+        """The move's relations, 1 or 0 each, in :data:`ATOMS` order."""
+        s, t, x, d = self.state, self.target, move.block, move.onto
+        return (
+            int(not self.placed[x]),
+            int(t.support[x] == d),
+            int(_ready(s, self.placed, d, x)),
+            int(x in self.stuck),
+            int(_needed_below(s, t, self.placed, x)),
+            int(d == TABLE and self.stuck_after[move] == self.least),
+            int(bool(self.stuck)),
+        )
+
+    def misplaced(self) -> int:
+        """The number of misplaced blocks: a lower bound on the moves still needed."""
+        return self.placed.count(False)

@@ -1,0 +1,76 @@
+"""Moves and their relations: legal by the STRIPS operators, the atoms as documented."""
+
+import numpy as np
+
+from csql_sim.core.state.goal_relations import deadlocked, well_placed
+from csql_sim.core.state.large_state import is_legal, parse_large, successor
+from csql_sim.core.state.move_relations import (
+    ATOMS,
+    Move,
+    MoveRelations,
+    after,
+    moves,
+    pick_action,
+    put_action,
+    target_goal,
+)
+from csql_sim.core.state.state_count import sample_pairs, state_count, unrank_state
+from csql_sim.core.state.world import TABLE
+
+
+def test_moves_are_exactly_the_legal_pick_and_put_pairs_at_four_blocks():
+    for rank in range(state_count(4)):
+        state = unrank_state(rank, 4)
+        got = set(moves(state))
+        want = set()
+        for x in range(4):
+            for onto in (TABLE, 0, 1, 2, 3):
+                held = state if state.held == x else None
+                if held is None and state.held is None and is_legal(state, pick_action(state, x)):
+                    held = successor(state, pick_action(state, x))
+                if held is None or onto == x or onto == state.support[x]:
+                    continue
+                if is_legal(held, put_action(Move(x, onto))):
+                    want.add(Move(x, onto))
+        assert got == want, state.notation()
+        for m in got:
+            assert after(state, m).support[m.block] == m.onto
+
+
+def test_relations_follow_their_definitions():
+    state, goal = parse_large("CAB,ED"), parse_large("ABC,DE")
+    rel = MoveRelations(state, goal)
+    assert len(ATOMS) == 7
+    placed = well_placed(state, goal)
+    stuck = deadlocked(state, goal)
+    for m in rel.moves:
+        bits = rel.bits(m)
+        assert bits[0] == (not placed[m.block])
+        assert bits[1] == (goal.support[m.block] == m.onto)
+        assert bits[3] == (m.block in stuck)
+        assert bits[6] == bool(stuck)
+    # goal: E on the table, D on E. With E clear on A (misplaced), D onto E is not for good
+    goal = parse_large("ABC,ED")
+    assert MoveRelations(parse_large("AE,D,CB"), goal).bits(Move(3, 4))[:3] == (1, 1, 0)
+    # with E on the table (its goal place), D onto E is a constructive move
+    assert MoveRelations(parse_large("E,D,CAB"), goal).bits(Move(3, 4))[:3] == (1, 1, 1)
+
+
+def test_least_stuck_marks_the_table_moves_that_leave_the_fewest_deadlocked_blocks():
+    rng = np.random.default_rng(3)
+    for state, goal in sample_pairs(8, 40, rng):
+        target = target_goal(state, goal)
+        if state == target:
+            continue
+        rel = MoveRelations(state, target)
+        table = [m for m in rel.moves if m.onto == TABLE]
+        counts = {m: len(deadlocked(after(state, m), target)) for m in table}
+        for m in rel.moves:
+            assert rel.bits(m)[5] == (m in counts and counts[m] == min(counts.values()))
+
+
+def test_target_goal_keeps_a_held_goal_block_where_it_can_stay():
+    state = parse_large("AB,C")
+    assert target_goal(state, parse_large("A,C+B")).notation() == "AB,C"  # B may stay on A
+    assert target_goal(state, parse_large("AC+B")).notation() == "AC,B"  # C goes on A, so B to the table
+    assert target_goal(state, parse_large("BA,C")) == parse_large("BA,C")
