@@ -22,7 +22,7 @@ import numpy as np
 from PIL import Image
 
 from csql_sim.core.policies.greedy_table import load_policy
-from csql_sim.core.state.large_state import parse_large
+from csql_sim.core.state.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file
 from csql_sim.learners.gn1 import Gn1Policy
@@ -76,7 +76,7 @@ def render_final(result: EpisodeResult, text: str, width: int, height: int) -> n
 def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     try:
-        start, goal = parse_large(args.start), parse_large(args.goal)
+        start, goal = parse_config(args.start), parse_config(args.goal)
         check_arm_blocks(start.n)
         policy = Gn1Policy() if args.rules is None else load_policy(args.rules, start.n)
         check_arm_policy(policy, start.n)

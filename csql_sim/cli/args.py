@@ -9,7 +9,7 @@ import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from csql_sim.core.state.large_state import MAX_LARGE
+from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS
 
 if TYPE_CHECKING:
@@ -38,7 +38,7 @@ def int_type(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
 positive_int = int_type(1)
 non_negative_int = int_type(0)
 blocks_arg = int_type(MIN_BLOCKS, MAX_BLOCKS)
-large_blocks_arg = int_type(MIN_BLOCKS, MAX_LARGE)
+large_blocks_arg = int_type(MIN_BLOCKS, MAX_LETTERS)
 """``--blocks`` of the commands that take relational states past six blocks: an integer 2..26."""
 seed_arg = non_negative_int
 """Seeds are non-negative integers (numpy's SeedSequence refuses negative ones)."""

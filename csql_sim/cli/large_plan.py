@@ -4,8 +4,8 @@ Up to six blocks ``plan`` works on the enumerated world (:mod:`csql_sim.cli.core
 as before. Past six, where nothing may be enumerated:
 
 * the start and the goal are configurations with letters A-Z
-  (:func:`csql_sim.core.state.large_state.parse_large`) or large state messages
-  (:func:`csql_sim.core.state.large_message.parse_large_message`; one as ``--start`` carries its
+  (:func:`csql_sim.core.state.notation.parse_config`) or large state messages
+  (:func:`csql_sim.core.state.relational_message.parse_large_message`; one as ``--start`` carries its
   own goal);
 * the planner is lifted: ``--planner gn1`` (the named baseline,
   :class:`csql_sim.learners.gn1.Gn1Policy`) or ``--rules FILE`` for which
@@ -38,15 +38,15 @@ from csql_sim.core.policies.greedy_table import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.relational_rollout import RelationalPolicy, RelationalRollout, rollout_relational
 from csql_sim.core.state.goal_message import is_goal_message
-from csql_sim.core.state.large_message import (
+from csql_sim.core.state.message import layout
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.relational_message import (
     format_large_action,
     infer_large_blocks,
     message_length,
     parse_large_message,
 )
-from csql_sim.core.state.large_state import LETTERS, LargeState, action_index, action_name, parse_large
-from csql_sim.core.state.message import layout
-from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, Action
+from csql_sim.core.state.world import LETTERS, MAX_BLOCKS, MIN_BLOCKS, Action, State, action_index, action_name
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.provenance import provenance
 from csql_sim.learners.gn1 import Gn1Policy
@@ -90,12 +90,12 @@ def _message_blocks(text: str) -> int | None:
                         f"{message_length(MAX_BLOCKS + 1)}..{message_length(len(LETTERS))}") from None
 
 
-def _read_state(text: str, n: int | None) -> LargeState:
+def _read_state(text: str, n: int | None) -> State:
     text = text.strip()
-    return parse_large_message(text, n).state if _is_message(text) else parse_large(text, n)
+    return parse_large_message(text, n).state if _is_message(text) else parse_config(text, n)
 
 
-def read_large_task(start: str, goal: str | None, n: int | None) -> tuple[LargeState, LargeState]:
+def read_large_task(start: str, goal: str | None, n: int | None) -> tuple[State, State]:
     """A start and goal of 7..26 blocks: configurations (A-Z) or large state messages.
 
     A large state message as the start carries its own goal: it is used when ``goal`` is
@@ -111,7 +111,7 @@ def read_large_task(start: str, goal: str | None, n: int | None) -> tuple[LargeS
         message = parse_large_message(text, n)
         s, message_goal = message.state, message.goal
     else:
-        s = parse_large(text, n)
+        s = parse_config(text, n)
     if goal is None:
         if message_goal is None:
             raise CsqlError("--goal is missing (only a state message as --start carries its own goal)")
@@ -171,7 +171,7 @@ def plan_large(args: argparse.Namespace, n: int) -> int:
     return _plan_one(args, policy, start, goal)
 
 
-def _plan_one(args: argparse.Namespace, policy: RelationalPolicy, start: LargeState, goal: LargeState) -> int:
+def _plan_one(args: argparse.Namespace, policy: RelationalPolicy, start: State, goal: State) -> int:
     n = start.n
     result = rollout_relational(policy, start, goal)
     optimum = optimal_length(start, goal)  # measured only: the plan is already made
@@ -207,7 +207,7 @@ class _Tally:
         self.unsolved: list[str] = []
         self.longer: list[str] = []
 
-    def add(self, start: LargeState, goal: LargeState, result: RelationalRollout, optimum: int) -> None:
+    def add(self, start: State, goal: State, result: RelationalRollout, optimum: int) -> None:
         self.total += 1
         pair = f"{start.notation()} -> {goal.notation()}"
         if not result.reached:

@@ -38,14 +38,14 @@ from csql_sim.cli.sim_options import (
     check_evaluate_options,
     check_render_options,
 )
-from csql_sim.core.state.large_state import MAX_LARGE, LargeState
+from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 from csql_sim.sim.config import MAX_ARM_BLOCKS
 
 DEFAULT_VIDEO = "video.mp4"
-_any_blocks = int_type(MIN_BLOCKS, MAX_LARGE)
+_any_blocks = int_type(MIN_BLOCKS, MAX_LETTERS)
 
 if TYPE_CHECKING:
     from csql_sim.jobs.evaluate import EvalReport
@@ -62,7 +62,7 @@ def arm_blocks_arg(text: str) -> int:
     return n
 
 
-def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[State | LargeState, State | LargeState]:
+def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[State, State]:
     """The task of ``render``: as ``plan`` reads it up to six blocks, else a task of 7..10 cubes.
 
     The start decides which, as for ``plan`` (:func:`csql_sim.cli.large_plan.large_blocks`):

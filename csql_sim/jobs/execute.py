@@ -32,9 +32,8 @@ from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_
 from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
 from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
 from csql_sim.core.policies.policy import Policy
-from csql_sim.core.state.large_state import LETTERS, LargeState
 from csql_sim.core.state.notation import parse_config
-from csql_sim.core.state.world import BLOCK_NAMES, MAX_BLOCKS, Action, State
+from csql_sim.core.state.world import BLOCK_NAMES, LETTERS, MAX_BLOCKS, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
@@ -131,7 +130,7 @@ def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None
                           perturb=perturb, video=video, progress=progress, files=files)
 
 
-def execute_task(start: str | State | LargeState, goal: str | State | LargeState | Sequence[str],
+def execute_task(start: str | State, goal: str | State | Sequence[str],
                  plan: PlanInput | None = None, rules: str | os.PathLike | None = None, planner: str | None = None,
                  seed: int = 0, perception: str = "pose", perturb: bool = False,
                  video: str | os.PathLike | None = None, progress: bool = False) -> ExecuteResult:
@@ -144,7 +143,7 @@ def execute_task(start: str | State | LargeState, goal: str | State | LargeState
     """
     from csql_sim.sim.arm_state import parse_arm_state
 
-    first = start if isinstance(start, (State, LargeState)) else parse_arm_state(start)
+    first = start if isinstance(start, State) else parse_arm_state(start)
     if first.n > MAX_BLOCKS:
         return execute_large(first, goal, plan=plan, rules=rules, planner=planner, seed=seed, perception=perception,
                              perturb=perturb, video=video, progress=progress)
@@ -155,19 +154,19 @@ def execute_task(start: str | State | LargeState, goal: str | State | LargeState
 class LiftedGoalPolicy:
     """A lifted policy towards a full goal, recording the last state it was asked in (for the report)."""
 
-    def __init__(self, inner: object, goal: LargeState) -> None:
+    def __init__(self, inner: object, goal: State) -> None:
         self.inner, self.goal = inner, goal
         self.name = getattr(inner, "name", "policy")
         self.blocks = None
-        self.last_seen: LargeState | None = None
+        self.last_seen: State | None = None
 
-    def act(self, state: LargeState, goal: LargeState) -> Action | None:
+    def act(self, state: State, goal: State) -> Action | None:
         """The inner policy's action, or None at the goal."""
         self.last_seen = state
         return None if state == self.goal else self.inner.act(state, goal)
 
 
-def execute_large(start: LargeState, goal: str | LargeState | Sequence[str], plan: PlanInput | None = None,
+def execute_large(start: State, goal: str | State | Sequence[str], plan: PlanInput | None = None,
                   rules: str | os.PathLike | None = None, planner: str | None = None, seed: int = 0,
                   perception: str = "pose", perturb: bool = False, video: str | os.PathLike | None = None,
                   progress: bool = False) -> ExecuteResult:
@@ -186,9 +185,9 @@ def execute_large(start: LargeState, goal: str | LargeState | Sequence[str], pla
     check_perception(perception)
     if video is not None:
         check_video_options(video, *VIDEO_SIZE, VIDEO_FPS)
-    if not isinstance(goal, (str, LargeState)):
+    if not isinstance(goal, (str, State)):
         raise CsqlError(f"past {MAX_BLOCKS} blocks the goal must be a configuration, not PDDL atoms")
-    end = goal if isinstance(goal, LargeState) else parse_arm_state(goal, n)
+    end = goal if isinstance(goal, State) else parse_arm_state(goal, n)
     if plan is not None or (rules is None) == (planner is None):
         raise CsqlError(f"past {MAX_BLOCKS} blocks give exactly one of lifted rules or planner='gn1' "
                         f"(plans are checked on the enumerated world, up to {MAX_BLOCKS} blocks)")
@@ -317,7 +316,7 @@ def _plan_reason(bp: BlocksProblem, episode: Any, replay: PlanReplay, reports: l
     return _unsatisfied(bp, final, "the plan ended; ")
 
 
-def _unsatisfied(bp: BlocksProblem | LargeGoal, final: State | LargeState | None, prefix: str = "") -> str:
+def _unsatisfied(bp: BlocksProblem | LargeGoal, final: State | None, prefix: str = "") -> str:
     if final is None:
         return f"{prefix}nothing was perceived"
     goal = bp if isinstance(bp, LargeGoal) else bp.goal

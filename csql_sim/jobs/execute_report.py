@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from csql_sim.core.model.goal_spec import GoalSpec, atom_text, holds, state_atoms
-from csql_sim.core.state.large_state import LETTERS, LargeState
+from csql_sim.core.state.world import LETTERS, State
 from csql_sim.sim.arm_state import parse_arm_state
 
 REPORT_FORMAT = "csql-sim execute report"
@@ -76,17 +76,17 @@ class LargeGoal:
 
     partial = False
 
-    def __init__(self, state: LargeState) -> None:
+    def __init__(self, state: State) -> None:
         self.state = state
         self.n = state.n
         self.names = tuple(LETTERS[: state.n].lower())
         self.states = (state,)
 
-    def satisfied(self, state: LargeState | None) -> bool:
+    def satisfied(self, state: State | None) -> bool:
         """Whether ``state`` is the goal (None: nothing perceived)."""
         return state is not None and state == self.state
 
-    def nearest(self, state: LargeState) -> LargeState:
+    def nearest(self, state: State) -> State:
         """The goal state itself."""
         return self.state
 
@@ -98,7 +98,7 @@ class LargeGoal:
         """The goal in one line."""
         return " ".join(self.atom_texts())
 
-    def unsatisfied(self, state: LargeState) -> list[str]:
+    def unsatisfied(self, state: State) -> list[str]:
         """The goal's atoms that ``state`` violates."""
         return sorted(atom_text(a, self.names) for a in state_atoms(self.state) if not holds(a, state))
 

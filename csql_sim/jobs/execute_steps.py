@@ -14,7 +14,6 @@ from collections.abc import Sequence
 from typing import Any
 
 from csql_sim.core.files.ipc_plan import PlanStep
-from csql_sim.core.state.large_state import LargeState
 from csql_sim.core.state.world import State, WorldError
 from csql_sim.jobs.execute_report import StepReport
 from csql_sim.sim.arm_state import parse_arm_state
@@ -23,7 +22,7 @@ BEFORE = "perceived before the step"
 """How a step's detail starts when perception diverged before the step was run (not after it)."""
 
 
-def final_state(episode: Any, policy: Any, n: int) -> State | LargeState | None:
+def final_state(episode: Any, policy: Any, n: int) -> State | None:
     """The last perceived state of an episode (None when perception failed at the end).
 
     After a success it is the executor's goal; otherwise what was perceived after the last

@@ -23,12 +23,11 @@ enumerated world's states (the :class:`csql_sim.core.policies.policy.Policy` int
 from __future__ import annotations
 
 from csql_sim.core.state.goal_relations import deadlocked, goal_place_ready, well_placed
-from csql_sim.core.state.large_state import LargeState
 from csql_sim.core.state.move_relations import pick_action, target_goal
 from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 
 
-def _needed_below(state: LargeState, goal: LargeState, placed: tuple[bool, ...], b: int) -> bool:
+def _needed_below(state: State, goal: State, placed: tuple[bool, ...], b: int) -> bool:
     """Whether some block under b is needed next (see the module docstring)."""
     supports = {goal.support[c] for c in range(state.n) if not placed[c]}
     below = state.support[b]
@@ -46,9 +45,8 @@ class Gn1Policy:
     name = "gn1"
     blocks: int | None = None
 
-    def act(self, state: LargeState | State, goal: LargeState | State) -> Action | None:
+    def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``, or None at the goal."""
-        state, goal = _relational(state), _relational(goal)
         if state == goal:
             return None
         target = target_goal(state, goal)
@@ -72,10 +70,6 @@ class Gn1Policy:
                 if wanted(b):
                     return pick_action(state, b)
         return None
-
-
-def _relational(state: LargeState | State) -> LargeState:
-    return state if isinstance(state, LargeState) else LargeState.from_state(state)
 
 
 NAMED_POLICIES = {"gn1": Gn1Policy}

@@ -40,9 +40,9 @@ from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD
 from csql_sim.core.model.lifted_model import LiftedWorldModel
 from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier, condition_holds
 from csql_sim.core.state.goal_relations import well_placed
-from csql_sim.core.state.large_state import LargeState
 from csql_sim.core.state.move_relations import ATOMS, Move, MoveRelations, after, pick_action, put_action, target_goal
 from csql_sim.core.state.state_count import sample_state
+from csql_sim.core.state.world import State
 from csql_sim.learners.params import ParamsError
 
 TRAIN_SIZES = (3, 4, 5)
@@ -165,8 +165,8 @@ class _Learner:
     def __init__(self, params: LiftedParams, rng: np.random.Generator) -> None:
         self.params, self.rng = params, rng
         self.rules: list[_Rule] = []
-        self.ground: dict[tuple[LargeState, LargeState], float] = {}
-        self.goals: dict[int, list[LargeState]] = {}
+        self.ground: dict[tuple[State, State], float] = {}
+        self.goals: dict[int, list[State]] = {}
         self.model = LiftedWorldModel(BLOCKS_WORLD)
         self.steps = self.reached = self.splits = self.merges = self.covered = 0
 
@@ -202,13 +202,13 @@ class _Learner:
                 move = min(moves, key=q.__getitem__)
             state = self.apply(state, move)
 
-    def value(self, state: LargeState, target: LargeState) -> float:
+    def value(self, state: State, target: State) -> float:
         """Q(s) in moves: the ground classifier's value, made on demand (misplaced blocks + learned excess)."""
         if state == target:
             return 0.0
         return well_placed(state, target).count(False) + self.ground.get((state, target), 0.0)
 
-    def backup(self, rel: MoveRelations, target: LargeState) -> dict[Move, float]:
+    def backup(self, rel: MoveRelations, target: State) -> dict[Move, float]:
         """The full backup of one state: every move's Q, the state's new value, the lifted advantages."""
         q = {m: 1.0 + self.value(after(rel.state, m), target) for m in rel.moves}
         low = min(q.values())
@@ -218,7 +218,7 @@ class _Learner:
             self.rule_for(bits, move.kind).update(value - low, bits, self.params.beta)
         return q
 
-    def apply(self, state: LargeState, move: Move) -> LargeState:
+    def apply(self, state: State, move: Move) -> State:
         """The move through the world model: the pick (unless held) and the put."""
         if state.held is None:
             state = self.model.successor(state, pick_action(state, move.block))

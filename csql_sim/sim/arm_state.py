@@ -3,8 +3,8 @@
 For n <= 6 the arm works on :class:`csql_sim.core.state.world.State`, with the paper's message
 form (goal by its index), BFS optima and the ground R-classifiers, exactly as before. For
 7..10 cubes (:data:`~csql_sim.sim.config.MAX_ARM_BLOCKS`) the states are
-:class:`csql_sim.core.state.large_state.LargeState` records: messages take the large form
-(:func:`csql_sim.core.state.large_message.format_large_message`), optimal lengths come from
+:class:`csql_sim.core.state.state.State` records: messages take the large form
+(:func:`csql_sim.core.state.relational_message.format_large_message`), optimal lengths come from
 :func:`csql_sim.core.measure.optimum.optimal_length` (measuring only), the world model interprets
 the lifted rules (:class:`RelationalWorldModel`), and the policy must be lifted (BFS and
 ground rule files enumerate the world: refused). Every name here is the same function of
@@ -20,16 +20,24 @@ from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.lifted_model import LiftedWorldModel
 from csql_sim.core.model.search import distance
 from csql_sim.core.model.world_model import WorldModel
-from csql_sim.core.state.large_message import format_large_message
-from csql_sim.core.state.large_state import LETTERS, LargeState, action_name, parse_large
 from csql_sim.core.state.message import action_code, format_state_message
 from csql_sim.core.state.notation import parse_config
-from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, Action, BlocksWorld, State, WorldError
+from csql_sim.core.state.relational_message import format_large_message
+from csql_sim.core.state.world import (
+    LETTERS,
+    MAX_BLOCKS,
+    MIN_BLOCKS,
+    Action,
+    BlocksWorld,
+    State,
+    WorldError,
+    action_name,
+)
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.config import MAX_ARM_BLOCKS
 
-ArmState = State | LargeState
-"""A state the arm can build and perceive: State for n <= 6, LargeState for 7..10 cubes."""
+ArmState = State
+"""A state the arm can build and perceive (2..10 cubes)."""
 
 
 class SimError(CsqlError):
@@ -62,34 +70,21 @@ def label(action: Action) -> str:
 
 
 def arm_state(support: tuple[int, ...]) -> ArmState:
-    """The state with these supports: a State for n <= 6, a LargeState past six (raises WorldError if invalid)."""
-    return State(support) if len(support) <= MAX_BLOCKS else LargeState(support)
+    """The state with these supports (raises WorldError if invalid)."""
+    return State(support)
 
 
-def to_arm_state(state: State | LargeState) -> ArmState:
-    """``state`` as the arm's kind for its n (a LargeState of n <= 6 becomes a State, and back)."""
-    want = State if state.n <= MAX_BLOCKS else LargeState
-    return state if isinstance(state, want) else arm_state(state.support)
+def to_arm_state(state: State) -> ArmState:
+    """``state`` as the arm's kind (one State for every n)."""
+    return state
 
 
 def parse_arm_state(text: str, n: int | None = None) -> ArmState:
     """A configuration in the notation (``JIHGFEDCBA``, ``A,B+C``) as the arm's kind of state.
 
-    Up to six blocks it is read exactly as :func:`csql_sim.core.state.notation.parse_config` reads
-    it (the same errors); past six by :func:`csql_sim.core.state.large_state.parse_large`.
+    It is read as :func:`csql_sim.core.state.notation.parse_config` reads it (the same errors).
     """
-    if n is not None:
-        return parse_config(text, n) if n <= MAX_BLOCKS else parse_large(text, n)
-    try:
-        return parse_config(text)
-    except WorldError as small:
-        try:
-            large = parse_large(text)
-        except WorldError:
-            raise small from None
-        if large.n <= MAX_BLOCKS:
-            raise small from None
-        return large
+    return parse_config(text, n)
 
 
 def arm_optimal_length(start: ArmState, goal: ArmState) -> int:
@@ -129,11 +124,11 @@ class RelationalWorldModel:
     def __init__(self, model: LiftedWorldModel | None = None) -> None:
         self.model = model or LiftedWorldModel(BLOCKS_WORLD)
 
-    def is_legal(self, state: LargeState, action: Action, goal: Any = 0) -> bool:
+    def is_legal(self, state: State, action: Action, goal: Any = 0) -> bool:
         """Whether the rules allow ``action`` in ``state``."""
         return self.model.is_legal(state, action)
 
-    def predict_state(self, state: LargeState, action: Action, goal: Any = 0) -> LargeState:
+    def predict_state(self, state: State, action: Action, goal: Any = 0) -> State:
         """The state the rules predict after ``action``."""
         return self.model.successor(state, action)
 

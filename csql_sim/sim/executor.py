@@ -136,7 +136,7 @@ def run_physical_episode(start: ArmState, goal: ArmState, policy: Policy | None 
 
     Args:
         start: the start configuration (a held block is grasped for real): a State for
-            n <= 6, a LargeState for 7..10 cubes (one of the other kind is converted).
+            2..10 cubes.
         goal: the goal configuration.
         policy: any Policy; the BFS planner when None (n <= 6 only: past six blocks the
             policy must be lifted, anything with ``act(state, goal)``).

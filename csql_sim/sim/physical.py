@@ -40,8 +40,7 @@ class PhysicalWorld:
     """A scene with its Panda, the seeded generator and a perception mode.
 
     Args:
-        n: number of cubes, 2..10; states are :class:`~csql_sim.core.state.world.State` records for
-            n <= 6 and :class:`~csql_sim.core.state.large_state.LargeState` records past six.
+        n: number of cubes, 2..10; states are :class:`~csql_sim.core.state.state.State` records.
         seed: seeds the one generator used for putdown spots and perturbations.
         perception: ``"pose"`` (body poses) or ``"camera"`` (colour + depth images, rgbd.py).
         config: scene settings (default: :func:`~csql_sim.sim.config.config_for` n).

@@ -8,7 +8,7 @@ rendering is :mod:`csql_sim.sim.replay`'s. This module does not import pybullet.
 
 from __future__ import annotations
 
-from csql_sim.core.state.large_state import LETTERS
+from csql_sim.core.state.world import LETTERS
 from csql_sim.sim.arm_state import check_arm_blocks
 from csql_sim.sim.client import (
     PhysicsClient,

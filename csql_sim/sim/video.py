@@ -21,7 +21,7 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
-from csql_sim.core.state.large_state import LETTERS
+from csql_sim.core.state.world import LETTERS
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file
 from csql_sim.infra.workers import worker_count, worker_pool

@@ -11,9 +11,10 @@ from csql_sim.cli import main
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.greedy_table import load_policy
 from csql_sim.core.policies.lifted_policy import LiftedPolicy
-from csql_sim.core.state.large_message import format_large_message
-from csql_sim.core.state.large_state import LETTERS, action_at, parse_large, successor
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.relational_message import format_large_message
 from csql_sim.core.state.state_count import pair_count, sample_pairs
+from csql_sim.core.state.world import LETTERS, action_at, successor
 
 START_26 = ",".join(LETTERS)  # every block on the table
 GOAL_26 = "ZYXWVUTSRQPONMLKJIHGFEDCBA"  # one tower, A on top
@@ -64,7 +65,7 @@ def test_lifted_rules_plan_26_blocks_and_a_sample_at_10(capsys, lifted_rules):
     code, out, _ = run(capsys, "plan", "--rules", lifted_rules, "--start", START_26, "--goal", GOAL_26, "--json")
     doc = json.loads(out)
     assert code == 0 and doc["planner"] == "rules" and doc["blocks"] == 26
-    assert applied(parse_large(START_26), doc["plan"]) == parse_large(GOAL_26)
+    assert applied(parse_config(START_26), doc["plan"]) == parse_config(GOAL_26)
     assert doc["optimal_length"] == 50 <= doc["length"]
     code, out, _ = run(capsys, "plan", "--rules", lifted_rules, "--pairs", "10", "--blocks", "10", "--seed", "1",
                        "--json")
@@ -78,7 +79,7 @@ def test_lifted_rules_plan_26_blocks_and_a_sample_at_10(capsys, lifted_rules):
 def test_a_26_block_task_is_planned_and_its_steps_reach_the_goal(capsys):
     code, out, _ = run(capsys, "plan", "--planner", "gn1", "--start", START_26, "--goal", GOAL_26, "--json")
     doc = json.loads(out)
-    start, goal = parse_large(START_26), parse_large(GOAL_26)
+    start, goal = parse_config(START_26), parse_config(GOAL_26)
     assert code == 0 and doc["blocks"] == 26 and doc["planner"] == "gn1"
     assert applied(start, doc["plan"]) == goal
     assert doc["length"] == len(doc["plan"]) == doc["optimal_length"] == optimal_length(start, goal) == 50
@@ -91,7 +92,7 @@ def test_a_26_block_task_is_planned_and_its_steps_reach_the_goal(capsys):
 
 
 def test_a_large_state_message_carries_its_goal(capsys):
-    start, goal = parse_large("ZA,YB,XC,DEFGHIJKLMNOPQRSTUVW"), parse_large(GOAL_26)
+    start, goal = parse_config("ZA,YB,XC,DEFGHIJKLMNOPQRSTUVW"), parse_config(GOAL_26)
     message = format_large_message(start, goal)
     code, out, _ = run(capsys, "plan", "--planner", "gn1", "--start", message, "--json")
     doc = json.loads(out)

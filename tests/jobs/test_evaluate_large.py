@@ -9,8 +9,9 @@ from csql_sim.cli import main
 from csql_sim.core.classifiers.r_classifier import r_classifiers
 from csql_sim.core.files.rulebase import RuleBase, save
 from csql_sim.core.measure.optimum import optimal_length
-from csql_sim.core.state.large_state import LargeState, action_name, legal_actions, parse_large, successor
+from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import pair_count, sample_pairs
+from csql_sim.core.state.world import State, action_name, legal_actions, successor
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import PolicyData, evaluate, make_specs
 from csql_sim.jobs.execute import execute_task
@@ -87,20 +88,20 @@ def test_cli_refusals_past_the_arm_or_the_enumerated_world(tmp_path, capsys, mon
 
 
 def test_render_a_seven_cube_episode(tmp_path):
-    start, goal = parse_large("A,B,C,D,E,F,G"), parse_large("A,B,C,D,E,GF")
+    start, goal = parse_config("A,B,C,D,E,F,G"), parse_config("A,B,C,D,E,GF")
     result, path = render_episode(start, goal, tmp_path / "v.gif", Gn1Policy(), width=96, height=72, fps=5,
                                   workers=1, progress=False, renderer="tiny")
     assert result.success and path.stat().st_size > 1000
     sidecar = json.loads((tmp_path / "v.gif.json").read_text())
     assert sidecar["video"]["actions"] == 2 and sidecar["parameters"]["start"] == "A,B,C,D,E,F,G"
-    assert isinstance(parse_large(sidecar["parameters"]["goal"]), LargeState)
+    assert isinstance(parse_config(sidecar["parameters"]["goal"]), State)
 
 
 def test_execute_a_task_of_eight_cubes_with_gn1():
     result = execute_task("A,B,C,D,E,F,G,H", "HGFEDCBA", planner="gn1")
     assert result.reached and result.final == "HGFEDCBA", result.explain()
     assert [s.status for s in result.steps] == ["ok"] * 14
-    assert _replay(parse_large("A,B,C,D,E,F,G,H"), [s.action for s in result.steps]) == parse_large("HGFEDCBA")
+    assert _replay(parse_config("A,B,C,D,E,F,G,H"), [s.action for s in result.steps]) == parse_config("HGFEDCBA")
     doc = result.to_dict()
     assert doc["objects"]["h"] == "H" and "(on g h)" in doc["goal"]["atoms"] and doc["blocks"] == 8
 

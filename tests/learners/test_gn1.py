@@ -5,8 +5,8 @@ from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.search import distance_matrix
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.policies.rollout import check_pairs
-from csql_sim.core.state.large_state import LargeState, parse_large
 from csql_sim.core.state.move_relations import target_goal
+from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import all_states
 from csql_sim.learners.gn1 import Gn1Policy
@@ -18,7 +18,7 @@ def test_gn1_plans_every_pair_at_three_blocks_optimally_through_the_policy_inter
 
 
 def test_gn1_solves_every_pair_at_four_blocks_and_is_never_far_from_optimal():
-    states = [LargeState.from_state(s) for s in all_states(4)]
+    states = [s for s in all_states(4)]
     dist = distance_matrix(4)
     lengths, optima = [], []
     for g in range(0, len(states), 4):  # every fourth goal, every start: 3,968 pairs
@@ -41,7 +41,7 @@ def test_gn1_solves_seeded_random_pairs_at_large_n(n):
 
 
 def test_a_goal_that_holds_a_block_is_built_hand_empty_then_picked():
-    start, goal = parse_large("ABC"), parse_large("AB+C")
+    start, goal = parse_config("ABC"), parse_config("AB+C")
     assert target_goal(start, goal) == start
     run = rollout_relational(Gn1Policy(), start, goal)
     assert [a.name() for a in run.actions] == ["unstack(C,B)"]

@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 
 from csql_sim.core.measure.optimum import optimal_length
-from csql_sim.core.state.large_state import LargeState, action_name, legal_actions, successor
 from csql_sim.core.state.state_count import sample_pairs
+from csql_sim.core.state.world import State, action_name, legal_actions, successor
 from csql_sim.learners.gn1 import Gn1Policy
 from csql_sim.sim.executor import run_physical_episode
 from csql_sim.sim.physical import PhysicalWorld
 
 
-def _replay(start: LargeState, names: list[str]) -> LargeState:
+def _replay(start: State, names: list[str]) -> State:
     """The state the named actions lead to from ``start`` (STRIPS successor)."""
     state = start
     for name in names:
@@ -36,4 +36,4 @@ def test_an_eight_cube_episode_reaches_the_goal_as_perceived(perception):
         for i, pose in enumerate(result.final_poses):
             world.scene.set_block_pose(i, pose.position, pose.orientation)
         seen = world.perceive().state
-    assert isinstance(seen, LargeState) and seen == goal
+    assert isinstance(seen, State) and seen == goal

@@ -6,9 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from csql_sim.core.state.large_message import format_large_message, parse_large_message
-from csql_sim.core.state.large_state import LargeState, parse_large
 from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.relational_message import format_large_message, parse_large_message
 from csql_sim.core.state.world import HAND, Action, ActionKind, State
 from csql_sim.learners.gn1 import Gn1Policy
 from csql_sim.sim.arm_state import SimError, parse_arm_state, to_arm_state
@@ -42,7 +41,7 @@ def test_ten_colours_are_pairwise_further_apart_than_twice_the_hue_tolerance():
 
 def test_every_view_segments_ten_cubes_as_the_renderer_draws_them():
     with PhysicalWorld(10, seed=1) as world:
-        world.build(parse_large("A,B,C,D,E,F,G,H,I,J"))
+        world.build(parse_config("A,B,C,D,E,F,G,H,I,J"))
         hues = paint_hues(10)
         seen = np.zeros(10, dtype=int)
         for cam in perception_cameras(10):
@@ -60,20 +59,20 @@ def test_every_view_segments_ten_cubes_as_the_renderer_draws_them():
 
 @pytest.mark.parametrize("notation", TEN)
 def test_a_ten_cube_start_scene_is_perceived_exactly_by_pose_and_by_camera(notation):
-    state = parse_large(notation)
+    state = parse_config(notation)
     with PhysicalWorld(state.n, seed=3) as world:
         world.build(state)
         world.settle()
         by_pose = interpret(observe_poses(world.scene, world.panda))
         seen = observe_rgbd(world.scene, world.panda, rng=np.random.default_rng(5))
         by_camera = interpret(seen, CAMERA_TOLERANCES)
-        assert isinstance(by_pose.state, LargeState) and by_pose.state == state, by_pose.reason
+        assert isinstance(by_pose.state, State) and by_pose.state == state, by_pose.reason
         assert by_camera.state == state, by_camera.reason
         for x, b in enumerate(seen.blocks):
             if state.support[x] != HAND:  # seen flat, where it is
                 assert b.tilt is not None and b.tilt < math.radians(3), (x, b.tilt)
                 assert np.linalg.norm(np.subtract(b.position, world.scene.block_pose(x).position)) < 0.006
-    goal = parse_large("ABCDEFGHIJ")
+    goal = parse_config("ABCDEFGHIJ")
     message = state_message(by_camera.state, goal)  # the large message form past six blocks
     assert message == format_large_message(state, goal)
     assert parse_large_message(message).state == state
@@ -88,7 +87,7 @@ def test_the_arc_layout_holds_ten_towers_and_leaves_a_spot_for_every_putdown():
     table_x, table_y = WIDE_CONFIG.physics.table_centre[:2]
     half = WIDE_CONFIG.physics.table_half_extents
     assert all(abs(x - table_x) < half[0] - 0.1 and abs(y - table_y) < half[1] - 0.1 for x, y, _ in places)
-    placed = start_layout(parse_large("A,B,C,D,E,F,G,H,I,J"), WIDE_CONFIG)
+    placed = start_layout(parse_config("A,B,C,D,E,F,G,H,I,J"), WIDE_CONFIG)
     assert len({(round(p.x, 6), round(p.y, 6)) for p in placed}) == 10  # ten towers side by side
     assert lay.arc_positions >= MAX_ARM_BLOCKS  # nine cubes on the table (one held) leave a place free
     assert putdown_spots(WIDE_CONFIG) == [(x, y) for x, y, _ in places]
@@ -118,13 +117,13 @@ def test_the_arm_reaches_every_place_from_the_table_to_above_a_tower_of_ten():
 def test_more_than_ten_cubes_are_refused_with_the_reason():
     with pytest.raises(SimError, match="at most 10 cubes .*table.*reach"):
         Scene(11)
-    start, goal = parse_large("A,B,C,D,E,F,G,H,I,J,K"), parse_large("KJIHGFEDCBA")
+    start, goal = parse_config("A,B,C,D,E,F,G,H,I,J,K"), parse_config("KJIHGFEDCBA")
     with pytest.raises(SimError, match="at most 10 cubes"):
         run_physical_episode(start, goal, Gn1Policy())
 
 
 def test_bfs_and_ground_policies_are_refused_past_six_blocks_before_any_physics():
-    start, goal = parse_large("A,B,C,D,E,F,G"), parse_large("GFEDCBA")
+    start, goal = parse_config("A,B,C,D,E,F,G"), parse_config("GFEDCBA")
     with pytest.raises(SimError, match="BFS"):
         run_physical_episode(start, goal)
 
@@ -139,21 +138,21 @@ def test_bfs_and_ground_policies_are_refused_past_six_blocks_before_any_physics(
 
 
 def test_states_take_the_arms_kind_for_their_size():
-    assert isinstance(parse_arm_state("CBA"), State) and isinstance(parse_arm_state("GFEDCBA"), LargeState)
-    assert isinstance(to_arm_state(parse_large("CBA")), State)
+    assert isinstance(parse_arm_state("CBA"), State) and isinstance(parse_arm_state("GFEDCBA"), State)
+    assert isinstance(to_arm_state(parse_config("CBA")), State)
     assert to_arm_state(parse_config("CBA")) == parse_config("CBA")
 
 
 def test_a_seven_cube_episode_is_captioned_with_letters_past_f(tmp_path):
     from csql_sim.sim.video import ReplayRenderer
 
-    start, goal = parse_large("A,B,C,D,E,F,G"), parse_large("A,B,C,D,E,GF")
+    start, goal = parse_config("A,B,C,D,E,F,G"), parse_config("A,B,C,D,E,GF")
     result = run_physical_episode(start, goal, Gn1Policy(), seed=0, record=True, fps=10)
     assert result.success and [s.action for s in result.steps] == ["pickup(F)", "stack(F,G)"]
     assert result.optimal_length == 2 and result.steps[0].message == format_large_message(start, goal)
     captions = {f.caption.text(result.length) for f in result.recording.frames}
     stack = Action(ActionKind.STACK, 5, 6)
-    assert f"step 2/2  stack(F,G)  {format_large_message(parse_large('A,B,C,D,E,G+F'), goal, stack)}" in captions
+    assert f"step 2/2  stack(F,G)  {format_large_message(parse_config('A,B,C,D,E,G+F'), goal, stack)}" in captions
     assert any(c.startswith("step 2/2  goal A,B,C,D,E,GF reached") for c in captions)
     renderer = ReplayRenderer("tiny")
     try:

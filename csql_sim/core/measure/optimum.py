@@ -32,8 +32,7 @@ from csql_sim.core.state.goal_relations import (
     strongly_connected,
     well_placed,
 )
-from csql_sim.core.state.large_state import LargeState, successor
-from csql_sim.core.state.world import Action, ActionKind, WorldError
+from csql_sim.core.state.world import Action, ActionKind, State, WorldError, successor
 
 
 class _Component:
@@ -175,13 +174,13 @@ def fewest_table_visits(pre: Precedences, n: int) -> int:
     return total
 
 
-def optimal_moves(start: LargeState, goal: LargeState) -> int:
+def optimal_moves(start: State, goal: State) -> int:
     """The optimal number of moves (pick-and-put pairs) between hand-empty states."""
     pre = precedences(start, goal)
     return len(pre.misplaced) + fewest_table_visits(pre, start.n)
 
 
-def optimal_length(start: LargeState, goal: LargeState) -> int:
+def optimal_length(start: State, goal: State) -> int:
     """The optimal number of actions (four operators) from ``start`` to ``goal``; exact for n <= 26."""
     if start.n != goal.n:
         raise WorldError(f"start has {start.n} blocks but goal has {goal.n}")
@@ -194,7 +193,7 @@ def optimal_length(start: LargeState, goal: LargeState) -> int:
     return 2 * optimal_moves(start, goal)
 
 
-def _first_put(start: LargeState, goal: LargeState) -> Action:
+def _first_put(start: State, goal: State) -> Action:
     """The first step from a held block: onto its goal place when that is ready, else onto the table.
 
     A block put on its ready goal place never moves again and is in nobody's way; put
@@ -207,7 +206,7 @@ def _first_put(start: LargeState, goal: LargeState) -> Action:
     return Action(ActionKind.PUTDOWN, h)
 
 
-def _last_picks(start: LargeState, goal: LargeState) -> list[LargeState]:
+def _last_picks(start: State, goal: State) -> list[State]:
     """The hand-empty goals the goal's held block g is best picked up from, last.
 
     g on the table, or where it stands in ``start`` when that is a block the goal leaves

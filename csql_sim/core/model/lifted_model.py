@@ -3,7 +3,7 @@
 For n <= 6 the lifted rules can be grounded into message strings
 (:meth:`csql_sim.core.model.world_model.WorldModel.from_lifted`). Past six blocks there is no
 ground rule set to write out, so :class:`LiftedWorldModel` interprets the lifted rules
-directly on a :class:`~csql_sim.core.state.large_state.LargeState`: an action is legal when the
+directly on a :class:`~csql_sim.core.state.state.State`: an action is legal when the
 precondition rule of its operator holds under the binding of its blocks, and its next
 state is what the operator's add-delete rule writes. Nothing else is assumed: the
 legal actions and successors are the rules' own.
@@ -25,8 +25,7 @@ from csql_sim.core.classifiers.lifted_rule import (
     bound_action,
     field_holds,
 )
-from csql_sim.core.state.large_state import LargeState
-from csql_sim.core.state.world import Action, ActionKind, WorldError
+from csql_sim.core.state.world import Action, ActionKind, State, WorldError
 
 
 class LiftedWorldModel:
@@ -54,7 +53,7 @@ class LiftedWorldModel:
     def _binding(action: Action) -> dict[str, int]:
         return {X: action.block} if action.target is None else {X: action.block, Y: action.target}
 
-    def is_legal(self, state: LargeState, action: Action) -> bool:
+    def is_legal(self, state: State, action: Action) -> bool:
         """Whether the precondition rule of the action's operator matches under its binding."""
         rule = self.pre.get(action.kind)
         if rule is None:
@@ -63,7 +62,7 @@ class LiftedWorldModel:
         binding = self._binding(action)
         return all(field_holds(f, state.support, clear, held, binding) for f in rule.fields)
 
-    def legal_actions(self, state: LargeState) -> tuple[Action, ...]:
+    def legal_actions(self, state: State) -> tuple[Action, ...]:
         """The actions whose precondition rules match, in the stable action order."""
         clear, held = state.clear(), state.held
         out = []
@@ -76,7 +75,7 @@ class LiftedWorldModel:
                     out.append(bound_action(kind, binding))
         return tuple(out)
 
-    def successor(self, state: LargeState, action: Action) -> LargeState:
+    def successor(self, state: State, action: Action) -> State:
         """The state the add-delete rule of the action's operator writes.
 
         Raises:
@@ -85,4 +84,4 @@ class LiftedWorldModel:
         rule = self.post.get(action.kind)
         if rule is None or not self.is_legal(state, action):
             raise WorldError(f"the lifted rules give no next state for {action.kind.value} here")
-        return LargeState(apply_output(rule, state.support, self._binding(action)))
+        return State(apply_output(rule, state.support, self._binding(action)))

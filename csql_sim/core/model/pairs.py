@@ -18,8 +18,7 @@ from collections.abc import Iterator
 import numpy as np
 
 from csql_sim.core.state import state_count
-from csql_sim.core.state.large_state import LargeState
-from csql_sim.core.state.world import MAX_BLOCKS
+from csql_sim.core.state.world import MAX_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 
 
@@ -131,7 +130,7 @@ def check_large_pairs(pairs: str | int, n: int) -> int:
     return pairs
 
 
-def stream_large_pairs(n: int, k: int, seed: int) -> Iterator[tuple[LargeState, LargeState]]:
+def stream_large_pairs(n: int, k: int, seed: int) -> Iterator[tuple[State, State]]:
     """K (start, goal) pairs of n blocks, each uniform over the ordered pairs, drawn one at a time.
 
     The generator is ``numpy.random.default_rng(seed)``; the pairs are exactly those of

@@ -37,7 +37,6 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from csql_sim.core.classifiers.lifted_rule import read_versioned_json
-from csql_sim.core.state.large_state import LargeState
 from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, target_goal
 from csql_sim.core.state.world import Action, State
 from csql_sim.infra import formats
@@ -153,7 +152,7 @@ class LiftedPolicy:
                 best, best_value = move, c.advantage
         return best
 
-    def act(self, state: LargeState | State, goal: LargeState | State) -> Action | None:
+    def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``: None at the goal or when no classifier matches."""
         state, goal = _relational(state), _relational(goal)
         if state == goal:
@@ -167,8 +166,8 @@ class LiftedPolicy:
         return put_action(move) if state.held is not None else pick_action(state, move.block)
 
 
-def _relational(state: LargeState | State) -> LargeState:
-    return state if isinstance(state, LargeState) else LargeState.from_state(state)
+def _relational(state: State) -> State:
+    return state if isinstance(state, State) else state
 
 
 # ---------------------------------------------------------------- the file

@@ -1,7 +1,7 @@
 """Running a policy on relational states (n <= 26), symbolically, until the goal, a loop or a cap.
 
 The relational counterpart of :func:`csql_sim.core.policies.rollout.rollout` for worlds too large to
-enumerate: the states are :class:`~csql_sim.core.state.large_state.LargeState` records and every
+enumerate: the states are :class:`~csql_sim.core.state.state.State` records and every
 next state comes from a world model of lifted rules
 (:class:`~csql_sim.core.model.lifted_model.LiftedWorldModel`, by default the four schemas).
 """
@@ -13,8 +13,7 @@ from typing import Protocol
 
 from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD
 from csql_sim.core.model.lifted_model import LiftedWorldModel
-from csql_sim.core.state.large_state import LargeState
-from csql_sim.core.state.world import Action, WorldError
+from csql_sim.core.state.world import Action, State, WorldError
 
 
 class RelationalPolicy(Protocol):
@@ -22,7 +21,7 @@ class RelationalPolicy(Protocol):
 
     name: str
 
-    def act(self, state: LargeState, goal: LargeState) -> Action | None:
+    def act(self, state: State, goal: State) -> Action | None:
         """The action to take in ``state``."""
         ...
 
@@ -52,7 +51,7 @@ def default_cap(n: int) -> int:
     return 12 * n + 4
 
 
-def rollout_relational(policy: RelationalPolicy, start: LargeState, goal: LargeState, cap: int | None = None,
+def rollout_relational(policy: RelationalPolicy, start: State, goal: State, cap: int | None = None,
                        model: LiftedWorldModel | None = None) -> RelationalRollout:
     """Follow ``policy`` from ``start`` until ``goal``, a revisited state, an illegal action or ``cap`` steps."""
     if start.n != goal.n:

@@ -1,7 +1,7 @@
 """Relations between a state and a goal: well placed, goal place ready, and the deadlock graph.
 
 These are the derived relations of blocks-world planning (Gupta and Nau 1992), computed
-from a state and a goal alone (any n <= 26, :class:`~csql_sim.core.state.large_state.LargeState`):
+from a state and a goal alone (any n <= 26, :class:`~csql_sim.core.state.state.State`):
 
 * **well placed**: a block stands on its goal support (the table, the hand, or a block)
   and, when that is a block, the block is well placed too. A block that is not well
@@ -17,11 +17,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from csql_sim.core.state.large_state import LargeState
-from csql_sim.core.state.world import TABLE, WorldError
+from csql_sim.core.state.world import TABLE, State, WorldError
 
 
-def well_placed(state: LargeState, goal: LargeState) -> tuple[bool, ...]:
+def well_placed(state: State, goal: State) -> tuple[bool, ...]:
     """Per block: on its goal support, with everything below it well placed."""
     if state.n != goal.n:
         raise WorldError(f"state has {state.n} blocks but goal has {goal.n}")
@@ -36,7 +35,7 @@ def well_placed(state: LargeState, goal: LargeState) -> tuple[bool, ...]:
     return tuple(placed(b) for b in range(state.n))
 
 
-def goal_place_ready(state: LargeState, goal: LargeState, placed: tuple[bool, ...], b: int) -> bool:
+def goal_place_ready(state: State, goal: State, placed: tuple[bool, ...], b: int) -> bool:
     """Whether block b can be put on its goal support for good now (the table, or a clear well-placed block)."""
     d = goal.support[b]
     if d == TABLE:
@@ -72,7 +71,7 @@ class Precedences:
         return out
 
 
-def precedences(state: LargeState, goal: LargeState) -> Precedences:
+def precedences(state: State, goal: State) -> Precedences:
     """The constraints of :class:`Precedences` (both states hand-empty)."""
     if state.held is not None or goal.held is not None:
         raise WorldError("the deadlock graph is defined for hand-empty states and goals")
@@ -134,7 +133,7 @@ def strongly_connected(graph: dict[int, set[int]]) -> list[list[int]]:
     return out
 
 
-def deadlocked(state: LargeState, goal: LargeState) -> frozenset[int]:
+def deadlocked(state: State, goal: State) -> frozenset[int]:
     """The misplaced blocks on a cycle of the deadlock graph (hand-empty state and goal)."""
     graph = precedences(state, goal).graph()
     return frozenset(b for c in strongly_connected(graph) for b in c if len(c) > 1 or b in graph[b])

@@ -33,8 +33,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from csql_sim.core.state.goal_relations import deadlocked, well_placed
-from csql_sim.core.state.large_state import LargeState
-from csql_sim.core.state.world import TABLE, Action, ActionKind
+from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 
 ATOMS = ("misplaced(?x)", "goal-on(?x,?d)", "ready(?d)", "deadlocked(?x)", "above-needed(?x)", "least-stuck(?x)",
          "deadlock")
@@ -56,7 +55,7 @@ class Move:
         return "table" if self.onto == TABLE else "block"
 
 
-def pick_action(state: LargeState, b: int) -> Action:
+def pick_action(state: State, b: int) -> Action:
     """The action that lifts block b from where it stands."""
     s = state.support[b]
     return Action(ActionKind.PICKUP, b) if s == TABLE else Action(ActionKind.UNSTACK, b, s)
@@ -69,7 +68,7 @@ def put_action(move: Move) -> Action:
     return Action(ActionKind.STACK, move.block, move.onto)
 
 
-def target_goal(state: LargeState, goal: LargeState) -> LargeState:
+def target_goal(state: State, goal: State) -> State:
     """The goal without its held block g: g where it stands if nothing must go on it there, else on the table."""
     g = goal.held
     if g is None:
@@ -78,17 +77,17 @@ def target_goal(state: LargeState, goal: LargeState) -> LargeState:
     keep = s >= 0 and goal.above_of[s] is None
     support = list(goal.support)
     support[g] = s if keep else TABLE
-    return LargeState(tuple(support))
+    return State(tuple(support))
 
 
-def after(state: LargeState, move: Move) -> LargeState:
+def after(state: State, move: Move) -> State:
     """The hand-empty state after ``move`` (the pick, if any, and the put)."""
     support = list(state.support)
     support[move.block] = move.onto
-    return LargeState(tuple(support))
+    return State(tuple(support))
 
 
-def moves(state: LargeState) -> tuple[Move, ...]:
+def moves(state: State) -> tuple[Move, ...]:
     """The legal moves: the held block's puts, or every clear block to the table and onto every other clear block."""
     held = state.held
     clear = [b for b in range(state.n) if state.is_clear(b)]
@@ -101,7 +100,7 @@ def moves(state: LargeState) -> tuple[Move, ...]:
     return tuple(out)
 
 
-def _needed_below(state: LargeState, target: LargeState, placed: tuple[bool, ...], b: int) -> bool:
+def _needed_below(state: State, target: State, placed: tuple[bool, ...], b: int) -> bool:
     supports = {target.support[c] for c in range(state.n) if not placed[c]}
     below = state.support[b]
     while below >= 0:
@@ -113,7 +112,7 @@ def _needed_below(state: LargeState, target: LargeState, placed: tuple[bool, ...
     return False
 
 
-def _ready(state: LargeState, placed: tuple[bool, ...], d: int, mover: int) -> bool:
+def _ready(state: State, placed: tuple[bool, ...], d: int, mover: int) -> bool:
     """Whether ``d`` can take ``mover`` for good: the table, or a clear well-placed block."""
     if d == TABLE:
         return True
@@ -123,7 +122,7 @@ def _ready(state: LargeState, placed: tuple[bool, ...], d: int, mover: int) -> b
 class MoveRelations:
     """The relations of every legal move of one state towards one target (:data:`ATOMS`)."""
 
-    def __init__(self, state: LargeState, target: LargeState) -> None:
+    def __init__(self, state: State, target: State) -> None:
         self.state, self.target = state, target
         self.placed = well_placed(state, target)
         held = state.held  # a held block counts as standing on the table for the deadlock graph

@@ -3,7 +3,7 @@
 * towers are separated by commas, each written from the bottom up: ``CBA`` is A on B on C;
   ``A,B,C`` is all three blocks on the table;
 * a held block goes after ``+``: ``B,C+A`` (A in the gripper);
-* case-insensitive; spaces are ignored.
+* case-insensitive; spaces are ignored; blocks A-Z, so up to 26 blocks.
 
 :func:`csql_sim.core.state.world.format_config` writes the canonical form.
 """
@@ -11,7 +11,8 @@
 from __future__ import annotations
 
 from csql_sim.core.state.message import is_state_message, parse_state_message
-from csql_sim.core.state.world import BLOCK_NAMES, HAND, TABLE, Action, ActionKind, State, WorldError, check_n
+from csql_sim.core.state.state import check_letters_n
+from csql_sim.core.state.world import HAND, LETTERS, TABLE, Action, ActionKind, State, WorldError
 
 
 def parse_config(text: str, n: int | None = None) -> State:
@@ -38,7 +39,7 @@ def parse_config(text: str, n: int | None = None) -> State:
         raise WorldError(f"configuration {text!r} has an empty tower")
     letters = "".join(towers) + held_part
     for ch in letters:
-        if ch not in BLOCK_NAMES:
+        if ch not in LETTERS:
             raise WorldError(f"unknown block {ch!r} in configuration {text!r}")
     for ch in letters:
         if letters.count(ch) > 1:
@@ -46,8 +47,8 @@ def parse_config(text: str, n: int | None = None) -> State:
     count = len(letters)
     if n is None:
         n = count
-    check_n(n)
-    expected = set(BLOCK_NAMES[:n])
+    check_letters_n(n)
+    expected = set(LETTERS[:n])
     missing = sorted(expected - set(letters))
     extra = sorted(set(letters) - expected)
     if extra:
@@ -57,9 +58,9 @@ def parse_config(text: str, n: int | None = None) -> State:
     support = [TABLE] * n
     for tower in towers:
         for below, above in zip(tower, tower[1:], strict=False):
-            support[BLOCK_NAMES.index(above)] = BLOCK_NAMES.index(below)
+            support[LETTERS.index(above)] = LETTERS.index(below)
     if held_part:
-        support[BLOCK_NAMES.index(held_part)] = HAND
+        support[LETTERS.index(held_part)] = HAND
     return State(tuple(support))
 
 
@@ -78,9 +79,9 @@ def parse_action_name(text: str, n: int) -> Action:
     if len(args) != want:
         raise WorldError(f"{kind.value} takes {want} block(s), got {text!r}")
     for a in args:
-        if len(a) != 1 or a not in BLOCK_NAMES[:n]:
+        if len(a) != 1 or a not in LETTERS[:n]:
             raise WorldError(f"unknown block {a!r} in action {text!r}")
-    idx = [BLOCK_NAMES.index(a) for a in args]
+    idx = [LETTERS.index(a) for a in args]
     if want == 2 and idx[0] == idx[1]:
         raise WorldError(f"action {text!r} names block {args[0]} twice")
     return Action(kind, idx[0], idx[1] if want == 2 else None)

@@ -32,8 +32,8 @@ import math
 
 import numpy as np
 
-from csql_sim.core.state.large_state import LargeState, check_large_n
-from csql_sim.core.state.world import HAND, TABLE, WorldError
+from csql_sim.core.state.state import check_letters_n
+from csql_sim.core.state.world import HAND, TABLE, State, WorldError
 
 
 @functools.cache
@@ -51,7 +51,7 @@ def _tower_term(m: int, k: int) -> int:
 
 def state_count(n: int) -> int:
     """S(n): the states of n blocks (hand empty, or one block held)."""
-    check_large_n(n)
+    check_letters_n(n)
     return forest_count(n) + n * forest_count(n - 1)
 
 
@@ -139,7 +139,7 @@ def _rank_forest(towers: list[list[int]], items: list[int]) -> int:
     return sum(_tower_term(m, j) for j in range(1, k)) + inner
 
 
-def unrank_state(rank: int, n: int) -> LargeState:
+def unrank_state(rank: int, n: int) -> State:
     """State number ``rank`` of n blocks (see the module docstring for the order)."""
     count = state_count(n)
     if not isinstance(rank, int) or not 0 <= rank < count:
@@ -151,10 +151,10 @@ def unrank_state(rank: int, n: int) -> LargeState:
     for tower in _unrank_forest(rank, [b for b in range(n) if b != held]):
         for below, top in zip(tower, tower[1:], strict=False):
             support[top] = below
-    return LargeState(tuple(support))
+    return State(tuple(support))
 
 
-def rank_state(state: LargeState) -> int:
+def rank_state(state: State) -> int:
     """Inverse of :func:`unrank_state`."""
     n, held = state.n, state.held
     towers = [list(t) for t in state.towers()]
@@ -182,12 +182,12 @@ def uniform_below(bound: int, rng: np.random.Generator) -> int:
             return value
 
 
-def sample_state(n: int, rng: np.random.Generator) -> LargeState:
+def sample_state(n: int, rng: np.random.Generator) -> State:
     """One state of n blocks, uniformly at random."""
     return unrank_state(uniform_below(state_count(n), rng), n)
 
 
-def sample_pairs(n: int, k: int, rng: np.random.Generator) -> list[tuple[LargeState, LargeState]]:
+def sample_pairs(n: int, k: int, rng: np.random.Generator) -> list[tuple[State, State]]:
     """``k`` (start, goal) pairs of distinct states, each uniform over the ordered pairs (independent draws)."""
     count = state_count(n)
     out = []

@@ -1,8 +1,11 @@
-"""The blocks world for n blocks: states, actions, the transition, and the notation.
+"""The blocks world's actions and transition, and the enumerated world of n <= 6 blocks.
 
-A state says, for every block, what it stands on: the table, another block, or the
-gripper (held). At most one block is held. States are immutable and hashable; the
-transition :func:`successor` is a pure function of (state, action).
+States (:class:`~csql_sim.core.state.state.State`, for every n) live in
+:mod:`csql_sim.core.state.state`; this module re-exports them. The four STRIPS operators act
+on a state of any n (:func:`is_legal`, :func:`legal_actions`, :func:`successor`; the action
+order by arithmetic: :func:`action_index`, :func:`action_at`). Up to :data:`MAX_BLOCKS`
+blocks the world is also enumerated (:func:`all_states`, :class:`BlocksWorld`): the ground
+index and the paper's messages are views of a state there.
 
 The configuration notation (``CBA``, ``A,B,C``, ``B,C+A``) is written by
 :func:`format_config` and read by :mod:`csql_sim.core.state.notation`.
@@ -21,18 +24,24 @@ from __future__ import annotations
 
 import enum
 import functools
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-from csql_sim.infra.errors import CsqlError
+from csql_sim.core.state.state import (
+    HAND,
+    LETTERS,
+    TABLE,
+    State,
+    WorldError,
+    default_name,
+    format_config,
+)
 
-TABLE = -1
-"""Support value: the block stands on the table."""
-HAND = -2
-"""Support value: the block is held by the gripper."""
+__all__ = ["HAND", "LETTERS", "TABLE", "State", "WorldError", "format_config"]
 
 MIN_BLOCKS = 2
 MAX_BLOCKS = 6
+"""The enumeration limit: the ground world (all states, the paper's messages) is built up to 6 blocks."""
 BLOCK_NAMES = "ABCDEF"
 TEST_START = "CBA"
 """The paper's test task (Figure 3) starts with A on B on C ..."""
@@ -40,104 +49,16 @@ TEST_GOAL = "BAC"
 """... and ends with C on A on B (goal code ``C``); the optimal plan has 8 actions."""
 
 
-class WorldError(CsqlError):
-    """A state, action or configuration that does not exist in the blocks world."""
-
-
 def check_n(n: int) -> int:
-    """Return ``n`` if it is a supported number of blocks, else raise WorldError."""
+    """Return ``n`` if it is a number of blocks the enumerated world has, else raise WorldError."""
     if not isinstance(n, int) or isinstance(n, bool) or not MIN_BLOCKS <= n <= MAX_BLOCKS:
         raise WorldError(f"number of blocks must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {n!r}")
     return n
 
 
 def block_name(i: int) -> str:
-    """The letter of block ``i`` (0 -> 'A')."""
-    return BLOCK_NAMES[i]
-
-
-@dataclass(frozen=True)
-class State:
-    """One configuration of n blocks.
-
-    Attributes:
-        support: ``support[i]`` is what block ``i`` stands on: :data:`TABLE`,
-            :data:`HAND`, or the index of the block beneath it.
-
-    """
-
-    support: tuple[int, ...]
-
-    def __post_init__(self) -> None:
-        _validate_support(self.support)
-
-    @property
-    def n(self) -> int:
-        """Number of blocks."""
-        return len(self.support)
-
-    @property
-    def held(self) -> int | None:
-        """Index of the held block, or None when the hand is empty."""
-        for i, s in enumerate(self.support):
-            if s == HAND:
-                return i
-        return None
-
-    def above(self, i: int) -> int | None:
-        """The block standing directly on block ``i``, or None."""
-        for j, s in enumerate(self.support):
-            if s == i:
-                return j
-        return None
-
-    def is_clear(self, i: int) -> bool:
-        """True when nothing stands on block ``i`` and it is not held (the paper's clear)."""
-        return self.support[i] != HAND and self.above(i) is None
-
-    def towers(self) -> tuple[tuple[int, ...], ...]:
-        """Towers bottom-up, sorted by their bottom block."""
-        out = []
-        for i, s in enumerate(self.support):
-            if s == TABLE:
-                tower = [i]
-                while (top := self.above(tower[-1])) is not None:
-                    tower.append(top)
-                out.append(tuple(tower))
-        return tuple(sorted(out))
-
-    def notation(self) -> str:
-        """The canonical configuration notation, e.g. ``A,CB+...``."""
-        return format_config(self)
-
-    def __str__(self) -> str:
-        return self.notation()
-
-
-def _validate_support(support: tuple[int, ...]) -> None:
-    n = len(support)
-    if not MIN_BLOCKS <= n <= MAX_BLOCKS:
-        raise WorldError(f"number of blocks must be {MIN_BLOCKS}..{MAX_BLOCKS}, got {n}")
-    if sum(1 for s in support if s == HAND) > 1:
-        raise WorldError("more than one block is held")
-    seen_under: set[int] = set()
-    for i, s in enumerate(support):
-        if s in (TABLE, HAND):
-            continue
-        if not 0 <= s < n or s == i:
-            raise WorldError(f"block {block_name(i)} stands on an invalid support {s}")
-        if s in seen_under:
-            raise WorldError(f"two blocks stand on block {block_name(s)}")
-        if support[s] == HAND:
-            raise WorldError(f"block {block_name(i)} stands on the held block")
-        seen_under.add(s)
-    for i in range(n):
-        j, steps = i, 0
-        while support[j] >= 0:
-            j = support[j]
-            steps += 1
-            if steps > n:
-                raise WorldError("the blocks form a cycle")
+    """The default name of block ``i`` (0 -> 'A'; see :func:`csql_sim.core.state.state.default_name`)."""
+    return default_name(i)
 
 
 class ActionKind(enum.Enum):
@@ -170,11 +91,12 @@ class Action:
         """True for the two operators that close the gripper on a block."""
         return self.kind in (ActionKind.PICKUP, ActionKind.UNSTACK)
 
-    def name(self) -> str:
-        """``pickup(A)``, ``putdown(A)``, ``unstack(A,B)`` or ``stack(A,B)``."""
+    def name(self, names: Sequence[str] | None = None) -> str:
+        """``pickup(A)``, ``putdown(A)``, ``unstack(A,B)`` or ``stack(A,B)`` (with ``names``: the blocks' own)."""
+        call = default_name if names is None else names.__getitem__
         if self.target is None:
-            return f"{self.kind.value}({block_name(self.block)})"
-        return f"{self.kind.value}({block_name(self.block)},{block_name(self.target)})"
+            return f"{self.kind.value}({call(self.block)})"
+        return f"{self.kind.value}({call(self.block)},{call(self.target)})"
 
     def __str__(self) -> str:
         return self.name()
@@ -237,7 +159,7 @@ def successor(state: State, action: Action) -> State:
         support[action.block] = TABLE
     else:
         support[action.block] = action.target
-    return State(tuple(support))
+    return state.with_support(tuple(support))
 
 
 def _generate_states(n: int) -> Iterator[State]:
@@ -294,8 +216,50 @@ def all_actions(n: int) -> tuple[Action, ...]:
 
 
 def legal_actions(state: State) -> tuple[Action, ...]:
-    """The legal actions of ``state`` in the stable action order."""
-    return tuple(a for a in all_actions(state.n) if is_legal(state, a))
+    """The legal actions of ``state`` in the stable action order (without listing all actions)."""
+    held = state.held
+    if held is not None:
+        onto = [Action(ActionKind.STACK, held, y) for y in range(state.n) if y != held and state.is_clear(y)]
+        return (Action(ActionKind.PUTDOWN, held), *onto)
+    ups = [Action(ActionKind.UNSTACK, x, s) for x, s in enumerate(state.support) if s >= 0 and state.is_clear(x)]
+    picks = [Action(ActionKind.PICKUP, x) for x, s in enumerate(state.support) if s == TABLE and state.is_clear(x)]
+    return (*ups, *picks)
+
+
+def action_name(action: Action, names: Sequence[str] | None = None) -> str:
+    """``pickup(A)``, ``unstack(Z,Y)``: :meth:`Action.name`, with the default names or ``names``."""
+    return action.name(names)
+
+
+def action_count(n: int) -> int:
+    """Number of actions of the n-block world: unstack and stack for each ordered pair, pickup and putdown."""
+    return 2 * n * (n - 1) + 2 * n
+
+
+def action_index(action: Action, n: int) -> int:
+    """The action's index in the stable order of :func:`all_actions`, by arithmetic (any n)."""
+    pairs = n * (n - 1)
+    x = action.block
+    if action.kind is ActionKind.PICKUP:
+        return pairs + x
+    if action.kind is ActionKind.PUTDOWN:
+        return pairs + n + x
+    y = action.target
+    pair = x * (n - 1) + y - (y > x)
+    return pair if action.kind is ActionKind.UNSTACK else pairs + 2 * n + pair
+
+
+def action_at(index: int, n: int) -> Action:
+    """Inverse of :func:`action_index`."""
+    pairs = n * (n - 1)
+    if not 0 <= index < action_count(n):
+        raise WorldError(f"action index {index} out of range for {n} blocks")
+    if pairs <= index < pairs + 2 * n:
+        kind = ActionKind.PICKUP if index < pairs + n else ActionKind.PUTDOWN
+        return Action(kind, (index - pairs) % n)
+    kind, pair = (ActionKind.UNSTACK, index) if index < pairs else (ActionKind.STACK, index - pairs - 2 * n)
+    x, k = divmod(pair, n - 1)
+    return Action(kind, x, k + (k >= x))
 
 
 class BlocksWorld:
@@ -346,14 +310,3 @@ class BlocksWorld:
             return self._action_index[action]
         except KeyError:
             raise WorldError(f"{action.name()} is not an action of the {self.n}-block world") from None
-
-
-# ---------------------------------------------------------------- notation
-
-
-def format_config(state: State) -> str:
-    """Canonical notation: towers bottom-up sorted and comma-joined, ``+X`` if holding X."""
-    towers = ",".join("".join(block_name(i) for i in t) for t in sorted(
-        state.towers(), key=lambda t: block_name(t[0])))
-    held = state.held
-    return towers + (f"+{block_name(held)}" if held is not None else "")

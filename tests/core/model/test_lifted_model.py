@@ -3,8 +3,8 @@ import pytest
 
 from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD, LiftedRuleError, parse_lifted_rules
 from csql_sim.core.model.lifted_model import LiftedWorldModel
-from csql_sim.core.state import large_state
-from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state import notation as large_state_notation
+from csql_sim.core.state import world as large_state
 from csql_sim.core.state.state_count import sample_state
 from csql_sim.core.state.world import all_states, is_legal, legal_actions, successor
 
@@ -13,10 +13,10 @@ from csql_sim.core.state.world import all_states, is_legal, legal_actions, succe
 def test_lifted_model_is_the_true_world_on_every_state(n):
     model = LiftedWorldModel(BLOCKS_WORLD)
     for state in all_states(n):
-        rel = LargeState.from_state(state)
+        rel = state
         assert model.legal_actions(rel) == legal_actions(state)
         for action in legal_actions(state):
-            assert model.successor(rel, action).to_state() == successor(state, action)
+            assert model.successor(rel, action) == successor(state, action)
 
 
 @pytest.mark.parametrize("n", [8, 26])
@@ -33,10 +33,10 @@ def test_a_weaker_precondition_is_what_the_model_follows():
     rules = parse_lifted_rules(["R S[held=?x] A[stack(?x,?y)]",
                                 "R S[act=stack(?x,?y)] S[clear(?x)=1 clear(?y)=0 on(?x)=?y held=0]"])
     model = LiftedWorldModel(rules)
-    state = large_state.parse_large("BC+A")  # C on B, A held: only stack(A,C) is truly legal
+    state = large_state_notation.parse_config("BC+A")  # C on B, A held: only stack(A,C) is truly legal
     stacks = model.legal_actions(state)
     assert [large_state.action_name(a) for a in stacks] == ["stack(A,B)", "stack(A,C)"]
-    assert [is_legal(state.to_state(), a) for a in stacks] == [False, True]
+    assert [is_legal(state, a) for a in stacks] == [False, True]
 
 
 def test_two_rules_for_one_operator_are_refused():

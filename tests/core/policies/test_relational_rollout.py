@@ -1,5 +1,5 @@
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.core.state.large_state import parse_large
+from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import Action, ActionKind
 
 
@@ -15,12 +15,12 @@ class Scripted:
 
 def test_a_plan_that_reaches_the_goal():
     plan = [Action(ActionKind.UNSTACK, 1, 0), Action(ActionKind.PUTDOWN, 1)]
-    run = rollout_relational(Scripted(plan), parse_large("AB"), parse_large("A,B"))
+    run = rollout_relational(Scripted(plan), parse_config("AB"), parse_config("A,B"))
     assert run.reached and run.length == 2 and run.actions == tuple(plan)
 
 
 def test_loops_illegal_actions_silence_and_the_cap_stop_a_run():
-    start, goal = parse_large("AB"), parse_large("BA")
+    start, goal = parse_config("AB"), parse_config("BA")
     up, down = Action(ActionKind.UNSTACK, 1, 0), Action(ActionKind.STACK, 1, 0)
     assert "loop" in rollout_relational(Scripted([up, down]), start, goal).reason
     assert not rollout_relational(Scripted([Action(ActionKind.PICKUP, 0)]), start, goal).reached

@@ -3,7 +3,6 @@
 import numpy as np
 
 from csql_sim.core.state.goal_relations import deadlocked, well_placed
-from csql_sim.core.state.large_state import is_legal, parse_large, successor
 from csql_sim.core.state.move_relations import (
     ATOMS,
     Move,
@@ -14,8 +13,9 @@ from csql_sim.core.state.move_relations import (
     put_action,
     target_goal,
 )
+from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs, state_count, unrank_state
-from csql_sim.core.state.world import TABLE
+from csql_sim.core.state.world import TABLE, is_legal, successor
 
 
 def test_moves_are_exactly_the_legal_pick_and_put_pairs_at_four_blocks():
@@ -38,7 +38,7 @@ def test_moves_are_exactly_the_legal_pick_and_put_pairs_at_four_blocks():
 
 
 def test_relations_follow_their_definitions():
-    state, goal = parse_large("CAB,ED"), parse_large("ABC,DE")
+    state, goal = parse_config("CAB,ED"), parse_config("ABC,DE")
     rel = MoveRelations(state, goal)
     assert len(ATOMS) == 7
     placed = well_placed(state, goal)
@@ -50,10 +50,10 @@ def test_relations_follow_their_definitions():
         assert bits[3] == (m.block in stuck)
         assert bits[6] == bool(stuck)
     # goal: E on the table, D on E. With E clear on A (misplaced), D onto E is not for good
-    goal = parse_large("ABC,ED")
-    assert MoveRelations(parse_large("AE,D,CB"), goal).bits(Move(3, 4))[:3] == (1, 1, 0)
+    goal = parse_config("ABC,ED")
+    assert MoveRelations(parse_config("AE,D,CB"), goal).bits(Move(3, 4))[:3] == (1, 1, 0)
     # with E on the table (its goal place), D onto E is a constructive move
-    assert MoveRelations(parse_large("E,D,CAB"), goal).bits(Move(3, 4))[:3] == (1, 1, 1)
+    assert MoveRelations(parse_config("E,D,CAB"), goal).bits(Move(3, 4))[:3] == (1, 1, 1)
 
 
 def test_least_stuck_marks_the_table_moves_that_leave_the_fewest_deadlocked_blocks():
@@ -70,7 +70,7 @@ def test_least_stuck_marks_the_table_moves_that_leave_the_fewest_deadlocked_bloc
 
 
 def test_target_goal_keeps_a_held_goal_block_where_it_can_stay():
-    state = parse_large("AB,C")
-    assert target_goal(state, parse_large("A,C+B")).notation() == "AB,C"  # B may stay on A
-    assert target_goal(state, parse_large("AC+B")).notation() == "AC,B"  # C goes on A, so B to the table
-    assert target_goal(state, parse_large("BA,C")) == parse_large("BA,C")
+    state = parse_config("AB,C")
+    assert target_goal(state, parse_config("A,C+B")).notation() == "AB,C"  # B may stay on A
+    assert target_goal(state, parse_config("AC+B")).notation() == "AC,B"  # C goes on A, so B to the table
+    assert target_goal(state, parse_config("BA,C")) == parse_config("BA,C")

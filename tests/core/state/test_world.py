@@ -86,7 +86,7 @@ def test_notation_meaning():
     ("text", "n", "fragment"),
     [
         ("ABD", None, "unknown block D"),
-        ("ABX", None, "unknown block 'X'"),
+        ("ABX", None, "unknown block X for a 3-block world"),
         ("AAB", None, "used twice"),
         ("AB", 3, "block C is missing"),
         ("A,,B", None, "empty tower"),

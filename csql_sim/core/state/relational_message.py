@@ -26,9 +26,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from csql_sim.core.state.large_state import LETTERS, LargeState, action_at, action_count, action_index, check_large_n
 from csql_sim.core.state.message import DIGITS, PICK_FLAG, PUT_FLAG, MessageError, decode_code, encode_code
-from csql_sim.core.state.world import HAND, MAX_BLOCKS, TABLE, Action, WorldError
+from csql_sim.core.state.state import check_letters_n
+from csql_sim.core.state.world import (
+    HAND,
+    LETTERS,
+    MAX_BLOCKS,
+    TABLE,
+    Action,
+    State,
+    WorldError,
+    action_at,
+    action_count,
+    action_index,
+)
 
 MIN_LARGE_MESSAGE = MAX_BLOCKS + 1
 TABLE_CHAR = "_"
@@ -44,7 +55,7 @@ def code_width(n: int) -> int:
 
 
 def _check(n: int) -> int:
-    check_large_n(n)
+    check_letters_n(n)
     if n < MIN_LARGE_MESSAGE:
         raise MessageError(f"the large message form is for {MIN_LARGE_MESSAGE}..26 blocks, got {n} "
                            f"(use the paper's form for n <= {MAX_BLOCKS})")
@@ -60,11 +71,11 @@ def _on(support: int) -> str:
     return TABLE_CHAR if support == TABLE else HELD_CHAR if support == HAND else LETTERS[support].lower()
 
 
-def _hand(state: LargeState) -> str:
+def _hand(state: State) -> str:
     return HELD_CHAR if state.held is None else LETTERS[state.held].lower()
 
 
-def format_large_message(state: LargeState, goal: LargeState, action: Action | None = None) -> str:
+def format_large_message(state: State, goal: State, action: Action | None = None) -> str:
     """The large state message of ``state`` towards ``goal`` (action slot: ``action``'s code, or 0)."""
     n = _check(state.n)
     if goal.n != n:
@@ -79,8 +90,8 @@ def format_large_message(state: LargeState, goal: LargeState, action: Action | N
 class LargeMessage:
     """A parsed large state message: the state, the goal and the action slot (None: 0)."""
 
-    state: LargeState
-    goal: LargeState
+    state: State
+    goal: State
     action: Action | None
 
 
@@ -112,10 +123,10 @@ def _supports(message: str, start: int, n: int) -> list[int]:
     return out
 
 
-def _configuration(message: str, on: int, n: int) -> LargeState:
+def _configuration(message: str, on: int, n: int) -> State:
     supports = tuple(_supports(message, on, n))  # its MessageError (a WorldError) names the message already
     try:
-        state = LargeState(supports)
+        state = State(supports)
     except WorldError as exc:
         raise MessageError(f"malformed message {message!r}: {exc}") from None
     if message[on + n] != _hand(state):

@@ -1,7 +1,9 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.state.large_message import (
+from csql_sim.core.state.message import MessageError, layout
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.relational_message import (
     HELD_CHAR,
     TABLE_CHAR,
     format_large_action,
@@ -10,9 +12,8 @@ from csql_sim.core.state.large_message import (
     parse_large_action,
     parse_large_message,
 )
-from csql_sim.core.state.large_state import LETTERS, legal_actions, parse_large
-from csql_sim.core.state.message import MessageError, layout
 from csql_sim.core.state.state_count import sample_pairs
+from csql_sim.core.state.world import LETTERS, legal_actions
 
 
 def test_table_and_held_symbols_are_not_letters():
@@ -38,15 +39,15 @@ def test_messages_round_trip(n):
 
 
 def test_a_26_block_message_reads_as_documented():
-    state = parse_large(LETTERS[:25] + "+" + "Z")  # one tower A..Y, Z held
-    goal = parse_large(",".join(LETTERS))
+    state = parse_config(LETTERS[:25] + "+" + "Z")  # one tower A..Y, Z held
+    goal = parse_config(",".join(LETTERS))
     message = format_large_message(state, goal)
     assert message == "S000" + "0" * 24 + "10" + TABLE_CHAR + LETTERS[:24].lower() + "0z" + TABLE_CHAR * 26 + "0"
     assert len(message) == message_length(26) == 84
 
 
 def test_malformed_messages_are_refused():
-    start, goal = parse_large("ABCDEFG"), parse_large("A,B,C,D,E,F,G")
+    start, goal = parse_config("ABCDEFG"), parse_config("A,B,C,D,E,F,G")
     good = format_large_message(start, goal)
     for pos, ch in ((0, "X"), (4, "1"), (12, "a"), (11, "t")):
         bad = good[:pos] + ch + good[pos + 1:]
@@ -55,4 +56,4 @@ def test_malformed_messages_are_refused():
     with pytest.raises(MessageError):
         parse_large_message(good[:-1])
     with pytest.raises(MessageError):
-        format_large_message(parse_large("AB"), parse_large("BA"))
+        format_large_message(parse_config("AB"), parse_config("BA"))
