@@ -29,8 +29,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from csql_sim.core.state.notation import parse_action_name
+from csql_sim.core.state.state import default_name
 from csql_sim.core.state.world import (
-    BLOCK_NAMES,
     HAND,
     TABLE,
     Action,
@@ -73,6 +73,11 @@ class PlanStep:
     line: int
     text: str
     actions: tuple[Action, ...]
+
+
+def plan_index(names: Sequence[str]) -> dict[str, int]:
+    """What a plan file may name: each block's name (lower case; PDDL names compare without case) and ``table``."""
+    return {**{name.lower(): i for i, name in enumerate(names)}, "table": TABLE}
 
 
 def parse_plan(lines: Iterable[str], index: Mapping[str, int], n: int, source: str = "plan",
@@ -185,7 +190,7 @@ def why_not(state: State, action: Action, names: Sequence[str] | None = None) ->
     """The first precondition of ``action`` that ``state`` violates, in words."""
 
     def name(i: int | None) -> str:
-        return "nothing" if i is None else (names[i] if names is not None else BLOCK_NAMES[i])
+        return "nothing" if i is None else (names[i] if names is not None else state.name(i))
 
     failed: Precondition = next(p for p in preconditions(action) if not p.holds(state))
     held = state.held
@@ -205,11 +210,11 @@ def why_not(state: State, action: Action, names: Sequence[str] | None = None) ->
 
 
 def ipc_action(action: Action, names: Sequence[str] | None = None) -> str:
-    """One action in IPC form, ``(unstack a b)`` (``names``: the blocks' PDDL names, default a-f)."""
+    """One action in IPC form, ``(unstack a b)`` (``names``: the blocks' PDDL names, default a, b, ...)."""
     word = {ActionKind.PICKUP: "pick-up", ActionKind.PUTDOWN: "put-down", ActionKind.STACK: "stack",
             ActionKind.UNSTACK: "unstack"}[action.kind]
     args = [action.block] + ([] if action.target is None else [action.target])
-    return "(" + " ".join([word, *((names[i] if names else BLOCK_NAMES[i].lower()) for i in args)]) + ")"
+    return "(" + " ".join([word, *((names[i] if names else default_name(i).lower()) for i in args)]) + ")"
 
 
 def ipc_plan_text(actions: Iterable[Action], names: Sequence[str] | None = None, header: str = "") -> str:

@@ -12,6 +12,10 @@ rule that proposes its action message with the add-delete rule its code activate
 So the translation reads only the rules and the message layout, never the blocks-world
 semantics: rules from ``csql-sim discover`` export the same way as Figure 5. The text is
 produced by the ``pddl`` library's formatter, not by hand.
+
+:func:`blocks_problem_text` writes a task of any n in the classic four-operator form
+(``on``, ``ontable``, ``clear``, ``handempty``, ``holding``) with the blocks' own names,
+which :mod:`csql_sim.core.files.pddl_import` reads back.
 """
 
 from __future__ import annotations
@@ -19,7 +23,7 @@ from __future__ import annotations
 from pddl.action import Action as PddlAction
 from pddl.core import Domain, Problem
 from pddl.formatter import domain_to_string, problem_to_string
-from pddl.logic import Predicate
+from pddl.logic import Constant, Predicate
 from pddl.logic.base import And, Not
 from pddl.requirements import Requirements
 
@@ -31,7 +35,7 @@ from csql_sim.core.classifiers.r_classifier import (
     validate_r_classifier,
 )
 from csql_sim.core.state.message import format_state_message, layout, parse_action_message
-from csql_sim.core.state.world import BLOCK_NAMES, State
+from csql_sim.core.state.world import BLOCK_NAMES, TABLE, State
 from csql_sim.infra.errors import CsqlError
 
 
@@ -112,3 +116,31 @@ def domain_text(rules: list[RClassifier], n: int) -> str:
 def problem_text(rules: list[RClassifier], start: State, goal: State) -> str:
     """``problem.pddl``'s text."""
     return problem_to_string(build_problem(build_domain(rules, start.n), start, goal)) + "\n"
+
+
+def _state_atoms(state: State, objects: list[Constant]) -> list[Predicate]:
+    """The four-operator atoms of ``state`` (``handempty`` or ``holding``, ``on``/``ontable``, ``clear``)."""
+    held = state.held
+    atoms = [Predicate("handempty") if held is None else Predicate("holding", objects[held])]
+    for i, below in enumerate(state.support):
+        if below == TABLE:
+            atoms.append(Predicate("ontable", objects[i]))
+        elif below >= 0:
+            atoms.append(Predicate("on", objects[i], objects[below]))
+        if state.is_clear(i):
+            atoms.append(Predicate("clear", objects[i]))
+    return atoms
+
+
+def blocks_problem_text(start: State, goal: State, name: str = "task", domain: str = "blocksworld") -> str:
+    """The task as a classic four-operator PDDL problem, objects named as ``start`` names its blocks.
+
+    Default names are written in lower case (``a``, ``b``, ...), as plan files write them.
+    """
+    if start.n != goal.n:
+        raise PddlError(f"start has {start.n} blocks but goal has {goal.n}")
+    names = start.block_names if start.names is not None else tuple(x.lower() for x in start.block_names)
+    objects = [Constant(x) for x in names]
+    problem = Problem(name, domain_name=domain, objects=objects, init=_state_atoms(start, objects),
+                      goal=And(*_state_atoms(goal, objects)))
+    return problem_to_string(problem) + "\n"

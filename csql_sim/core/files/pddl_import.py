@@ -22,7 +22,10 @@ Predicate spellings accepted: ``ontable``/``on-table``/``on_table``, ``handempty
 **Names.** The blocks are the problem's objects and the domain's constants, less the
 table (an object named ``table`` or of type ``table``), sorted by name (numbers inside
 names compare as numbers: ``b2`` before ``b10``); the first is cube A, the next B, and so
-on. Between 2 and 6 blocks (the cubes A-F the scene has).
+on, whatever order the file lists them in. Between 2 and 6 blocks (the cubes A-F the scene
+has). :attr:`BlocksProblem.objects` are the names in lower case (as the parser reads
+them; PDDL names compare without case); the start state carries them as written in the
+file (:attr:`BlocksProblem.names`, the first spelling of each).
 
 **Refused** with one line (:class:`PddlImportError`): unknown predicates, more than six
 blocks, an initial state that is not exactly one configuration (a block placed twice or
@@ -36,7 +39,7 @@ from __future__ import annotations
 
 import os
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from csql_sim.core.model.goal_spec import Atom, GoalError, GoalSpec
 from csql_sim.core.state.world import BLOCK_NAMES, HAND, MAX_BLOCKS, MIN_BLOCKS, TABLE, State, WorldError
@@ -89,6 +92,11 @@ class BlocksProblem:
         return len(self.objects)
 
     @property
+    def names(self) -> tuple[str, ...]:
+        """The blocks' names as written in the file (the start state's names)."""
+        return self.start.block_names
+
+    @property
     def mapping(self) -> dict[str, str]:
         """PDDL object name -> cube letter."""
         return {name: BLOCK_NAMES[i] for i, name in enumerate(self.objects)}
@@ -120,22 +128,35 @@ def read_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = 
         PddlImportError: one line naming the file and what cannot be represented.
     """
     source = os.fspath(problem)
-    dom = None if domain is None else _parse(domain, "domain")
+    text = read_text_file(problem, MAX_PDDL_BYTES, "PDDL problem")
+    domain_text = None if domain is None else read_text_file(domain, MAX_PDDL_BYTES, "PDDL domain")
+    dom = None if domain_text is None else _parse_text(domain_text, "domain", os.fspath(domain))
     actions = None if dom is None else domain_actions(dom, os.fspath(domain))
-    return problem_from_pddl(_parse(problem, "problem"), source, actions,
-                             constants=() if dom is None else tuple(c.name for c in dom.constants))
+    problem_ = problem_from_pddl(_parse_text(text, "problem", source), source, actions,
+                                 constants=() if dom is None else tuple(c.name for c in dom.constants))
+    return with_spelling(problem_, text + "\n" + (domain_text or ""))
 
 
 def parse_problem_text(text: str, source: str = "problem", domain_text: str | None = None) -> BlocksProblem:
     """:func:`read_problem` on texts instead of files."""
     dom = None if domain_text is None else _parse_text(domain_text, "domain", "domain")
     actions = None if dom is None else domain_actions(dom, "domain")
-    return problem_from_pddl(_parse_text(text, "problem", source), source, actions,
-                             constants=() if dom is None else tuple(c.name for c in dom.constants))
+    problem = problem_from_pddl(_parse_text(text, "problem", source), source, actions,
+                                constants=() if dom is None else tuple(c.name for c in dom.constants))
+    return with_spelling(problem, text + "\n" + (domain_text or ""))
 
 
-def _parse(path: str | os.PathLike, kind: str):  # noqa: ANN202 - a pddl Domain or Problem
-    return _parse_text(read_text_file(path, MAX_PDDL_BYTES, f"PDDL {kind}"), kind, os.fspath(path))
+def with_spelling(problem: BlocksProblem, text: str) -> BlocksProblem:
+    """``problem`` whose start state names its blocks as ``text`` first spells them (PDDL ignores case)."""
+    spelled: dict[str, str] = {}
+    for word in re.findall(r"[^\s()]+", _strip_comments(text)):
+        spelled.setdefault(word.lower(), word)
+    names = tuple(spelled.get(name, name) for name in problem.objects)
+    return replace(problem, start=problem.start.named(names))
+
+
+def _strip_comments(text: str) -> str:
+    return "\n".join(line.split(";", 1)[0] for line in text.splitlines())
 
 
 def _parse_text(text: str, kind: str, source: str):  # noqa: ANN202 - a pddl Domain or Problem

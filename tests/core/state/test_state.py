@@ -59,3 +59,33 @@ def test_illegal_action_is_refused():
     state = parse_config("AB")
     with pytest.raises(WorldError):
         successor(state, world.Action(world.ActionKind.PICKUP, 0))
+
+
+def test_default_names_are_letters_then_two_letters():
+    from csql_sim.core.state.state import default_name, default_names
+
+    assert default_names(3) == ("A", "B", "C")
+    assert [default_name(i) for i in (25, 26, 27, 51, 52, 701, 702)] == ["Z", "AA", "AB", "AZ", "BA", "ZZ", "AAA"]
+    assert len(set(default_names(1000))) == 1000
+
+
+def test_one_block_and_a_thousand_blocks_are_states():
+    one = State((TABLE,))
+    assert one.n == 1 and one.notation() == "A" and legal_actions(one) == (world.Action(world.ActionKind.PICKUP, 0),)
+    tower = State((TABLE, *range(999)))  # one tower of 1,000 blocks, block 0 at the bottom
+    assert tower.is_clear(999) and not tower.is_clear(0) and tower.towers()[0] == tuple(range(1000))
+    top = legal_actions(tower)
+    assert [a.name() for a in top] == ["unstack(ALL,ALK)"]  # block 999's default name is ALL
+    after = successor(tower, top[0])
+    assert after.held == 999 and action_at(action_index(top[0], 1000), 1000) == top[0]
+    assert after.notation().endswith("ALJ ALK + ALL")  # past 26 blocks names are separated
+
+
+def test_names_ride_along_but_do_not_make_the_state():
+    plain = State((TABLE, 0))
+    named = plain.named(("Red", "blue"))
+    assert named == plain and hash(named) == hash(plain) and {plain: 1}[named] == 1
+    assert named.notation() == "AB" and named.named_notation() == "Red blue"
+    assert plain.block_names == ("A", "B") and named.name(1) == "blue"
+    with pytest.raises(WorldError, match="2 names for 3 blocks"):
+        State((TABLE, TABLE, TABLE), ("a", "b"))
