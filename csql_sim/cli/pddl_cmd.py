@@ -6,7 +6,7 @@ import argparse
 
 from csql_sim import __version__
 from csql_sim.cli.args import add_overwrite, blocks_arg, blocks_help, command_parser, path_arg
-from csql_sim.cli.core import read_task
+from csql_sim.cli.plan import read_task
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import PDDL_HEADER, Outputs
 

@@ -22,8 +22,8 @@ from csql_sim.cli.args import (
     show_progress,
     threshold_arg,
 )
-from csql_sim.cli.core import read_task_for_rules
 from csql_sim.cli.output import emit
+from csql_sim.cli.plan import read_task_for_rules
 from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs

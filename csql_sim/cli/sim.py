@@ -27,9 +27,9 @@ from csql_sim.cli.args import (
     show_progress,
     warn_workers,
 )
-from csql_sim.cli.core import read_task_for_rules
-from csql_sim.cli.large_plan import large_blocks, read_large_task, select_policy
 from csql_sim.cli.output import default_path, emit
+from csql_sim.cli.plan import read_task, read_task_for_rules, relational_blocks
+from csql_sim.cli.plan_view import select_policy
 from csql_sim.cli.sim_options import (
     DISCOVERY_BLOCKS,
     DISCOVERY_TRANSITIONS,
@@ -65,17 +65,17 @@ def arm_blocks_arg(text: str) -> int:
 def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[State, State]:
     """The task of ``render``: as ``plan`` reads it up to six blocks, else a task of 7..10 cubes.
 
-    The start decides which, as for ``plan`` (:func:`csql_sim.cli.large_plan.large_blocks`):
+    The start decides which, as for ``plan`` (:func:`csql_sim.cli.plan.relational_blocks`):
     a configuration of more than six blocks or a large state message is read with letters
-    A-J or as a large message (:func:`csql_sim.cli.large_plan.read_large_task`), so an error
+    A-J or as a large message (:func:`csql_sim.cli.plan.read_task`), so an error
     in the goal names the goal; more than ten cubes are refused with one line (the table
     and the reach).
     """
-    if large_blocks(argparse.Namespace(blocks=None, start=start, pairs=None)) is None:
+    if relational_blocks(argparse.Namespace(blocks=None, start=start, pairs=None)) is None:
         return read_task_for_rules(start, goal, None, rules)
     from csql_sim.sim.arm_state import check_arm_blocks
 
-    s, g = read_large_task(start, goal, None)
+    s, g = read_task(start, goal, None)
     check_arm_blocks(s.n)
     return s, g
 

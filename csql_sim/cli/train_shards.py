@@ -194,8 +194,8 @@ def train_blocks_arg(text: str) -> int:
 
 def show_sharded(args: argparse.Namespace) -> int:
     """``show DIR --start S --goal G``: Figure 6's table of the greedy path's Q-classifiers, from one shard."""
-    from csql_sim.cli.core import read_task
     from csql_sim.cli.output import emit
+    from csql_sim.cli.plan import read_task
     from csql_sim.core.policies.sharded_policy import ShardedPolicy, path_rulebase
     from csql_sim.learners.pruning import figure6_rows, figure6_table
 

@@ -370,7 +370,8 @@ def goal_code(goal: int, n: int) -> str:
 
 def is_state_message(text: str) -> bool:
     """A cheap test: does ``text`` look like a state message rather than a configuration?"""
-    return len(text) >= 2 and text[0] == "S" and text[1].isalnum()  # no block is called S
+    # a configuration holds no digit (block S may start one); every message holds its clear field's digits
+    return len(text) >= 2 and text[0] == "S" and text[1].isalnum() and any(ch.isdigit() for ch in text)
 
 
 __all__ = [

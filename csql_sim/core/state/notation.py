@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 from csql_sim.core.state.message import is_state_message, parse_state_message
+from csql_sim.core.state.relational_message import is_relational_message, parse_large_message
 from csql_sim.core.state.state import check_letters_n
 from csql_sim.core.state.world import HAND, LETTERS, TABLE, Action, ActionKind, State, WorldError
 
@@ -88,8 +89,10 @@ def parse_action_name(text: str, n: int) -> Action:
 
 
 def parse_state_arg(text: str, n: int | None = None) -> State:
-    """A user's state: the configuration notation, or (n=3) the paper's state message."""
+    """A user's state: the configuration notation, the paper's state message (n <= 6) or a relational one (7..26)."""
     text = text.strip()
+    if is_relational_message(text):
+        return parse_large_message(text, n).state
     if is_state_message(text):
         parsed = parse_state_message(text, n)
         return parsed.state

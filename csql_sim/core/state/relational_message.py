@@ -26,8 +26,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from csql_sim.core.state.message import DIGITS, PICK_FLAG, PUT_FLAG, MessageError, decode_code, encode_code
-from csql_sim.core.state.state import check_letters_n
+from csql_sim.core.state.message import (
+    DIGITS,
+    PICK_FLAG,
+    PUT_FLAG,
+    MessageError,
+    decode_code,
+    encode_code,
+    is_state_message,
+)
+from csql_sim.core.state.state import MAX_LETTERS, check_letters_n
 from csql_sim.core.state.world import (
     HAND,
     LETTERS,
@@ -42,6 +50,8 @@ from csql_sim.core.state.world import (
 )
 
 MIN_LARGE_MESSAGE = MAX_BLOCKS + 1
+MAX_LARGE_MESSAGE = MAX_LETTERS
+"""The relational message is the view of 7..26 blocks (one letter per block); past 26 there is none."""
 TABLE_CHAR = "_"
 HELD_CHAR = "0"
 
@@ -60,6 +70,11 @@ def _check(n: int) -> int:
         raise MessageError(f"the large message form is for {MIN_LARGE_MESSAGE}..26 blocks, got {n} "
                            f"(use the paper's form for n <= {MAX_BLOCKS})")
     return n
+
+
+def is_relational_message(text: str) -> bool:
+    """A cheap test: a state message as long as the relational form's shortest, or longer (the paper's are shorter)."""
+    return is_state_message(text) and len(text) >= message_length(MIN_LARGE_MESSAGE)
 
 
 def message_length(n: int) -> int:

@@ -191,3 +191,22 @@ def test_gn1_and_the_enumerated_world_up_to_six_blocks(capsys):
     assert code == 0 and doc["length"] == doc["optimal_length"] == 6 and "planner" not in doc
     code, out, _ = run(capsys, "plan", "--planner", "gn1", "--pairs", "all", "--blocks", "3")
     assert code == 0 and out.startswith("pairs: 462  covered: 462  optimal: 462")
+
+
+def test_a_configuration_may_start_with_block_s(capsys):
+    # 19 blocks, one tower with S at the bottom: a configuration, not a state message (it has no digit)
+    assert main(["plan", "--start", "SRQPONMLKJIHGFEDCBA", "--goal", ",".join(LETTERS[:19]), "--planner", "gn1",
+                 "--json", "-"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["blocks"] == 19 and doc["length"] == doc["optimal_length"] == 36
+
+
+def test_plan_steps_carry_the_view_of_their_n():
+    from csql_sim.cli.plan_view import plan_steps
+    from csql_sim.core.state.world import Action, ActionKind
+
+    stack = Action(ActionKind.STACK, 1, 0)
+    assert plan_steps([stack], 3)[0] == {"code": "F", "name": "stack(B,A)", "message": "AF0000000100ba00"}
+    assert plan_steps([stack], 7)[0] == {"code": 63, "name": "stack(B,A)", "message": "A1R0000000100ba00"}
+    assert plan_steps([Action(ActionKind.PICKUP, 26)], 30)[0] == {"code": 30 * 29 + 27, "name": "pickup(AA)",
+                                                                  "message": None}

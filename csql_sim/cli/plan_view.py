@@ -1,0 +1,45 @@
+"""How ``plan`` chooses its policy and writes a plan's steps, in the view of n blocks."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Sequence
+
+from csql_sim.cli.args import show_progress
+from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.policy import Policy
+from csql_sim.core.policies.relational_rollout import RelationalPolicy
+from csql_sim.core.state.message import action_code, format_action_message
+from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE, format_large_action
+from csql_sim.core.state.world import MAX_BLOCKS, Action, action_index
+from csql_sim.infra.errors import CsqlError
+from csql_sim.learners.gn1 import Gn1Policy
+
+
+def select_policy(args: argparse.Namespace, n: int | None) -> Policy | RelationalPolicy:
+    """The policy of ``--planner`` and ``--rules`` for a job of ``n`` blocks.
+
+    Past six blocks only lifted rules and ``gn1`` plan: :func:`load_policy` refuses BFS and
+    ground rule files there.
+    """
+    planner = args.planner or ("rules" if args.rules else "bfs")
+    if planner == "rules" and not args.rules:
+        raise CsqlError("--planner rules needs --rules FILE")
+    if planner != "rules" and args.rules:
+        raise CsqlError(f"--planner {planner} does not read --rules {args.rules!r}; give one of them")
+    if planner == "gn1":
+        return Gn1Policy()
+    return load_policy(args.rules if planner == "rules" else None, n, progress=show_progress(args))
+
+
+def plan_steps(actions: Sequence[Action], n: int) -> list[dict]:
+    """The JSON of a plan: ``{"code", "name", "message"}`` per action, in the view of n blocks.
+
+    Up to six blocks the paper's action code and message; 7..26 the action's index + 1 and
+    the relational message; past 26 the index + 1 and no message (``None``).
+    """
+    if n <= MAX_BLOCKS:
+        return [{"code": action_code(a, n), "name": a.name(), "message": format_action_message(a, n)}
+                for a in actions]
+    return [{"code": action_index(a, n) + 1, "name": a.name(),
+             "message": format_large_action(a, n) if n <= MAX_LARGE_MESSAGE else None} for a in actions]
