@@ -27,21 +27,34 @@ which is kept for n <= 6.
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
 
-from csql_sim.core.state.state import check_letters_n
+from csql_sim.core.state.state import MIN_LETTERS
 from csql_sim.core.state.world import HAND, TABLE, State, WorldError
 
+MAX_COUNTED = 1000
+"""The most blocks counted and sampled here (the exact integers grow as n!; 2,568 digits at 1,000)."""
 
-@functools.cache
+
+def check_count_n(n: int) -> int:
+    """Return ``n`` if it is 2..:data:`MAX_COUNTED`, else raise WorldError."""
+    if not isinstance(n, int) or isinstance(n, bool) or not MIN_LETTERS <= n <= MAX_COUNTED:
+        raise WorldError(f"number of blocks must be {MIN_LETTERS}..{MAX_COUNTED}, got {n!r}")
+    return n
+
+
+_FORESTS = [1]
+"""F(0), F(1), ...: filled bottom-up (no recursion, so 1,000 blocks need no deep stack)."""
+
+
 def forest_count(m: int) -> int:
     """F(m): the hand-empty configurations of m blocks (sets of towers)."""
-    if m == 0:
-        return 1
-    return sum(_tower_term(m, k) for k in range(1, m + 1))
+    while len(_FORESTS) <= m:
+        k = len(_FORESTS)
+        _FORESTS.append(sum(_tower_term(k, j) for j in range(1, k + 1)))
+    return _FORESTS[m]
 
 
 def _tower_term(m: int, k: int) -> int:
@@ -51,7 +64,7 @@ def _tower_term(m: int, k: int) -> int:
 
 def state_count(n: int) -> int:
     """S(n): the states of n blocks (hand empty, or one block held)."""
-    check_letters_n(n)
+    check_count_n(n)
     return forest_count(n) + n * forest_count(n - 1)
 
 
