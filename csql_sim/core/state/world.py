@@ -29,15 +29,13 @@ from dataclasses import dataclass
 
 from csql_sim.core.state.state import (
     HAND,
-    LETTERS,
     TABLE,
     State,
     WorldError,
     default_name,
-    format_config,
 )
-
-__all__ = ["HAND", "LETTERS", "TABLE", "State", "WorldError", "format_config"]
+from csql_sim.core.state.state import LETTERS as LETTERS  # re-exported: the notation's letters
+from csql_sim.core.state.state import format_config as format_config  # re-exported
 
 MIN_BLOCKS = 2
 MAX_BLOCKS = 6
