@@ -9,7 +9,7 @@ as before. Past six, where nothing may be enumerated:
   own goal);
 * the planner is lifted: ``--planner gn1`` (the named baseline,
   :class:`csql_sim.learners.gn1.Gn1Policy`) or ``--rules FILE`` for which
-  :func:`csql_sim.core.policies.greedy_table.load_policy` returns a lifted policy (``blocks`` None);
+  :func:`csql_sim.core.policies.loader.load_policy` returns a lifted policy (``blocks`` None);
   BFS and ground rule files are refused with one line;
 * plans run symbolically (:func:`csql_sim.core.policies.relational_rollout.rollout_relational`) and
   are measured against the exact optimum (:func:`csql_sim.core.measure.optimum.optimal_length`),
@@ -34,7 +34,7 @@ from csql_sim.cli.args import say, show_progress
 from csql_sim.cli.output import REPORT_VERSION, command_parameters, emit, json_stream
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.pairs import check_large_pairs, stream_large_pairs
-from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.relational_rollout import RelationalPolicy, RelationalRollout, rollout_relational
 from csql_sim.core.state.goal_message import is_goal_message
