@@ -173,9 +173,9 @@ def test_a_bug_in_a_worker_task_stops_the_evaluation(monkeypatch):
 
 
 def test_the_rule_file_is_read_once_and_the_workers_get_the_policy_as_data(tmp_path, monkeypatch):
+    import csql_sim.core.policies.loader as loader
     import csql_sim.jobs.evaluate as ev
     from csql_sim.cli import main
-    import csql_sim.core.policies.loader as loader
 
     rules = tmp_path / "r.yaml"
     assert main(["train", "--trials", "300", "--out", str(rules), "--quiet"]) == 0

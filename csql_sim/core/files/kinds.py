@@ -49,6 +49,10 @@ MAX_LIFTED_Q_BYTES = 1 << 20
 """Largest lifted Q-classifier file read."""
 WHAT = "rule file"
 """What a rule file is called in messages."""
+NPZ, YAML = "npz", "yaml"
+CAPS = {NPZ: (rulebase_npz.MAX_FILE_BYTES, WHAT), YAML: (rulebase_yaml.MAX_FILE_BYTES, WHAT),
+        LIFTED: (MAX_LIFTED_Q_BYTES, "lifted Q-classifier file")}
+"""The largest file read, and what it is called, for each codec of a rule file."""
 
 
 @dataclass(frozen=True)
@@ -104,23 +108,27 @@ def read_rule_file(path: str | os.PathLike) -> RuleFile:
 
 
 def _classify(path: str | os.PathLike, source: InputFile) -> RuleFile:
-    """The kind of an opened file from its first bytes, then (the cap known) its whole content."""
+    """The kind of an opened file from its first bytes, then (the cap known) its whole content, read once."""
     head = source.head
-    if head.startswith(b"PK") or Path(path).suffix.lower() == ".npz":
-        data = source.read_all(rulebase_npz.MAX_FILE_BYTES)
-        form = rulebase_npz.header_meta(data).get("form")
-        return RuleFile(path, GOAL_NPZ if form == GOAL_FORM else GROUND_NPZ, data)
+    npz = head.startswith(b"PK") or Path(path).suffix.lower() == ".npz"
     name = formats.SHARDS if head.startswith(formats.SHARD_MAGIC) else formats.head_format(head)
-    if name == formats.LIFTED_Q:
-        try:
-            return _text_file(path, LIFTED, source.read_all(MAX_LIFTED_Q_BYTES, "lifted Q-classifier file"))
-        except InputFileError as exc:
-            return RuleFile(path, LIFTED, problem=str(exc))
-    problem = other_model(path, name)
+    lifted = not npz and name == formats.LIFTED_Q
+    problem = None if npz or lifted else other_model(path, name)
     if problem:
         raise RuleBaseError(problem)
-    found = _text_file(path, GROUND_YAML, source.read_all(rulebase_yaml.MAX_FILE_BYTES))
-    if found.decoded is not None and rulebase_yaml.header_meta(found.decoded, found.source).get("form") == GOAL_FORM:
+    cap, what = CAPS[NPZ if npz else LIFTED if lifted else YAML]
+    try:
+        data = source.read_all(cap, what)
+    except InputFileError as exc:
+        if not lifted:
+            raise
+        return RuleFile(path, LIFTED, problem=str(exc))  # told as lifted: its loader names the problem
+    if npz:
+        return RuleFile(path, GOAL_NPZ if rulebase_npz.header_meta(data).get("form") == GOAL_FORM else GROUND_NPZ, data)
+    found = _text_file(path, LIFTED if lifted else GROUND_YAML, data)
+    if lifted or found.decoded is None:
+        return found
+    if rulebase_yaml.header_meta(found.decoded, found.source).get("form") == GOAL_FORM:
         return RuleFile(path, GOAL_YAML, decoded=found.decoded)
     return found
 
