@@ -21,7 +21,7 @@ is wrong with the file, it names in one line.
 from __future__ import annotations
 
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 from csql_sim.core.files import rulebase_npz, rulebase_yaml
@@ -69,8 +69,8 @@ class RuleFile:
 
     path: str | os.PathLike
     kind: str
-    data: bytes = b""
-    decoded: str | None = None
+    data: bytes = field(default=b"", repr=False)
+    decoded: str | None = field(default=None, repr=False)
     problem: str | None = None
 
     @property
