@@ -21,7 +21,7 @@ import time
 import numpy as np
 from PIL import Image
 
-from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file

@@ -6,7 +6,7 @@ import argparse
 from collections.abc import Sequence
 
 from csql_sim.cli.args import show_progress
-from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.relational_rollout import RelationalPolicy
 from csql_sim.core.state.message import action_code, format_action_message

@@ -3,9 +3,10 @@
 Every file the tool writes names its format in its first bytes: JSON files start with
 ``{"format": "csql-sim ..."``, YAML rule bases with ``format: csql-sim rule base``, npz
 rule bases carry it in their ``header`` array, a sharded rule base's directory holds a
-``manifest.json`` that names it. :func:`sniff` reads that name; the rule-file readers
-(:mod:`csql_sim.core`) decide with it which reader a path needs, and the output check
-(:mod:`csql_sim.infra.outputs`) decides with it what an existing file is.
+``manifest.json`` that names it. :func:`sniff` reads that name: the output check
+(:mod:`csql_sim.infra.outputs`) decides with it what an existing file is. Loading a policy
+tells a rule file's kind from the same names in one place, from one read of the file
+(:mod:`csql_sim.core.files.kinds`, with :func:`head_format`).
 
 The formats of trained models are listed in :data:`MODEL_FORMATS`: a model (and every
 file inside a sharded model's directory) is never replaced by a report, even with

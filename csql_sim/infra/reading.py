@@ -57,28 +57,74 @@ def read_text_file(path: str | os.PathLike, max_bytes: int, what: str = "file") 
 
 def read_bytes_file(path: str | os.PathLike, max_bytes: int, what: str = "file") -> bytes:
     """:func:`read_text_file`'s guarded read, for binary content (an ``.npz`` rule base)."""
-    shown = os.fspath(path)
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
-    except FileNotFoundError:
-        raise InputFileError(f"{shown}: no such {what}") from None
-    except OSError as exc:
-        raise InputFileError(f"{shown}: cannot read {what} ({reason(exc)})") from None
-    info = os.fstat(fd)
-    if not stat.S_ISREG(info.st_mode) or info.st_size > max_bytes:
-        os.close(fd)
-        if stat.S_ISREG(info.st_mode):
-            raise InputFileError(f"{shown}: {info.st_size:,} bytes, above the {max_bytes:,}-byte limit for a {what}")
-        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "a device, pipe or socket"
-        raise InputFileError(f"{shown}: {kind}, not a regular {what}")
-    with os.fdopen(fd, "rb") as fh:
+    with InputFile(path, what) as source:
+        return source.read_all(max_bytes)
+
+
+class InputFile:
+    """A regular input file opened once and read in two steps: its first bytes, then (its cap known) the rest.
+
+    Devices, pipes and folders are refused when opened, without reading (opened without
+    blocking, so a pipe is never waited on).
+
+    Args:
+        path: the file.
+        what: what the file is, for messages (``rule file``).
+        head_bytes: how many first bytes to read at once into :attr:`head`.
+
+    Raises:
+        InputFileError: one line naming the file and the problem.
+    """
+
+    def __init__(self, path: str | os.PathLike, what: str = "file", head_bytes: int = 0) -> None:
+        self.shown, self.what = os.fspath(path), what
         try:
-            data = fh.read(max_bytes + 1)
+            fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+        except FileNotFoundError:
+            raise InputFileError(f"{self.shown}: no such {what}") from None
         except OSError as exc:
-            raise InputFileError(f"{shown}: cannot read {what} ({reason(exc)})") from None
-    if len(data) > max_bytes:
-        raise InputFileError(f"{shown}: above the {max_bytes:,}-byte limit for a {what}")
-    return data
+            raise InputFileError(f"{self.shown}: cannot read {what} ({reason(exc)})") from None
+        info = os.fstat(fd)
+        if not stat.S_ISREG(info.st_mode):
+            os.close(fd)
+            kind = "a folder" if stat.S_ISDIR(info.st_mode) else "a device, pipe or socket"
+            raise InputFileError(f"{self.shown}: {kind}, not a regular {what}")
+        self.size = info.st_size
+        self._fd, self._file = fd, None
+        self.head = self._read(head_bytes) if head_bytes else b""
+
+    def _read(self, count: int) -> bytes:
+        try:
+            if self._file is None:  # opened as a Python file only when read from
+                self._file = os.fdopen(self._fd, "rb")
+            return self._file.read(count)
+        except OSError as exc:
+            self.close()
+            raise InputFileError(f"{self.shown}: cannot read {self.what} ({reason(exc)})") from None
+
+    def read_all(self, max_bytes: int, what: str | None = None) -> bytes:
+        """The whole file (the head read already, then the rest), refused above ``max_bytes`` before reading on."""
+        what = what or self.what
+        if self.size > max_bytes:
+            raise InputFileError(f"{self.shown}: {self.size:,} bytes, above the {max_bytes:,}-byte limit for a {what}")
+        data = self.head + self._read(max_bytes + 1 - len(self.head))
+        if len(data) > max_bytes:
+            raise InputFileError(f"{self.shown}: above the {max_bytes:,}-byte limit for a {what}")
+        return data
+
+    def close(self) -> None:
+        """Close the file (again: nothing)."""
+        if self._file is not None:
+            self._file.close()
+        elif self._fd >= 0:
+            os.close(self._fd)
+        self._fd = -1
+
+    def __enter__(self) -> InputFile:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
 
 
 _C_LOADER = getattr(yaml, "CSafeLoader", None)

@@ -17,7 +17,8 @@ from typing import Any
 import numpy as np
 
 from csql_sim import __version__
-from csql_sim.core.policies.greedy_table import GreedyTable, load_policy
+from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.sharded_policy import GoalColumns, ShardedPolicy
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks, ray_session

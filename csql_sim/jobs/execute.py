@@ -9,7 +9,7 @@ partial goal), then either
   (:class:`~csql_sim.core.files.ipc_plan.PlanError`) before any physics runs; then replays it
   with :class:`PlanReplay`, which stops the run as soon as perception shows a state the
   plan does not predict; or
-* follows a rule base (``rules``: :func:`~csql_sim.core.policies.greedy_table.load_policy`) or the
+* follows a rule base (``rules``: :func:`~csql_sim.core.policies.loader.load_policy`) or the
   BFS planner (``planner="bfs"``) towards the goal state nearest the start
   (:meth:`~csql_sim.core.model.goal_spec.GoalSpec.nearest`), through :class:`GoalSetPolicy`.
 
@@ -176,7 +176,7 @@ def execute_large(start: State, goal: str | State | Sequence[str], plan: PlanInp
         CsqlError: one line, before any physics, for more than ten cubes, a partial goal,
             a plan (checked plans are for the enumerated world), BFS or a ground rule file.
     """
-    from csql_sim.core.policies.greedy_table import load_policy
+    from csql_sim.core.policies.loader import load_policy
     from csql_sim.sim.arm_state import check_arm_blocks, check_arm_policy, parse_arm_state
     from csql_sim.sim.physical import check_perception
     from csql_sim.sim.video import check_video_options
@@ -286,7 +286,7 @@ def _run_plan(bp: BlocksProblem, steps: list[PlanStep], source: dict[str, Any], 
 def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str | None, seed: int, perception: str,
                 perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
     """Follow a rule base, BFS or a named baseline (GN1) to the goal on the arm."""
-    from csql_sim.core.policies.greedy_table import load_policy
+    from csql_sim.core.policies.loader import load_policy
 
     named = planner is not None and planner != "bfs"
     inner = NAMED_POLICIES[planner]() if named else load_policy(rules, bp.n, progress=progress)

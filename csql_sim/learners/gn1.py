@@ -17,11 +17,12 @@ that follows, so :class:`Gn1Policy` decides:
   and picks g up last.
 
 It works on relational states of any n <= 26 and, through the same ``act``, on the
-enumerated world's states (the :class:`csql_sim.core.policies.policy.Policy` interface).
+enumerated world's states (the policy contract, :class:`csql_sim.core.policies.contract.Policy`).
 """
 
 from __future__ import annotations
 
+from csql_sim.core.policies.contract import Policy
 from csql_sim.core.state.goal_relations import deadlocked, goal_place_ready, well_placed
 from csql_sim.core.state.move_relations import pick_action, target_goal
 from csql_sim.core.state.world import TABLE, Action, ActionKind, State
@@ -39,7 +40,7 @@ def _needed_below(state: State, goal: State, placed: tuple[bool, ...], b: int) -
     return False
 
 
-class Gn1Policy:
+class Gn1Policy(Policy):
     """The GN1 rules as a policy (named baseline ``gn1``; see the module docstring)."""
 
     name = "gn1"

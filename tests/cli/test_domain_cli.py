@@ -3,7 +3,7 @@ from pddl import parse_domain, parse_problem
 
 from csql_sim.cli import main
 from csql_sim.core.model.search import distance
-from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.rollout import check_all_pairs
 from csql_sim.core.state.notation import parse_config
 

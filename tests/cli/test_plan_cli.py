@@ -9,8 +9,8 @@ import pytest
 
 from csql_sim.cli import main
 from csql_sim.core.measure.optimum import optimal_length
-from csql_sim.core.policies.greedy_table import load_policy
 from csql_sim.core.policies.lifted_policy import LiftedPolicy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relational_message import format_large_message
 from csql_sim.core.state.state_count import pair_count, sample_pairs

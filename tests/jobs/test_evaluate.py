@@ -173,17 +173,17 @@ def test_a_bug_in_a_worker_task_stops_the_evaluation(monkeypatch):
 
 
 def test_the_rule_file_is_read_once_and_the_workers_get_the_policy_as_data(tmp_path, monkeypatch):
+    import csql_sim.core.policies.loader as loader
     import csql_sim.jobs.evaluate as ev
     from csql_sim.cli import main
-    from csql_sim.core.policies.greedy_table import GreedyTable
 
     rules = tmp_path / "r.yaml"
     assert main(["train", "--trials", "300", "--out", str(rules), "--quiet"]) == 0
     kwargs = {"pairs": 4, "workers": 2, "progress": False, "rules": str(rules)}
     plain = evaluate(3, **kwargs).to_dict()
     loads = []
-    load = GreedyTable.load.__func__
-    monkeypatch.setattr(GreedyTable, "load", classmethod(lambda cls, *a, **k: loads.append(a) or load(cls, *a, **k)))
+    read = loader.read_rule_file
+    monkeypatch.setattr(loader, "read_rule_file", lambda *a, **k: loads.append(a) or read(*a, **k))
     map_tasks = ev.map_tasks
 
     def without_the_file(*args, **kw):  # while the episodes run, no worker could read the rule file

@@ -2,7 +2,7 @@
 
 import pytest
 
-from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.jobs.evaluate import PolicyData, evaluate
 from csql_sim.learners.params import defaults_for_blocks
 from csql_sim.learners.shards import ShardRun, train_sharded

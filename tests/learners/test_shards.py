@@ -9,7 +9,7 @@ import pytest
 from csql_sim.core.files import rulebase_shards as rs
 from csql_sim.core.files.rulebase_yaml import RuleBaseError
 from csql_sim.core.model.search import true_distances
-from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.rollout import check_pairs
 from csql_sim.core.policies.sharded_policy import ShardedPolicy
 from csql_sim.core.state.world import BlocksWorld

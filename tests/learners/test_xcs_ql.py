@@ -6,7 +6,7 @@ import pytest
 from csql_sim.core.files.rulebase import save
 from csql_sim.core.model.search import count_optimal_greedy
 from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
-from csql_sim.core.policies.greedy_table import load_policy
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.rollout import check_all_pairs
 from csql_sim.learners.compaction import compact
 from csql_sim.learners.params import defaults_for_blocks, with_overrides

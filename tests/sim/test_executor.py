@@ -120,7 +120,7 @@ def test_start_with_held_block(held):
 
 def test_learned_rule_base_runs_on_the_arm(task, tmp_path):
     from csql_sim.cli import main
-    from csql_sim.core.policies.greedy_table import load_policy
+    from csql_sim.core.policies.loader import load_policy
 
     out = tmp_path / "rules.yaml"
     assert main(["train", "--out", str(out), "--no-progress"]) == 0
@@ -133,7 +133,7 @@ def test_learned_rule_base_runs_on_the_arm(task, tmp_path):
 
 def test_rule_base_for_other_world_is_rejected(tmp_path):
     from csql_sim.cli import main
-    from csql_sim.core.policies.greedy_table import load_policy
+    from csql_sim.core.policies.loader import load_policy
     from csql_sim.infra.errors import CsqlError
 
     out = tmp_path / "rules2.yaml"

@@ -26,12 +26,21 @@ from csql_sim.infra import formats
 from csql_sim.infra.files import write_atomic
 
 __all__ = ["FORMAT", "MAX_FILE_BYTES", "VERSION", "RuleBase", "RuleBaseError", "dumps", "file_bytes", "is_npz",
-           "load", "load_r_classifiers", "loads", "save"]
+           "load", "load_r_classifiers", "loads", "other_model", "save"]
 
 
 def is_npz(path: str | os.PathLike) -> bool:
     """Whether ``path`` names the compact binary form (suffix ``.npz``, :mod:`csql_sim.core.files.rulebase_npz`)."""
     return Path(path).suffix.lower() == ".npz"
+
+
+def other_model(path: str | os.PathLike, name: str | None) -> str | None:
+    """Why ``path``, a model of format ``name``, is no single ground rule file; None if it is one or no model."""
+    if name not in formats.MODEL_FORMATS - {formats.RULE_BASE, formats.RULE_BASE_NPZ}:
+        return None
+    what = "a sharded rule base" if name == formats.SHARDS else f"a {name} file"
+    hint = "" if name == formats.LIFTED_RULES else f"; plan with it: csql-sim plan --rules {os.fspath(path)}"
+    return f"{os.fspath(path)} is {what}, not a single ground rule file from 'csql-sim train'{hint}"
 
 
 def file_bytes(path: str | os.PathLike, rulebase: RuleBase) -> str | bytes:
@@ -72,11 +81,9 @@ def load(path: str | os.PathLike, blocks: int | None = None, progress: bool = Fa
         progress: show a tqdm bar on stderr while the classifiers are parsed (when that
             takes more than a second).
     """
-    other = formats.sniff(path)
-    if other in formats.MODEL_FORMATS - {formats.RULE_BASE, formats.RULE_BASE_NPZ}:
-        what = "a sharded rule base" if other == formats.SHARDS else f"a {other} file"
-        hint = "" if other == formats.LIFTED_RULES else f"; plan with it: csql-sim plan --rules {os.fspath(path)}"
-        raise RuleBaseError(f"{os.fspath(path)} is {what}, not a single ground rule file from 'csql-sim train'{hint}")
+    problem = other_model(path, formats.sniff(path))
+    if problem:
+        raise RuleBaseError(problem)
     if is_npz(path):
         rulebase = rulebase_npz.load(path, RuleBaseError)
         if blocks is not None and rulebase.blocks != blocks:

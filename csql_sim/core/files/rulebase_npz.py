@@ -99,6 +99,11 @@ def read_arrays(path: str | os.PathLike, source: str, error: type[Exception]) ->
         data = read_bytes_file(path, MAX_FILE_BYTES, "rule file")
     except InputFileError as exc:
         raise error(str(exc)) from None
+    return arrays_from_bytes(data, source, error)
+
+
+def arrays_from_bytes(data: bytes, source: str, error: type[Exception]) -> tuple[dict, dict[str, np.ndarray]]:
+    """:func:`read_arrays` of a file's bytes, read already (``source`` names it in messages)."""
     try:
         with zipfile.ZipFile(io.BytesIO(data)) as z:
             expanded = sum(info.file_size for info in z.infolist())
@@ -145,20 +150,15 @@ def _condition_width(n: int, meta: dict, source: str, error: type[Exception]) ->
     return layout(n).length if form is None else form.length
 
 
-def peek_meta(path: str | os.PathLike) -> dict:
-    """The ``meta`` of an npz rule file's header array alone; ``{}`` when it cannot be read.
-
-    Only a regular file is opened (a fifo or a device is left to the loader, which names it).
-    """
-    if formats.read_head(path) is None:
-        return {}
+def header_meta(data: bytes) -> dict:
+    """The ``meta`` of an npz rule file's header array alone, from the file's bytes; ``{}`` when it cannot be read."""
     try:
-        with zipfile.ZipFile(path) as archive, archive.open("header.npy") as member:
+        with zipfile.ZipFile(io.BytesIO(data)) as archive, archive.open("header.npy") as member:
             raw = np.lib.format.read_array(member, allow_pickle=False)
         if raw.ndim != 0 or raw.dtype.kind != "U" or raw.dtype.itemsize // 4 > MAX_HEADER_CHARS:
             return {}
-        meta = load_json(str(raw[()]), os.fspath(path), max_depth=MAX_YAML_DEPTH).get("meta")
-    except (OSError, KeyError, ValueError, AttributeError, zipfile.BadZipFile, RuntimeError):
+        meta = load_json(str(raw[()]), "npz header", max_depth=MAX_YAML_DEPTH).get("meta")
+    except (CsqlError, OSError, KeyError, ValueError, AttributeError, zipfile.BadZipFile, RuntimeError):
         return {}
     return meta if isinstance(meta, dict) else {}
 
@@ -223,8 +223,16 @@ def _header(raw: np.ndarray, source: str, error: type[Exception]) -> dict:
 
 def load(path: str | os.PathLike, error: type[Exception]) -> RuleBase:
     """Read an npz rule file into a :class:`~csql_sim.core.files.rulebase.RuleBase`."""
-    source = os.fspath(path)
-    header, a = read_arrays(path, source, error)
+    try:
+        data = read_bytes_file(path, MAX_FILE_BYTES, "rule file")
+    except InputFileError as exc:
+        raise error(str(exc)) from None
+    return loads(data, os.fspath(path), error)
+
+
+def loads(data: bytes, source: str, error: type[Exception]) -> RuleBase:
+    """:func:`load` of a file's bytes, read already (``source`` names it in messages)."""
+    header, a = arrays_from_bytes(data, source, error)
     kinds = a["kind"].tolist()
     conds = a["condition"].astype(f"U{a['condition'].dtype.itemsize}").tolist()
     acts = a["action"].astype(f"U{a['action'].dtype.itemsize}").tolist()

@@ -201,11 +201,11 @@ def _form(meta: dict, n: int, source: str) -> GoalForm | None:
         raise RuleBaseError(str(exc)) from None
 
 
-def peek_meta(path: str | os.PathLike) -> dict:
-    """The ``meta`` of a YAML rule file's header, parsed alone; ``{}`` when it cannot be read."""
+def header_meta(text: str, source: str) -> dict:
+    """The ``meta`` of a YAML rule file's header (before ``classifiers:``) alone; ``{}`` when it cannot be read."""
+    split = _split_header(text)
     try:
-        split = _split_header(read_text_file(path, MAX_FILE_BYTES, "rule file"))
-        doc = load_yaml(split[0], os.fspath(path)) if split is not None else None
+        doc = load_yaml(split[0], source) if split is not None else None
     except (CsqlError, ValueError, OverflowError):
         return {}
     meta = doc.get("meta") if isinstance(doc, dict) else None

@@ -14,7 +14,7 @@ block does (Figure 2, steps 3-5):
 
 :meth:`DefaultHierarchy.act` does exactly this for one state; :meth:`DefaultHierarchy.decisions`
 computes the same answers for every pair at once with numpy (the same rule, vectorized;
-tested to agree), which :func:`csql_sim.core.policies.greedy_table.load_policy` wraps as a
+tested to agree), which :func:`csql_sim.core.policies.loader.load_policy` wraps as a
 :class:`~csql_sim.core.policies.greedy_table.GreedyTable` so that every command reads it as any rule
 base. Nothing is planned: no distance, table of answers or search is consulted.
 """
@@ -22,19 +22,17 @@ base. Nothing is planned: no distance, table of answers or search is consulted.
 from __future__ import annotations
 
 import functools
-import os
 from dataclasses import dataclass
 
 import numpy as np
 
 from csql_sim.core.classifiers.q_classifier import QClassifier
 from csql_sim.core.classifiers.r_classifier import WILDCARD, matches
-from csql_sim.core.files.rulebase import RuleBase, is_npz
-from csql_sim.core.files.rulebase_npz import peek_meta as npz_meta
-from csql_sim.core.files.rulebase_yaml import peek_meta as yaml_meta
+from csql_sim.core.files.rulebase import RuleBase
 from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.policy import NoRuleError
-from csql_sim.core.state.goal_message import GOAL_FORM, GoalForm, form_of, format_goal_message, pattern_problem
+from csql_sim.core.state.goal_message import GoalForm, form_of, format_goal_message, pattern_problem
 from csql_sim.core.state.goal_message_index import pair_messages
 from csql_sim.core.state.message import action_messages, format_state_message, parse_action_message
 from csql_sim.core.state.world import Action, BlocksWorld, State
@@ -54,7 +52,7 @@ class Decisions:
     rule: np.ndarray
 
 
-class DefaultHierarchy:
+class DefaultHierarchy(Policy):
     """The Policy interface over ordered goal-form Q-classifiers.
 
     Args:
@@ -131,9 +129,3 @@ class DefaultHierarchy:
         """How many (state, goal) pairs each classifier decides (is the first of the match set for)."""
         rule = self.decisions().rule
         return np.bincount(rule[rule >= 0], minlength=len(self.classifiers)).tolist()
-
-
-def is_goal_form(path: str | os.PathLike) -> bool:
-    """Whether a rule file's header records the goal form (an unreadable header: False, the loader reports it)."""
-    meta = npz_meta(path) if is_npz(path) else yaml_meta(path)
-    return meta.get("form") == GOAL_FORM

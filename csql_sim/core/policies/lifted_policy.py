@@ -37,6 +37,8 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from csql_sim.core.classifiers.lifted_rule import read_versioned_json
+from csql_sim.core.files.kinds import MAX_LIFTED_Q_BYTES
+from csql_sim.core.policies.contract import Policy
 from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, target_goal
 from csql_sim.core.state.world import Action, State
 from csql_sim.infra import formats
@@ -45,7 +47,6 @@ from csql_sim.infra.files import read_text_file
 
 LIFTED_Q_FORMAT = formats.LIFTED_Q
 LIFTED_Q_VERSION = 1
-MAX_LIFTED_Q_BYTES = 1 << 20
 MAX_CLASSIFIERS = 4096
 MAX_EXPERIENCE_DIGITS = 18
 """A classifier's experience (updates) fits in 18 digits; longer is a corrupt or hostile file."""
@@ -125,7 +126,7 @@ def most_specific(classifiers: Iterable[LiftedQClassifier], bits: tuple[int, ...
     return best
 
 
-class LiftedPolicy:
+class LiftedPolicy(Policy):
     """Greedy policy over lifted Q-classifiers, for relational states of any n <= 26 (module docstring)."""
 
     name = "rules"
@@ -202,10 +203,5 @@ def load_lifted_policy(path: str | os.PathLike) -> LiftedPolicy:
     return loads_lifted_policy(text, f"lifted Q-classifier file {os.fspath(path)!r}")
 
 
-def is_lifted_policy(path: str | os.PathLike) -> bool:
-    """Whether ``path`` is a regular file that says it is a lifted Q-classifier file (first bytes)."""
-    return formats.sniff(path) == LIFTED_Q_FORMAT
-
-
-__all__ = ["LiftedPolicy", "LiftedQClassifier", "dumps_lifted_policy", "is_lifted_policy", "load_lifted_policy",
+__all__ = ["LiftedPolicy", "LiftedQClassifier", "dumps_lifted_policy", "load_lifted_policy",
            "loads_lifted_policy", "most_specific", "parse_lifted_q"]

@@ -1,46 +1,31 @@
-"""The policy interface shared by the symbolic and the physical executor.
+"""The greedy policy over a classifier list (:class:`QPolicy`), and the policy contract's name here.
 
-Three policies implement it: :class:`QPolicy` (greedy over learned Q-classifiers, here),
-:class:`~csql_sim.core.policies.greedy_table.GreedyTable` (the same answers as a table, built from a
-rule file's arrays) and :class:`~csql_sim.core.model.search.BfsPolicy` (optimal, the yardstick).
-Rollouts and all-pairs checks of any policy are in :mod:`csql_sim.core.model.search`.
+:class:`Policy` is the contract every policy implements (:mod:`csql_sim.core.policies.contract`),
+imported here too. :class:`QPolicy` is greedy over learned Q-classifiers;
+:class:`~csql_sim.core.policies.greedy_table.GreedyTable` gives the same answers as a table, built
+from a rule file's arrays. Rollouts and all-pairs checks of any policy are in
+:mod:`csql_sim.core.policies.rollout`.
 """
 
 from __future__ import annotations
 
-from typing import Protocol
-
 from csql_sim.core.classifiers.classifier_list import ClassifierList
 from csql_sim.core.files.rulebase import RuleBase
+from csql_sim.core.policies.contract import Policy
 from csql_sim.core.state.message import format_state_message, parse_action_message
 from csql_sim.core.state.world import Action, BlocksWorld, State
 from csql_sim.infra.errors import CsqlError
 
 VALUES = ("q", "strength")
 
-
-class Policy(Protocol):
-    """Anything that proposes the next action towards a goal; None at the goal.
-
-    Attributes:
-        name: ``"bfs"`` or ``"rules"``.
-        blocks: the number of blocks it is for, or None when any.
-
-    """
-
-    name: str
-    blocks: int | None
-
-    def act(self, state: State, goal: State) -> Action | None:
-        """The action to take in ``state`` to reach ``goal``."""
-        ...
+__all__ = ["VALUES", "NoRuleError", "Policy", "QPolicy"]
 
 
 class NoRuleError(CsqlError):
     """A rule base has no Q-classifier for a state message."""
 
 
-class QPolicy:
+class QPolicy(Policy):
     """Greedy policy over Q-classifiers: the action of the highest value (ties: list order).
 
     Args:

@@ -20,12 +20,13 @@ from csql_sim.core.files.rulebase import RuleBase
 from csql_sim.core.files.rulebase_shards import MANIFEST, ShardedRuleBase, greedy_ranks
 from csql_sim.core.files.rulebase_yaml import RuleBaseError
 from csql_sim.core.model.world_model import WorldModel
+from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.policy import NoRuleError
 from csql_sim.core.state.message import format_action_message, format_state_message
 from csql_sim.core.state.world import Action, BlocksWorld, State
 
 
-class ShardedPolicy:
+class ShardedPolicy(Policy):
     """Greedy policy over a sharded rule base's Q-classifiers.
 
     Args:

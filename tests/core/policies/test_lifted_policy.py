@@ -6,19 +6,19 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from csql_sim.core.files.kinds import LIFTED, read_rule_file
 from csql_sim.core.measure.optimum import optimal_length
-from csql_sim.core.policies.greedy_table import load_policy
 from csql_sim.core.policies.lifted_policy import (
     LiftedPolicy,
     LiftedPolicyError,
     LiftedQClassifier,
     dumps_lifted_policy,
-    is_lifted_policy,
     load_lifted_policy,
     loads_lifted_policy,
     most_specific,
     parse_lifted_q,
 )
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.move_relations import ATOMS
 from csql_sim.core.state.state_count import sample_pairs, state_count, unrank_state
@@ -48,8 +48,7 @@ def test_the_file_round_trips_and_is_recognised(tmp_path):
     path.write_text(dumps_lifted_policy(classifiers, {"seed": 4}))
     policy = load_lifted_policy(path)
     assert policy.classifiers == tuple(classifiers) and policy.meta == {"seed": 4}
-    assert is_lifted_policy(path) and isinstance(load_policy(path, 12), LiftedPolicy)
-    assert not is_lifted_policy(tmp_path) and not is_lifted_policy(tmp_path / "absent.json")
+    assert read_rule_file(path).kind == LIFTED and isinstance(load_policy(path, 12), LiftedPolicy)
 
 
 def _doc(**change):
