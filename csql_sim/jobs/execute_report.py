@@ -20,8 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from csql_sim.core.model.goal_spec import GoalSpec, atom_text, holds, state_atoms
-from csql_sim.core.state.large_state import LETTERS, LargeState
+from csql_sim.core.model.goal_spec import GoalSpec
+from csql_sim.core.state.large_state import LETTERS
 from csql_sim.sim.arm_state import parse_arm_state
 
 REPORT_FORMAT = "csql-sim execute report"
@@ -68,41 +68,6 @@ class StepReport:
         return f"step {self.step} ({line}{said})"
 
 
-class LargeGoal:
-    """A full goal of 7..10 cubes, with the :class:`~csql_sim.core.model.goal_spec.GoalSpec` calls a report makes.
-
-    (A GoalSpec lists the states that satisfy it, which past six blocks cannot be done.)
-    """
-
-    partial = False
-
-    def __init__(self, state: LargeState) -> None:
-        self.state = state
-        self.n = state.n
-        self.names = tuple(LETTERS[: state.n].lower())
-        self.states = (state,)
-
-    def satisfied(self, state: LargeState | None) -> bool:
-        """Whether ``state`` is the goal (None: nothing perceived)."""
-        return state is not None and state == self.state
-
-    def nearest(self, state: LargeState) -> LargeState:
-        """The goal state itself."""
-        return self.state
-
-    def atom_texts(self) -> list[str]:
-        """The atoms that pin the goal down, in PDDL form, sorted."""
-        return sorted(atom_text(a, self.names) for a in state_atoms(self.state))
-
-    def text(self) -> str:
-        """The goal in one line."""
-        return " ".join(self.atom_texts())
-
-    def unsatisfied(self, state: LargeState) -> list[str]:
-        """The goal's atoms that ``state`` violates."""
-        return sorted(atom_text(a, self.names) for a in state_atoms(self.state) if not holds(a, state))
-
-
 @dataclass(kw_only=True)
 class ExecuteResult:
     """The outcome of running a plan, a rule base or the planner on the simulated arm.
@@ -113,7 +78,7 @@ class ExecuteResult:
         problem: the problem's name (or the task, for a task given in notation).
         objects: the blocks' names; ``objects[i]`` is cube ``A + i``.
         start: the start state (notation).
-        goal: the goal (a :class:`LargeGoal` past six blocks).
+        goal: the goal (full or partial).
         target: the goal state the executor ran to (the plan's end state, or the goal
             state nearest the start for a planner).
         source: what chose the actions: ``{"kind": "plan" | "rules" | "bfs", "file": ...}``.
@@ -129,7 +94,7 @@ class ExecuteResult:
     problem: str
     objects: tuple[str, ...]
     start: str
-    goal: GoalSpec | Any
+    goal: GoalSpec
     target: str
     source: dict[str, Any]
     steps: list[StepReport]
@@ -156,7 +121,8 @@ class ExecuteResult:
     def goal_text(self) -> str:
         """The goal's atoms, and its state or number of states."""
         if self.goal.partial:
-            return f"{self.goal.text()} (partial: {len(self.goal.states)} states; ran to {self.target})"
+            count = "" if self.goal.count is None else f": {self.goal.count} states"
+            return f"{self.goal.text()} (partial{count}; ran to {self.target})"
         state = self.goal.states[0].notation()
         return f"{self.goal.text()} (= {state})" + ("" if state == self.target else f"; the plan ends in {self.target}")
 
@@ -168,7 +134,7 @@ class ExecuteResult:
         return {
             "format": REPORT_FORMAT, "version": REPORT_VERSION, "reached": self.reached, "reason": self.reason,
             "problem": self.problem, "blocks": self.blocks, "objects": self.mapping, "start": self.start,
-            "goal": {"atoms": self.goal.atom_texts(), "partial": self.goal.partial, "states": len(self.goal.states),
+            "goal": {"atoms": self.goal.atom_texts(), "partial": self.goal.partial, "states": self.goal.count,
                      "target": self.target},
             "source": self.source, "final": self.final, "steps": [s.to_dict() for s in self.steps],
             "actions": 0 if ep is None else ep.length,

@@ -179,7 +179,7 @@ def test_the_command_reports_json_and_exit_status(tmp_path, capsys):
     eight = write(tmp_path / "p8.pddl", generate_problem(8, np.random.default_rng(0)))
     assert cli(["execute", "--problem", str(eight), "--planner", "bfs"]) == 2
     err = capsys.readouterr().err
-    assert "csql-sim executes at most 6" in err and err.count("\n") == 1
+    assert "BFS enumerates the world and plans only up to 6 blocks" in err and err.count("\n") == 1
 
 
 def test_the_command_writes_a_video_with_its_provenance(tmp_path, capsys):

@@ -28,9 +28,10 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from csql_sim.core.state import large_state
+from csql_sim.core.state.large_state import LETTERS, LargeState, action_name
 from csql_sim.core.state.notation import parse_action_name
 from csql_sim.core.state.world import (
-    BLOCK_NAMES,
     HAND,
     TABLE,
     Action,
@@ -159,33 +160,38 @@ def _from_ipc(name: str, ids: list[int], where: str, text: str) -> tuple[Action,
     return first, second
 
 
-def check_plan(start: State, steps: Sequence[PlanStep], names: Sequence[str] | None = None,
-               source: str = "plan") -> list[State]:
+def check_plan(start: State | LargeState, steps: Sequence[PlanStep], names: Sequence[str] | None = None,
+               source: str = "plan") -> list[State] | list[LargeState]:
     """Apply ``steps`` to ``start``; the states before each action, and the end state last.
+
+    A relational start (past six blocks) is checked with the relational operators
+    (:func:`csql_sim.core.state.large_state.successor`), the same STRIPS preconditions.
 
     Raises:
         PlanError: ``<source> line L: step K <text> = <action> is not applicable in <state>: <why>``
             for the first action whose preconditions fail.
     """
     trace, state, k = [start], start, 0
+    after = large_state.successor if isinstance(start, LargeState) else successor
     for step in steps:
         for action in step.actions:
             k += 1
             if not is_legal(state, action):
-                own = step.text.replace(" ", "").lower() == action.name().lower()  # written in cube letters
-                part = "" if own else f" = {action.name()}" if len(step.actions) == 1 else f" (its {action.name()})"
+                label = action_name(action)
+                own = step.text.replace(" ", "").lower() == label.lower()  # written in cube letters
+                part = "" if own else f" = {label}" if len(step.actions) == 1 else f" (its {label})"
                 raise PlanError(f"{source} line {step.line}: step {k} {step.text}{part} is not applicable in "
                                 f"{state.notation()}: {why_not(state, action, None if own else names)}")
-            state = successor(state, action)
+            state = after(state, action)
             trace.append(state)
     return trace
 
 
-def why_not(state: State, action: Action, names: Sequence[str] | None = None) -> str:
+def why_not(state: State | LargeState, action: Action, names: Sequence[str] | None = None) -> str:
     """The first precondition of ``action`` that ``state`` violates, in words."""
 
     def name(i: int | None) -> str:
-        return "nothing" if i is None else (names[i] if names is not None else BLOCK_NAMES[i])
+        return "nothing" if i is None else (names[i] if names is not None else LETTERS[i])
 
     failed: Precondition = next(p for p in preconditions(action) if not p.holds(state))
     held = state.held
@@ -197,7 +203,7 @@ def why_not(state: State, action: Action, names: Sequence[str] | None = None) ->
     if failed.what == "clear":
         if state.support[b] == HAND:
             return f"{name(b)} is held"
-        return f"{name(b)} is not clear ({name(state.above(b))} is on it)"
+        return f"{name(b)} is not clear ({name(state.support.index(b))} is on it)"
     where = state.support[b]
     now = "in the hand" if where == HAND else "on the table" if where == TABLE else f"on {name(where)}"
     target = "the table" if failed.value == TABLE else name(failed.value)
@@ -209,7 +215,7 @@ def ipc_action(action: Action, names: Sequence[str] | None = None) -> str:
     word = {ActionKind.PICKUP: "pick-up", ActionKind.PUTDOWN: "put-down", ActionKind.STACK: "stack",
             ActionKind.UNSTACK: "unstack"}[action.kind]
     args = [action.block] + ([] if action.target is None else [action.target])
-    return "(" + " ".join([word, *((names[i] if names else BLOCK_NAMES[i].lower()) for i in args)]) + ")"
+    return "(" + " ".join([word, *((names[i] if names else LETTERS[i].lower()) for i in args)]) + ")"
 
 
 def ipc_plan_text(actions: Iterable[Action], names: Sequence[str] | None = None, header: str = "") -> str:
