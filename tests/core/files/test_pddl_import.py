@@ -17,6 +17,7 @@ from csql_sim.core.state.world import all_states
 from csql_sim.jobs.problems import DOMAIN_TEXT, generate_problem, task_problem_text, write_problem_set
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "problems"
+LARGE = DATA.parent / "large"
 IPC2000 = """(define (problem BLOCKS-4-0)
 (:domain BLOCKS)
 (:objects D B A C )
@@ -228,3 +229,16 @@ def test_object_names_sort_as_numbers_without_converting_them():
 
     huge = "c" + "9" * 5000  # past Python's 4,300-digit limit for int()
     assert sorted(["b10", "b2", "B1", huge, "a"], key=name_key) == ["a", "B1", "b2", "b10", huge]
+
+
+def test_a_plan_for_eight_named_blocks_is_checked_relationally_and_refused_with_its_line():
+    bp = read_problem(LARGE / "blocks8-names.pddl", DATA / "domain.pddl")
+    steps = read_plan(LARGE / "blocks8-names.plan", bp.index, bp.n, bp.actions)
+    trace = check_plan(bp.start, steps, bp.objects, "p8.plan")
+    assert all(isinstance(s, LargeState) for s in trace) and len(trace) == len(steps) + 1
+    assert bp.goal.satisfied(trace[-1]) and not bp.goal.satisfied(trace[-2])
+    bad = parse_plan(["(unstack x-ray b10)", "(stack x-ray ruby)"], bp.index, bp.n)
+    with pytest.raises(PlanError, match=r"^p8.plan line 2: step 2 \(stack x-ray ruby\) = stack\(H,F\) is not "
+                                        r"applicable in BFE,C,GAD\+H: ruby is not clear \(jade is on it\)$"):
+        check_plan(bp.start, bad, bp.objects, "p8.plan")
+    assert ipc_plan_text([steps[0].actions[0]]).splitlines()[0] == "(unstack h c)"
