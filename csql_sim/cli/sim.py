@@ -92,11 +92,12 @@ def pairs_arg(text: str) -> str | int:
     return positive_int(text)
 
 
-def print_episode(result: EpisodeResult) -> None:
-    """Print an episode (:func:`csql_sim.sim.report.episode_lines`)."""
+def print_episode(result: EpisodeResult, n: int) -> None:
+    """Print the legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.report.episode_lines`)."""
+    from csql_sim.sim.legend import legend_line
     from csql_sim.sim.report import episode_lines
 
-    print("\n".join(episode_lines(result)))
+    print("\n".join([legend_line(n), *episode_lines(result)]))
 
 
 def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
@@ -143,7 +144,7 @@ def cmd_render(args: argparse.Namespace) -> int:
                                   provenance_extra={"rules": rules_source(args.rules),
                                                     **({"planner": args.planner} if args.planner else {})},
                                   camera_noise=CameraNoise(*args.camera_noise), renderer=args.renderer)
-    print_episode(result)
+    print_episode(result, start.n)
     frames = video_frame_count(result.recording, args.fps) if result.recording else 0
     print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height}; "
           f"provenance in {sidecar_path(path)})")

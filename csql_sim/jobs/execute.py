@@ -286,12 +286,15 @@ def _result(bp: BlocksProblem, reached: bool, reason: str, target: State, source
 def _write_video(episode: Any, video: str | os.PathLike, params: dict) -> Path:
     """The episode's video and its provenance sidecar (as ``csql-sim render`` writes them)."""
     from csql_sim.jobs.render import sidecar_path, sidecar_record
+    from csql_sim.sim.legend import cube_legend
     from csql_sim.sim.video import video_frame_count, write_video
 
+    names = tuple(params["objects"])
+    episode.recording.names = names  # the legend: PDDL object names, each with its cube's colour
     path = write_video(episode.recording, video, *VIDEO_SIZE, VIDEO_FPS, progress=False)
     record = provenance(command="execute", **params)
     info = {"file": path.name, "frames": video_frame_count(episode.recording, VIDEO_FPS), "actions": episode.length,
-            "success": episode.success, "reason": episode.reason}
+            "success": episode.success, "reason": episode.reason, "legend": cube_legend(len(names), names)}
     write_or_keep([(sidecar_path(path), json.dumps(sidecar_record(record, info), indent=1) + "\n")])
     return path
 

@@ -23,6 +23,7 @@ from typing import Any
 from csql_sim.core.model.goal_spec import GoalSpec
 from csql_sim.core.state.large_state import LETTERS
 from csql_sim.sim.arm_state import parse_arm_state
+from csql_sim.sim.legend import cube_legend, legend_line
 
 REPORT_FORMAT = "csql-sim execute report"
 REPORT_VERSION = 1
@@ -133,7 +134,8 @@ class ExecuteResult:
         ep = self.episode
         return {
             "format": REPORT_FORMAT, "version": REPORT_VERSION, "reached": self.reached, "reason": self.reason,
-            "problem": self.problem, "blocks": self.blocks, "objects": self.mapping, "start": self.start,
+            "problem": self.problem, "blocks": self.blocks, "objects": self.mapping,
+            "legend": cube_legend(self.blocks, self.objects), "start": self.start,
             "goal": {"atoms": self.goal.atom_texts(), "partial": self.goal.partial, "states": self.goal.count,
                      "target": self.target},
             "source": self.source, "final": self.final, "steps": [s.to_dict() for s in self.steps],
@@ -145,8 +147,9 @@ class ExecuteResult:
         }
 
     def lines(self) -> list[str]:
-        """The text report: mapping, task, one line per step, the verdict."""
+        """The text report: mapping, legend (name = colour), task, one line per step, the verdict."""
         out = [f"objects: {', '.join(f'{k} -> {v}' for k, v in self.mapping.items())}",
+               legend_line(self.blocks, self.objects),
                f"start {self.start}; goal {self.goal_text()}; actions from {self._source_text()}"]
         for s in self.steps:
             line = "" if s.line is None else f"line {s.line}"

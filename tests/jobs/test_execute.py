@@ -176,6 +176,8 @@ def test_the_command_reports_json_and_exit_status(tmp_path, capsys):
     assert cli(["execute", "--problem", problem, "--plan", str(short)]) == 1
     text = capsys.readouterr().out
     assert "objects: a -> A, b -> B, c -> C" in text and "NOT reached: the plan ended" in text
+    assert "legend: a = red, b = green, c = blue" in text and report["legend"] == {"a": "red", "b": "green",
+                                                                                   "c": "blue"}
     eight = write(tmp_path / "p8.pddl", generate_problem(8, np.random.default_rng(0)))
     assert cli(["execute", "--problem", str(eight), "--planner", "bfs"]) == 2
     err = capsys.readouterr().err
@@ -189,6 +191,7 @@ def test_the_command_writes_a_video_with_its_provenance(tmp_path, capsys):
     sidecar = json.loads((tmp_path / "run.mp4.json").read_text())
     assert video.stat().st_size > 0 and sidecar["video"]["actions"] == 2 and sidecar["video"]["success"] is True
     assert sidecar["parameters"]["command"] == "execute"
+    assert sidecar["video"]["legend"] == {"a": "red", "b": "green", "c": "blue"}
     assert cli(["execute", "--problem", str(DATA / "blocks3-01.pddl"), "--planner", "bfs", "--video",
                 str(tmp_path)]) == 2  # a folder is refused before any work
 

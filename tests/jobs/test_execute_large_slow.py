@@ -36,6 +36,9 @@ def test_a_plan_file_for_eight_named_cubes_reaches_a_partial_goal_as_perceived()
     assert problem.goal.satisfied(seen) and seen.notation() == result.final
     report = result.to_dict()
     assert report["objects"]["x-ray"] == "H" and report["goal"]["partial"] is True and report["goal"]["states"] is None
+    assert report["legend"]["x-ray"] == "magenta" and report["legend"]["amber_1"] == "red"
+    assert "legend: amber_1 = red, b2 = green, b10 = blue, ivory = yellow, jade = purple, ruby = orange, " \
+           "slate = cyan, x-ray = magenta" in result.lines()
 
 
 @pytest.mark.slow
