@@ -176,6 +176,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     from csql_sim.jobs.discover import record_discovery
     from csql_sim.jobs.job_memory import check_discovery
     from csql_sim.jobs.render import sidecar_path, sidecar_record
+    from csql_sim.sim.legend import cube_legend, legend_line
     from csql_sim.sim.video import check_video_options, video_frame_count, write_video
 
     if args.start or args.goal or args.rules:
@@ -188,6 +189,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
 
+    print(legend_line(args.blocks))
     for t in result.log:
         name = parse_action_message(t.action, args.blocks).name()
         print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
@@ -197,7 +199,8 @@ def render_discovery(args: argparse.Namespace) -> int:
     record = provenance(command="render --discovery", blocks=args.blocks, seed=args.seed,
                         transitions=args.transitions, perception=args.perception, perturb=args.perturb,
                         width=args.width, height=args.height, fps=args.fps)
-    video = {"file": path.name, "frames": frames, "attempts": result.transitions, "failed": result.failed}
+    video = {"file": path.name, "frames": frames, "attempts": result.transitions, "failed": result.failed,
+             "legend": cube_legend(args.blocks)}
     sidecar = write_atomic(sidecar_path(path), json.dumps(sidecar_record(record, video), indent=1) + "\n")
     print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({frames} frames) and {sidecar}")
     return 0
