@@ -109,7 +109,8 @@ def main(argv: list[str] | None = None) -> int:
         tasks = [(write_atomic(args.out / f"named-{k:02d}.pddl", named_task(k, rng)), domain)
                  for k in range(1, args.named + 1)]
         if args.problems is not None:
-            tasks += [(p, args.domain) for p in sorted(args.problems.glob("*.pddl")) if p != args.domain]
+            tasks += [(p, args.domain) for p in sorted(args.problems.glob("*.pddl"))
+                      if "(define (domain" not in p.read_text(errors="replace").lower()]
         rows = [row for problem, dom in tasks for row in run_task(problem, dom, args.perception, 0)]
     except CsqlError as exc:
         print(f"execute_benchmark: error: {exc}", file=sys.stderr)
