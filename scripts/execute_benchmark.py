@@ -66,15 +66,19 @@ def pyperplan_plan(problem: Path, domain: Path) -> Path:
 
 
 def run_task(problem: Path, domain: Path, perception: str, seed: int) -> list[dict]:
-    """The three runs of one task: its plan file, the lifted rules, GN1."""
+    """The three runs of one task: its plan file, the lifted rules, GN1 (a refusal is a row that failed)."""
     plan = pyperplan_plan(problem, domain)
     rows = []
     for kind, source in (("plan", {"plan": plan}), ("lifted", {"rules": LIFTED}), ("gn1", {"planner": "gn1"})):
         began = time.monotonic()
-        result = execute_problem(problem, domain, perception=perception, seed=seed, **source)
-        rows.append({"problem": problem.name, "blocks": result.blocks, "partial": result.goal.partial,
-                     "source": kind, "reached": result.reached, "actions": result.episode.length,
-                     "wall_seconds": round(time.monotonic() - began, 1), "reason": result.reason})
+        try:
+            result = execute_problem(problem, domain, perception=perception, seed=seed, **source)
+        except CsqlError as exc:  # a plan step that is not applicable, say: refused before any physics
+            rows.append({"problem": problem.name, "source": kind, "reached": False, "reason": f"refused: {exc}"})
+        else:
+            rows.append({"problem": problem.name, "blocks": result.blocks, "partial": result.goal.partial,
+                         "source": kind, "reached": result.reached, "actions": result.episode.length,
+                         "wall_seconds": round(time.monotonic() - began, 1), "reason": result.reason})
         print(json.dumps(rows[-1]), flush=True)
     return rows
 
