@@ -13,6 +13,12 @@ partial goal), then either
   BFS planner (``planner="bfs"``) towards the goal state nearest the start
   (:meth:`~csql_sim.core.model.goal_spec.GoalSpec.nearest`), through :class:`GoalSetPolicy`.
 
+2..10 cubes. Past six blocks the states are relational
+(:class:`~csql_sim.core.state.large_state.LargeState`): plans are checked with the relational
+operators, lifted rules and GN1 aim at the target
+:func:`~csql_sim.core.model.goal_spec.goal_target` derives from the start, and BFS and
+ground rule files are refused with one line (they enumerate the world).
+
 Execution is :func:`~csql_sim.sim.executor.run_physical_episode`: blocks move only through
 the arm's contacts, and after every action the scene is perceived. The goal is
 ``reached`` when the final **perceived** state satisfies the goal's atoms. The result
