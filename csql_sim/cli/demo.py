@@ -94,7 +94,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
                                   provenance_extra={"rules": rules_source(out / "pruned.yaml"), "trials": args.trials,
                                                     "threshold": args.threshold},
                                   renderer=args.renderer)
-    print_episode(result)
+    print_episode(result, start.n)
     print(f"video: {path}")
     if result.success:
         print(f"goal reached physically: yes (the perceived state is {goal.notation()} and the scene has settled)")

@@ -92,11 +92,12 @@ def pairs_arg(text: str) -> str | int:
     return positive_int(text)
 
 
-def print_episode(result: EpisodeResult) -> None:
-    """Print an episode (:func:`csql_sim.sim.report.episode_lines`)."""
+def print_episode(result: EpisodeResult, n: int) -> None:
+    """Print the legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.report.episode_lines`)."""
+    from csql_sim.sim.legend import legend_line
     from csql_sim.sim.report import episode_lines
 
-    print("\n".join(episode_lines(result)))
+    print("\n".join([legend_line(n), *episode_lines(result)]))
 
 
 def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
@@ -143,7 +144,7 @@ def cmd_render(args: argparse.Namespace) -> int:
                                   provenance_extra={"rules": rules_source(args.rules),
                                                     **({"planner": args.planner} if args.planner else {})},
                                   camera_noise=CameraNoise(*args.camera_noise), renderer=args.renderer)
-    print_episode(result)
+    print_episode(result, start.n)
     frames = video_frame_count(result.recording, args.fps) if result.recording else 0
     print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height}; "
           f"provenance in {sidecar_path(path)})")
@@ -175,6 +176,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     from csql_sim.jobs.discover import record_discovery
     from csql_sim.jobs.job_memory import check_discovery
     from csql_sim.jobs.render import sidecar_path, sidecar_record
+    from csql_sim.sim.legend import cube_legend, legend_line
     from csql_sim.sim.video import check_video_options, video_frame_count, write_video
 
     if args.start or args.goal or args.rules:
@@ -187,6 +189,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
 
+    print(legend_line(args.blocks))
     for t in result.log:
         name = parse_action_message(t.action, args.blocks).name()
         print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
@@ -196,7 +199,8 @@ def render_discovery(args: argparse.Namespace) -> int:
     record = provenance(command="render --discovery", blocks=args.blocks, seed=args.seed,
                         transitions=args.transitions, perception=args.perception, perturb=args.perturb,
                         width=args.width, height=args.height, fps=args.fps)
-    video = {"file": path.name, "frames": frames, "attempts": result.transitions, "failed": result.failed}
+    video = {"file": path.name, "frames": frames, "attempts": result.transitions, "failed": result.failed,
+             "legend": cube_legend(args.blocks)}
     sidecar = write_atomic(sidecar_path(path), json.dumps(sidecar_record(record, video), indent=1) + "\n")
     print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({frames} frames) and {sidecar}")
     return 0

@@ -15,7 +15,7 @@ import numpy as np
 
 from csql_sim.envs.symbolic import BlocksWorldEnv
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.camera import RENDER_CAMERA, capture
+from csql_sim.sim.camera import capture, render_camera
 from csql_sim.sim.perception import Perceived
 from csql_sim.sim.physical import PhysicalWorld
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
@@ -54,14 +54,20 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     ``info["illegal"]``.
 
     ## Observation Space
-    ``Text``: the perceived state's message, goal code in the last field
-    (``S0111000ttt0000C``), as in :class:`csql_sim.envs.symbolic.BlocksWorldEnv`.
+    ``Text``: the perceived state's message, as in
+    :class:`csql_sim.envs.symbolic.BlocksWorldEnv`: for n <= 6 the paper's form with the
+    goal code in the last field (``S0111000ttt0000C``); for n = 7..10 cubes the relational
+    form (:func:`~csql_sim.core.state.relational_message.format_large_message`, ``3n + 5``
+    characters), the goal written out as its on field and hand.
 
     ## Starting State
-    ``reset(options={"start": ..., "goal": ...})`` takes a :class:`~csql_sim.core.state.world.State`,
-    a configuration (``"CBA"``) or a state index; either missing is drawn from
-    ``np_random``. The start scene is then built: towers placed at rest, a held block
-    reached by a real grasp.
+    ``reset(options={"start": ..., "goal": ...})`` takes, for n <= 6, a
+    :class:`~csql_sim.core.state.world.State`, a configuration (``"CBA"``) or a state index;
+    for n = 7..10 a :class:`~csql_sim.core.state.world.State`, a configuration
+    with letters A-J (``"JIHGFEDCBA"``) or a rank in ``0..state_count(n) - 1``
+    (:func:`~csql_sim.core.state.state_count.unrank_state`). Either missing is drawn from
+    ``np_random`` (past six uniformly by counting). The start scene is then built: towers
+    placed at rest, a held block reached by a real grasp.
 
     ## Rewards
     1 on the step that reaches the goal, 0 otherwise.
@@ -90,7 +96,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     reproducible too; the first ``reset()`` of an env never seeded draws fresh entropy.
 
     Args:
-        n: number of blocks.
+        n: number of cubes, 2..10.
         max_steps: steps before ``truncated``: a positive integer, or None (never).
         render_mode: ``"rgb_array"`` or None.
         perception: ``"pose"`` or ``"camera"``.
@@ -98,7 +104,8 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         height: rendered image height, an integer in 16..4096 pixels.
         camera_noise: sensor noise of camera perception.
         rules: a rule file whose precondition rules decide which actions are legal (the
-            action mask); what an action does is up to the physics.
+            action mask; n <= 6 only, past six the STRIPS preconditions do); what an action
+            does is up to the physics.
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
@@ -125,7 +132,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         self.close()
         self.physics_seed = int(self.np_random.integers(PHYSICS_SEED_BOUND))
         self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception, camera_noise=self.camera_noise)
-        self.physical.build(self.world.states[self.state])
+        self.physical.build(self.current)
         self.failure = ""
         self._sync()
         return self._obs(), self._info()
@@ -137,7 +144,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         if perceived.state is None:
             self.failure = perceived.reason
         else:
-            self.state = self.world.state_index(perceived.state)
+            self._set_current(perceived.state)
 
     def _info(self, illegal: bool = False) -> dict:
         info = super()._info(illegal)
@@ -150,12 +157,12 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
             raise CsqlError("call reset() before step()")
         if not self.action_space.contains(action):
             raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
-        illegal = self.next_state[self.state][int(action)] < 0
+        illegal = not self._legal(action)
         if not illegal:
-            self.physical.execute(self.world.actions[int(action)])
+            self.physical.execute(self._action(action))
             self._sync()
         self.steps += 1
-        terminated = self.physical.reached(self.perceived, self.world.states[self.goal])
+        terminated = self.physical.reached(self.perceived, self.target)
         truncated = not terminated and (bool(self.failure) or (self.max_steps is not None
                                                                 and self.steps >= self.max_steps))
         return self._obs(), 1.0 if terminated else 0.0, terminated, truncated, self._info(illegal)
@@ -164,7 +171,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         """``rgb_array``: the scene from the rendering camera, (height, width, 3) uint8."""
         if self.render_mode != "rgb_array" or self.physical is None:
             return None
-        rgb, _, _ = capture(self.physical.scene, RENDER_CAMERA, self.width, self.height)
+        rgb, _, _ = capture(self.physical.scene, render_camera(self.n), self.width, self.height)
         return rgb
 
     def close(self) -> None:

@@ -15,9 +15,11 @@ are strings (entry points): nothing heavy is imported until an environment is ma
 entry point (group ``gymnasium.envs`` in ``pyproject.toml``), which calls
 :func:`register_envs` (idempotent).
 
-Keyword arguments: ``blocks`` (2..6), ``rules`` (a rule file for the dynamics or, on the
-arm, the action mask), ``render_mode``, ``max_steps``; on the arm also ``perception``
-(``"pose"`` or ``"camera"``), ``width`` and ``height``.
+Keyword arguments: ``blocks`` (2..10; past six the observations are large messages and
+the states relational, see :class:`csql_sim.envs.symbolic.BlocksWorldEnv`), ``rules`` (a
+rule file for the dynamics or, on the arm, the action mask; up to six blocks),
+``render_mode``, ``max_steps``; on the arm also ``perception`` (``"pose"`` or
+``"camera"``), ``width`` and ``height``.
 """
 
 from __future__ import annotations

@@ -1,14 +1,17 @@
 """The symbolic blocks world as a Gymnasium environment.
 
-* Observation: the state message (``S0111000ttt0000C``; the goal code is its last field).
+* Observation: the state message (``S0111000ttt0000C``; the goal code is its last field);
+  past six blocks (7..10) the large message form, with the goal written out
+  (:mod:`csql_sim.envs.relational`).
 * Actions: ``Discrete(len(all_actions(n)))``; action ``i`` has the paper's code ``i + 1``.
   ``info["action_mask"]`` (int8, 1 = legal) lists the legal ones. An illegal action
   leaves the state unchanged (as LT-QL assumes) and sets ``info["illegal"]``.
 * Reward: 1 on reaching the goal (``terminated``), 0 otherwise; ``truncated`` after
   ``max_steps``.
 * ``reset(seed=..., options={"start": ..., "goal": ...})``: start and goal as a
-  :class:`State`, a configuration (``"CBA"``), or a state index; either missing is drawn
-  from the environment's generator (distinct from the other).
+  :class:`State`, a configuration (``"CBA"``), or a state index (past six: a
+  State, a configuration or a rank); either missing is drawn from the environment's
+  generator (distinct from the other).
 
 :func:`run_env_episode` lets a learner act on such an environment (the physical world
 offers the same interface) through its step-level act/learn interface
@@ -29,7 +32,18 @@ from csql_sim.core.model.transition_table import true_table
 from csql_sim.core.model.world_model import WorldModel
 from csql_sim.core.state.message import DIGITS, format_state_message, layout
 from csql_sim.core.state.notation import parse_config
-from csql_sim.core.state.world import BlocksWorld, State
+from csql_sim.core.state.relational_message import format_large_message, message_length
+from csql_sim.core.state.world import (
+    MAX_BLOCKS,
+    Action,
+    BlocksWorld,
+    State,
+    action_at,
+    action_count,
+    is_legal,
+    successor,
+)
+from csql_sim.envs.relational import check_env_blocks, large_mask, large_option, large_task
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.learner import Transition
 from csql_sim.learners.trial import StepLearner
@@ -94,14 +108,26 @@ class BlocksWorldEnv(gym.Env):
     ``info["illegal"]``.
 
     ## Observation Space
-    ``Text`` of fixed length (16 characters for n = 2, 3; 17 for n = 4; 18 for n = 5; 19
-    for n = 6): the state message, e.g. ``S0111000ttt0000C``: tag, action slot, clear
-    flags, what each block stands on, the held block, and the goal state's code.
+    ``Text`` of fixed length. For n <= 6 (16 characters for n = 2, 3; 17 for n = 4; 18
+    for n = 5; 19 for n = 6) the paper's state message, e.g. ``S0111000ttt0000C``: tag,
+    action slot, clear flags, what each block stands on, the held block, and the goal
+    state's code. For n = 7..10 the relational form
+    (:func:`~csql_sim.core.state.relational_message.format_large_message`, ``3n + 5``
+    characters: 26 for n = 7, 35 for n = 10), e.g. ``S001111111_______0fg0_a_ec`` for
+    ``A,B,C,D,E,F,G`` towards ``D,FAEGB+C``: tag, a two-digit action slot (``00``: none),
+    the clear flags, what each block stands on
+    (``a``-``j`` a block, ``_`` the table, ``0`` held), the held block (``0`` none), then
+    the goal's on field and hand, written out (no goal index: the world is not enumerated).
 
     ## Starting State
-    ``reset(options={"start": ..., "goal": ...})`` takes each as a
-    :class:`~csql_sim.core.state.world.State`, a configuration (``"CBA"``: A on B on C) or a state
-    index; either missing is drawn uniformly from ``np_random``, distinct from the other.
+    ``reset(options={"start": ..., "goal": ...})`` takes each as
+    - for n <= 6: a :class:`~csql_sim.core.state.world.State`, a configuration (``"CBA"``:
+      A on B on C) or a state index;
+    - for n = 7..10: a :class:`~csql_sim.core.state.world.State`, a
+      configuration with letters A-J (``"JIHGFEDCBA"``, ``"A,B,CD+E"``) or a rank in
+      ``0..state_count(n) - 1`` (:func:`~csql_sim.core.state.state_count.unrank_state`);
+    either missing is drawn uniformly from ``np_random`` (past six by counting:
+    :func:`~csql_sim.core.state.state_count.sample_state`), distinct from the other.
 
     ## Rewards
     1 on the step that reaches the goal, 0 otherwise.
@@ -112,6 +138,7 @@ class BlocksWorldEnv(gym.Env):
 
     ## Information
     ``reset`` and ``step`` return ``action_mask``, ``state`` and ``goal`` (as
+    :class:`~csql_sim.core.state.world.State`, past six as
     :class:`~csql_sim.core.state.world.State`) and ``illegal``.
 
     ## Seeding
@@ -122,11 +149,12 @@ class BlocksWorldEnv(gym.Env):
     stream; the first ``reset()`` of an env never seeded draws fresh entropy.
 
     Args:
-        n: number of blocks, 2..6 (``blocks`` in ``gymnasium.make``).
+        n: number of blocks, 2..10 (``blocks`` in ``gymnasium.make``).
         max_steps: steps before ``truncated``: a positive integer, or None (never).
         render_mode: ``"ansi"`` (the state's notation and message) or None.
         rules: a rule file whose R-classifiers define the dynamics (default: the
             built-in ones, identical to the blocks world); Q-classifiers in it are ignored.
+            n <= 6 only: past six the dynamics are the four operators on relational states.
 
     """
 
@@ -134,23 +162,50 @@ class BlocksWorldEnv(gym.Env):
 
     def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
                  rules: str | os.PathLike | None = None) -> None:
-        self.world = BlocksWorld.of(n)
-        self.n = n
+        self.n = check_env_blocks(n)
+        self.large = self.n > MAX_BLOCKS
         self.max_steps = check_max_steps(max_steps)
         if render_mode not in (None, "ansi"):
             raise CsqlError(f"render_mode must be 'ansi' or None, got {render_mode!r}")
+        if self.large and rules is not None:
+            raise CsqlError(f"rules define the dynamics up to {MAX_BLOCKS} blocks; past six the environment applies "
+                            f"the four operators to relational states (give no rules)")
         self.render_mode = render_mode
-        length = layout(n).length
-        charset = frozenset(DIGITS + DIGITS.lower() + "S#")
+        length = message_length(self.n) if self.large else layout(self.n).length
+        charset = frozenset(DIGITS + DIGITS.lower() + "S#_")
         self.observation_space = gym.spaces.Text(min_length=length, max_length=length, charset=charset)
-        self.action_space = gym.spaces.Discrete(len(self.world.actions))
+        self.action_space = gym.spaces.Discrete(action_count(self.n))
         self.rules = rules
-        table = true_table(n).next_state if rules is None else rule_transitions(self.world, rules)
-        self.next_state = table.tolist()
-        self._masks = list((table >= 0).astype(np.int8))
-        self.state = 0
-        self.goal = 1
+        self.world = None if self.large else BlocksWorld.of(self.n)
+        if self.world is not None:
+            table = true_table(n).next_state if rules is None else rule_transitions(self.world, rules)
+            self.next_state = table.tolist()
+            self._masks = list((table >= 0).astype(np.int8))
+        self.state: Any = 0  # a state index; past six a State
+        self.goal: Any = 1
         self.steps = 0
+
+    @property
+    def current(self) -> State:
+        """The current state (what the last observation shows)."""
+        return self.state if self.large else self.world.states[self.state]
+
+    @property
+    def target(self) -> State:
+        """The goal state."""
+        return self.goal if self.large else self.world.states[self.goal]
+
+    def _set_current(self, state: State) -> None:
+        self.state = state if self.large else self.world.state_index(state)
+
+    def _action(self, action: int) -> Action:
+        """The action of index ``action`` (the stable action order)."""
+        return action_at(int(action), self.n) if self.large else self.world.actions[int(action)]
+
+    def _legal(self, action: int) -> bool:
+        if self.large:
+            return is_legal(self.state, self._action(action))
+        return self.next_state[self.state][int(action)] >= 0
 
     def _index(self, value: Any, name: str) -> int:
         if isinstance(value, State):
@@ -164,20 +219,24 @@ class BlocksWorldEnv(gym.Env):
         raise CsqlError(f"{name} must be a State, a configuration or an index, got {value!r}")
 
     def _obs(self) -> str:
+        if self.large:
+            return format_large_message(self.state, self.goal)
         return format_state_message(self.world.states[self.state], self.goal)
 
     def _info(self, illegal: bool = False) -> dict:
-        return {
-            "action_mask": self._masks[self.state].copy(),
-            "state": self.world.states[self.state],
-            "goal": self.world.states[self.goal],
-            "illegal": illegal,
-        }
+        mask = large_mask(self.state) if self.large else self._masks[self.state].copy()
+        return {"action_mask": mask, "state": self.current, "goal": self.target, "illegal": illegal}
 
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
         """Start a task; ``options`` may give ``start`` and ``goal``."""
         options = check_options(options)
         super().reset(seed=seed)
+        if self.large:
+            start, goal = (None if options.get(k) is None else large_option(options[k], self.n, k)
+                           for k in ("start", "goal"))
+            self.state, self.goal = large_task(self.np_random, self.n, start, goal)
+            self.steps = 0
+            return self._obs(), self._info()
         count = len(self.world.states)
         start = self._index(options["start"], "start") if options.get("start") is not None else None
         goal = self._index(options["goal"], "goal") if options.get("goal") is not None else None
@@ -197,10 +256,10 @@ class BlocksWorldEnv(gym.Env):
         """Apply ``action`` (an index); an illegal one leaves the state unchanged."""
         if not self.action_space.contains(action):
             raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
-        nxt = self.next_state[self.state][int(action)]
-        illegal = nxt < 0
+        illegal = not self._legal(action)
         if not illegal:
-            self.state = nxt
+            self.state = successor(self.state, self._action(action)) if self.large \
+                else self.next_state[self.state][int(action)]
         self.steps += 1
         terminated = self.state == self.goal
         truncated = not terminated and self.max_steps is not None and self.steps >= self.max_steps
@@ -209,7 +268,7 @@ class BlocksWorldEnv(gym.Env):
     def render(self) -> str | None:
         """``ansi``: the state's notation and its message."""
         if self.render_mode == "ansi":
-            return f"{self.world.states[self.state].notation()}  {self._obs()}"
+            return f"{self.current.notation()}  {self._obs()}"
         return None
 
 

@@ -30,6 +30,7 @@ from csql_sim.jobs.episodes import Episodes, EpisodeSpec, batches, plan_episodes
 from csql_sim.jobs.episodes import make_specs as make_specs  # re-exported: the episodes of an evaluation
 from csql_sim.jobs.job_memory import check_episodes
 from csql_sim.learners.gn1 import NAMED_POLICIES
+from csql_sim.sim.legend import cube_legend
 
 BATCH_EPISODES = 4096
 """Episodes handed to the workers at once: the specs are drawn a batch at a time, never all listed."""
@@ -107,6 +108,7 @@ class EvalReport:
     failures: list[dict] = field(default_factory=list)
     runs: list[EpisodeSummary] = field(default_factory=list)
     config: dict = field(default_factory=dict)
+    legend: dict[str, str] = field(default_factory=dict)
 
     @property
     def success_rate(self) -> float:
@@ -119,6 +121,7 @@ class EvalReport:
             "format": "csql-sim evaluation report",
             "version": 1,
             "config": self.config,
+            "legend": self.legend,
             "episodes": self.episodes,
             "successes": self.successes,
             "success_rate": self.success_rate,
@@ -134,6 +137,7 @@ class EvalReport:
     def text(self) -> str:
         """A human-readable summary."""
         lines = [
+            *(["legend: " + ", ".join(f"{k} = {v}" for k, v in self.legend.items())] if self.legend else []),
             f"episodes: {self.episodes}",
             f"success rate: {self.success_rate:.4f} ({self.successes}/{self.episodes})",
             f"optimal-length plans among successes: {self.optimal}/{self.successes}",
@@ -322,6 +326,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
     setup_args = (policy, n, perturb, perception, tuple(camera_noise))
     report = summarise(run_episodes(episodes, backend, setup_args, progress))
     used = worker_count(backend.workers, episodes.count) if backend.kind == "processes" else None
+    report.legend = cube_legend(n)
     report.config = {
         "rules": rules_source(rules), "blocks": n, "perception": perception, "perturb": perturb,
         "camera_noise": list(camera_noise),

@@ -13,6 +13,12 @@ partial goal), then either
   BFS planner (``planner="bfs"``) towards the goal state nearest the start
   (:meth:`~csql_sim.core.model.goal_spec.GoalSpec.nearest`), through :class:`GoalSetPolicy`.
 
+2..10 cubes. Past six blocks the states are relational
+(:class:`~csql_sim.core.state.world.State`): plans are checked with the relational
+operators, lifted rules and GN1 aim at the target
+:func:`~csql_sim.core.model.goal_spec.goal_target` derives from the start, and BFS and
+ground rule files are refused with one line (they enumerate the world).
+
 Execution is :func:`~csql_sim.sim.executor.run_physical_episode`: blocks move only through
 the arm's contacts, and after every action the scene is perceived. The goal is
 ``reached`` when the final **perceived** state satisfies the goal's atoms. The result
@@ -32,12 +38,11 @@ from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_
 from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
 from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
 from csql_sim.core.policies.policy import Policy
-from csql_sim.core.state.notation import parse_config
-from csql_sim.core.state.world import BLOCK_NAMES, LETTERS, MAX_BLOCKS, Action, State
+from csql_sim.core.state.world import LETTERS, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
-from csql_sim.jobs.execute_report import ExecuteResult, LargeGoal, StepReport
+from csql_sim.jobs.execute_report import ExecuteResult, StepReport
 from csql_sim.jobs.execute_steps import BEFORE, final_state, policy_reports, replay_reports
 from csql_sim.learners.gn1 import NAMED_POLICIES
 
@@ -59,7 +64,7 @@ class PlanReplay:
 
     def __init__(self, actions: Sequence[Action], trace: Sequence[State]) -> None:
         self.actions, self.trace = tuple(actions), tuple(trace)
-        self.blocks = self.trace[0].n
+        self.blocks = self.trace[0].n if isinstance(self.trace[0], State) else None  # not a ground table past six
         self.next = 0
         self.issued = False
         self.diverged: tuple[int, State] | None = None
@@ -84,22 +89,24 @@ class PlanReplay:
 class GoalSetPolicy:
     """A policy towards a (possibly partial) goal: None once the state satisfies it.
 
-    Otherwise it asks ``inner`` for the way to the goal state nearest the current state
-    (recomputed from what is perceived, so a perturbed run aims anew).
+    Otherwise it asks ``inner`` for the way to a goal state: up to six blocks the one
+    nearest the current state (recomputed from what is perceived, so a perturbed run aims
+    anew); past six the fixed ``target`` (:func:`~csql_sim.core.model.goal_spec.goal_target`
+    of the start), a full configuration the lifted rules or GN1 plan towards.
     """
 
-    def __init__(self, inner: Policy, goal: GoalSpec) -> None:
-        self.inner, self.goal = inner, goal
+    def __init__(self, inner: Policy, goal: GoalSpec, target: State | None = None) -> None:
+        self.inner, self.goal, self.target = inner, goal, target
         self.name = getattr(inner, "name", "policy")
-        self.blocks = goal.n
+        self.blocks = goal.n if goal.enumerated else getattr(inner, "blocks", None)
         self.last_seen: State | None = None
 
     def act(self, state: State, goal: State) -> Action | None:
-        """The inner policy's action towards the nearest goal state, or None when satisfied."""
+        """The inner policy's action towards the goal state it aims for, or None when satisfied."""
         self.last_seen = state
         if self.goal.satisfied(state):
             return None
-        return self.inner.act(state, self.goal.nearest(state))
+        return self.inner.act(state, self.target if self.target is not None else self.goal.nearest(state))
 
 
 def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = None,
@@ -137,90 +144,20 @@ def execute_task(start: str | State, goal: str | State | Sequence[str],
     """:func:`execute_problem` for a task in csql-sim's notation (objects ``a``, ``b``, ... are cubes A, B, ...).
 
     ``goal`` is a configuration (``"ABC"``) or a list of PDDL atoms (``["(on a b)"]``: a
-    partial goal). Past six blocks (7..10 cubes, relational states) the goal is a
-    configuration and the actions come from lifted rules or ``planner="gn1"``
-    (:func:`execute_large`).
+    partial goal), for 2..10 cubes.
     """
-    from csql_sim.sim.arm_state import parse_arm_state
-
-    first = start if isinstance(start, State) else parse_arm_state(start)
-    if first.n > MAX_BLOCKS:
-        return execute_large(first, goal, plan=plan, rules=rules, planner=planner, seed=seed, perception=perception,
-                             perturb=perturb, video=video, progress=progress)
     return execute_blocks(task_problem(start, goal), plan=plan, rules=rules, planner=planner, seed=seed,
                           perception=perception, perturb=perturb, video=video, progress=progress)
 
 
-class LiftedGoalPolicy:
-    """A lifted policy towards a full goal, recording the last state it was asked in (for the report)."""
-
-    def __init__(self, inner: object, goal: State) -> None:
-        self.inner, self.goal = inner, goal
-        self.name = getattr(inner, "name", "policy")
-        self.blocks = None
-        self.last_seen: State | None = None
-
-    def act(self, state: State, goal: State) -> Action | None:
-        """The inner policy's action, or None at the goal."""
-        self.last_seen = state
-        return None if state == self.goal else self.inner.act(state, goal)
-
-
-def execute_large(start: State, goal: str | State | Sequence[str], plan: PlanInput | None = None,
-                  rules: str | os.PathLike | None = None, planner: str | None = None, seed: int = 0,
-                  perception: str = "pose", perturb: bool = False, video: str | os.PathLike | None = None,
-                  progress: bool = False) -> ExecuteResult:
-    """Run a task of 7..10 cubes on the arm with lifted rules (``rules``) or ``planner="gn1"``.
-
-    Raises:
-        CsqlError: one line, before any physics, for more than ten cubes, a partial goal,
-            a plan (checked plans are for the enumerated world), BFS or a ground rule file.
-    """
-    from csql_sim.core.policies.loader import load_policy
-    from csql_sim.sim.arm_state import check_arm_blocks, check_arm_policy, parse_arm_state
-    from csql_sim.sim.physical import check_perception
-    from csql_sim.sim.video import check_video_options
-
-    n = check_arm_blocks(start.n)
-    check_perception(perception)
-    if video is not None:
-        check_video_options(video, *VIDEO_SIZE, VIDEO_FPS)
-    if not isinstance(goal, (str, State)):
-        raise CsqlError(f"past {MAX_BLOCKS} blocks the goal must be a configuration, not PDDL atoms")
-    end = goal if isinstance(goal, State) else parse_arm_state(goal, n)
-    if plan is not None or (rules is None) == (planner is None):
-        raise CsqlError(f"past {MAX_BLOCKS} blocks give exactly one of lifted rules or planner='gn1' "
-                        f"(plans are checked on the enumerated world, up to {MAX_BLOCKS} blocks)")
-    if planner is not None and planner not in NAMED_POLICIES:
-        raise CsqlError(f"past {MAX_BLOCKS} blocks the planner must be one of {', '.join(NAMED_POLICIES)} "
-                        f"(BFS enumerates the world), got {planner!r}")
-    inner = NAMED_POLICIES[planner]() if planner is not None else load_policy(rules, n, progress=progress)
-    check_arm_policy(inner, n)
-    policy = LiftedGoalPolicy(inner, end)
-    params = {"objects": {LETTERS[i].lower(): LETTERS[i] for i in range(n)}, "seed": seed, "perception": perception,
-              "perturb": perturb, "video": None if video is None else os.fspath(video),
-              "rules": rules_source(rules), "planner": planner or "rules"}
-    source = {"kind": planner or "rules", "file": None if rules is None else os.fspath(rules)}
-    episode = _episode(start, end, policy, seed, perception, perturb, video, progress, cap=None)
-    final = final_state(episode, policy, n)
-    spec = LargeGoal(end)
-    reached = spec.satisfied(final)
-    reason = "" if reached else episode.reason or _unsatisfied(spec, final)
-    result = ExecuteResult(reached=reached, reason=reason, problem=f"{start.notation()} -> {end.notation()}",
-                           objects=spec.names, start=start.notation(), goal=spec, target=end.notation(),
-                           source=source, steps=policy_reports(episode),
-                           final=None if final is None else final.notation(), episode=episode, parameters=params)
-    if video is not None:
-        result.video = _write_video(episode, video, params)
-    return result
-
-
 def task_problem(start: str | State, goal: str | State | Sequence[str]) -> BlocksProblem:
     """A :class:`BlocksProblem` of a start configuration and a goal configuration or atoms."""
-    first = start if isinstance(start, State) else parse_config(start)
-    names = tuple(BLOCK_NAMES[: first.n].lower())
+    from csql_sim.sim.arm_state import parse_arm_state
+
+    first = start if isinstance(start, State) else parse_arm_state(start)
+    names = tuple(LETTERS[: first.n].lower())
     if isinstance(goal, (str, State)):
-        end = goal if isinstance(goal, State) else parse_config(goal, first.n)
+        end = goal if not isinstance(goal, str) else parse_arm_state(goal, first.n)
         spec = GoalSpec.of_state(end, names)
         return BlocksProblem(f"{first.notation()} -> {end.notation()}", names, first, spec, "4op")
     clear = [f"(clear {names[i]})" for i in range(first.n) if first.is_clear(i)]
@@ -234,10 +171,12 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
                    planner: str | None = None, seed: int = 0, perception: str = "pose", perturb: bool = False,
                    video: str | os.PathLike | None = None, progress: bool = False,
                    files: dict[str, Any] | None = None) -> ExecuteResult:
-    """Run a read problem on the arm (the body of :func:`execute_problem`)."""
+    """Run a read problem on the arm (the body of :func:`execute_problem`); 2..10 cubes."""
+    from csql_sim.sim.arm_state import check_arm_blocks
     from csql_sim.sim.physical import check_perception
     from csql_sim.sim.video import check_video_options
 
+    check_arm_blocks(bp.n)
     check_perception(perception)
     if video is not None:
         check_video_options(video, *VIDEO_SIZE, VIDEO_FPS)
@@ -287,11 +226,15 @@ def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str
                 perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
     """Follow a rule base, BFS or a named baseline (GN1) to the goal on the arm."""
     from csql_sim.core.policies.loader import load_policy
+    from csql_sim.sim.arm_state import check_arm_policy
 
     named = planner is not None and planner != "bfs"
+    if planner == "bfs":
+        check_arm_policy(None, bp.n)  # BFS enumerates the world: refused past six blocks, with its reason
     inner = NAMED_POLICIES[planner]() if named else load_policy(rules, bp.n, progress=progress)
-    policy = GoalSetPolicy(inner, bp.goal)
     target = bp.goal.nearest(bp.start)
+    policy = GoalSetPolicy(inner, bp.goal, None if bp.goal.enumerated else target)
+    check_arm_policy(policy, bp.n)
     kind = "rules" if rules is not None else planner or "bfs"
     source = {"kind": kind, "file": None if rules is None else os.fspath(rules)}
     episode = _episode(bp.start, target, policy, seed, perception, perturb, video, progress, cap=None)
@@ -316,11 +259,10 @@ def _plan_reason(bp: BlocksProblem, episode: Any, replay: PlanReplay, reports: l
     return _unsatisfied(bp, final, "the plan ended; ")
 
 
-def _unsatisfied(bp: BlocksProblem | LargeGoal, final: State | None, prefix: str = "") -> str:
+def _unsatisfied(bp: BlocksProblem, final: State | None, prefix: str = "") -> str:
     if final is None:
         return f"{prefix}nothing was perceived"
-    goal = bp if isinstance(bp, LargeGoal) else bp.goal
-    return f"{prefix}the perceived state {final.notation()} does not satisfy {' '.join(goal.unsatisfied(final))}"
+    return f"{prefix}the perceived state {final.notation()} does not satisfy {' '.join(bp.goal.unsatisfied(final))}"
 
 
 def _episode(start: State, target: State, policy: Policy, seed: int, perception: str, perturb: bool,
@@ -349,12 +291,15 @@ def _result(bp: BlocksProblem, reached: bool, reason: str, target: State, source
 def _write_video(episode: Any, video: str | os.PathLike, params: dict) -> Path:
     """The episode's video and its provenance sidecar (as ``csql-sim render`` writes them)."""
     from csql_sim.jobs.render import sidecar_path, sidecar_record
+    from csql_sim.sim.legend import cube_legend
     from csql_sim.sim.video import video_frame_count, write_video
 
+    names = tuple(params["objects"])
+    episode.recording.names = names  # the legend: PDDL object names, each with its cube's colour
     path = write_video(episode.recording, video, *VIDEO_SIZE, VIDEO_FPS, progress=False)
     record = provenance(command="execute", **params)
     info = {"file": path.name, "frames": video_frame_count(episode.recording, VIDEO_FPS), "actions": episode.length,
-            "success": episode.success, "reason": episode.reason}
+            "success": episode.success, "reason": episode.reason, "legend": cube_legend(len(names), names)}
     write_or_keep([(sidecar_path(path), json.dumps(sidecar_record(record, info), indent=1) + "\n")])
     return path
 
@@ -365,5 +310,5 @@ def _file(path: str | os.PathLike | None) -> dict[str, Any] | None:
     return {"file": os.fspath(path), "sha256": file_sha256(path)}
 
 
-__all__ = ["ExecuteResult", "GoalSetPolicy", "LargeGoal", "LiftedGoalPolicy", "PlanError", "PlanReplay", "StepReport",
-           "execute_blocks", "execute_large", "execute_problem", "execute_task", "task_problem"]
+__all__ = ["ExecuteResult", "GoalSetPolicy", "PlanError", "PlanReplay", "StepReport", "execute_blocks",
+           "execute_problem", "execute_task", "task_problem"]

@@ -21,6 +21,7 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import InputFileError, read_text_file
 from csql_sim.infra.provenance import provenance
 from csql_sim.jobs.execute import execute_problem
+from csql_sim.sim.legend import cube_legend
 
 PLAN_SUFFIXES = (".plan", ".soln", ".pddl.soln")
 REPORT_FORMAT = "csql-sim problems report"
@@ -36,6 +37,7 @@ class ProblemRun:
         reached: the perceived final state satisfies the goal.
         actions: actions executed.
         reason: why not reached ("" when reached); a refusal before physics starts with ``refused:``.
+        legend: object name -> cube colour (None when the problem was refused).
     """
 
     problem: str
@@ -43,6 +45,7 @@ class ProblemRun:
     reached: bool
     actions: int
     reason: str
+    legend: dict[str, str] | None = None
 
 
 def problem_files(folder: str | os.PathLike) -> list[tuple[Path, str | None]]:
@@ -105,7 +108,9 @@ def evaluate_problems(folder: str | os.PathLike, plans: str | os.PathLike | None
         except CsqlError as exc:
             runs.append(ProblemRun(problem.name, plan and plan.name, False, 0, f"refused: {exc}"))
             continue
-        runs.append(ProblemRun(problem.name, plan and plan.name, result.reached, len(result.steps), result.reason))
+        legend = cube_legend(result.blocks, result.objects)
+        runs.append(ProblemRun(problem.name, plan and plan.name, result.reached, len(result.steps), result.reason,
+                               legend))
     return runs
 
 
@@ -124,4 +129,6 @@ def problems_lines(runs: list[ProblemRun]) -> list[str]:
     for r in runs:
         verdict = "reached" if r.reached else f"FAILED: {r.reason}"
         lines.append(f"  {r.problem:<24} {r.plan or '-':<24} {r.actions:>3} actions  {verdict}")
+        if r.legend:
+            lines.append("    legend: " + ", ".join(f"{k} = {v}" for k, v in r.legend.items()))
     return lines

@@ -20,9 +20,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from csql_sim.core.model.goal_spec import GoalSpec, atom_text, holds, state_atoms
-from csql_sim.core.state.world import LETTERS, State
+from csql_sim.core.model.goal_spec import GoalSpec
+from csql_sim.core.state.world import LETTERS
 from csql_sim.sim.arm_state import parse_arm_state
+from csql_sim.sim.legend import cube_legend, legend_line
 
 REPORT_FORMAT = "csql-sim execute report"
 REPORT_VERSION = 1
@@ -68,41 +69,6 @@ class StepReport:
         return f"step {self.step} ({line}{said})"
 
 
-class LargeGoal:
-    """A full goal of 7..10 cubes, with the :class:`~csql_sim.core.model.goal_spec.GoalSpec` calls a report makes.
-
-    (A GoalSpec lists the states that satisfy it, which past six blocks cannot be done.)
-    """
-
-    partial = False
-
-    def __init__(self, state: State) -> None:
-        self.state = state
-        self.n = state.n
-        self.names = tuple(LETTERS[: state.n].lower())
-        self.states = (state,)
-
-    def satisfied(self, state: State | None) -> bool:
-        """Whether ``state`` is the goal (None: nothing perceived)."""
-        return state is not None and state == self.state
-
-    def nearest(self, state: State) -> State:
-        """The goal state itself."""
-        return self.state
-
-    def atom_texts(self) -> list[str]:
-        """The atoms that pin the goal down, in PDDL form, sorted."""
-        return sorted(atom_text(a, self.names) for a in state_atoms(self.state))
-
-    def text(self) -> str:
-        """The goal in one line."""
-        return " ".join(self.atom_texts())
-
-    def unsatisfied(self, state: State) -> list[str]:
-        """The goal's atoms that ``state`` violates."""
-        return sorted(atom_text(a, self.names) for a in state_atoms(self.state) if not holds(a, state))
-
-
 @dataclass(kw_only=True)
 class ExecuteResult:
     """The outcome of running a plan, a rule base or the planner on the simulated arm.
@@ -113,7 +79,7 @@ class ExecuteResult:
         problem: the problem's name (or the task, for a task given in notation).
         objects: the blocks' names; ``objects[i]`` is cube ``A + i``.
         start: the start state (notation).
-        goal: the goal (a :class:`LargeGoal` past six blocks).
+        goal: the goal (full or partial).
         target: the goal state the executor ran to (the plan's end state, or the goal
             state nearest the start for a planner).
         source: what chose the actions: ``{"kind": "plan" | "rules" | "bfs", "file": ...}``.
@@ -129,7 +95,7 @@ class ExecuteResult:
     problem: str
     objects: tuple[str, ...]
     start: str
-    goal: GoalSpec | Any
+    goal: GoalSpec
     target: str
     source: dict[str, Any]
     steps: list[StepReport]
@@ -156,7 +122,8 @@ class ExecuteResult:
     def goal_text(self) -> str:
         """The goal's atoms, and its state or number of states."""
         if self.goal.partial:
-            return f"{self.goal.text()} (partial: {len(self.goal.states)} states; ran to {self.target})"
+            count = "" if self.goal.count is None else f": {self.goal.count} states"
+            return f"{self.goal.text()} (partial{count}; ran to {self.target})"
         state = self.goal.states[0].notation()
         return f"{self.goal.text()} (= {state})" + ("" if state == self.target else f"; the plan ends in {self.target}")
 
@@ -167,8 +134,9 @@ class ExecuteResult:
         ep = self.episode
         return {
             "format": REPORT_FORMAT, "version": REPORT_VERSION, "reached": self.reached, "reason": self.reason,
-            "problem": self.problem, "blocks": self.blocks, "objects": self.mapping, "start": self.start,
-            "goal": {"atoms": self.goal.atom_texts(), "partial": self.goal.partial, "states": len(self.goal.states),
+            "problem": self.problem, "blocks": self.blocks, "objects": self.mapping,
+            "legend": cube_legend(self.blocks, self.objects), "start": self.start,
+            "goal": {"atoms": self.goal.atom_texts(), "partial": self.goal.partial, "states": self.goal.count,
                      "target": self.target},
             "source": self.source, "final": self.final, "steps": [s.to_dict() for s in self.steps],
             "actions": 0 if ep is None else ep.length,
@@ -179,8 +147,9 @@ class ExecuteResult:
         }
 
     def lines(self) -> list[str]:
-        """The text report: mapping, task, one line per step, the verdict."""
+        """The text report: mapping, legend (name = colour), task, one line per step, the verdict."""
         out = [f"objects: {', '.join(f'{k} -> {v}' for k, v in self.mapping.items())}",
+               legend_line(self.blocks, self.objects),
                f"start {self.start}; goal {self.goal_text()}; actions from {self._source_text()}"]
         for s in self.steps:
             line = "" if s.line is None else f"line {s.line}"

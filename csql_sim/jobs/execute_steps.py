@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from csql_sim.core.files.ipc_plan import PlanStep
-from csql_sim.core.state.world import State, WorldError
+from csql_sim.core.state.world import State, WorldError, action_name
 from csql_sim.jobs.execute_report import StepReport
 from csql_sim.sim.arm_state import parse_arm_state
 
@@ -40,7 +40,8 @@ def final_state(episode: Any, policy: Any, n: int) -> State | None:
     return policy.last_seen
 
 
-def replay_reports(steps: Sequence[PlanStep], trace: Sequence[State], episode: Any, replay: Any) -> list[StepReport]:
+def replay_reports(steps: Sequence[PlanStep], trace: Sequence[State], episode: Any,
+                   replay: Any) -> list[StepReport]:
     """One report per action of a replayed plan (see the module docstring)."""
     flat = [(step, action) for step in steps for action in step.actions]
     rows: list[dict[str, Any]] = [{"attempts": 0, "perceived": None, "status": "not run", "notes": []} for _ in flat]
@@ -70,7 +71,7 @@ def replay_reports(steps: Sequence[PlanStep], trace: Sequence[State], episode: A
         rows[k]["notes"].append(f"{BEFORE}; the plan predicts {trace[k].notation()} there")
     if j < len(flat) and rows[j]["status"] == "not run" and episode.success:
         rows[j]["notes"].append("the plan's final state was perceived before this step")
-    return [StepReport(step=k + 1, line=step.line, text=step.text, action=action.name(),
+    return [StepReport(step=k + 1, line=step.line, text=step.text, action=action_name(action),
                        expected=trace[k + 1].notation(), perceived=row["perceived"], status=row["status"],
                        attempts=row["attempts"], detail="; ".join(row["notes"]))
             for k, ((step, action), row) in enumerate(zip(flat, rows, strict=True))]

@@ -11,6 +11,7 @@ from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.sim.arm_state import ArmState
 from csql_sim.sim.executor import EpisodeResult, run_physical_episode
+from csql_sim.sim.legend import cube_legend
 from csql_sim.sim.renderer import resolve_renderer
 from csql_sim.sim.rgbd import NO_NOISE, CameraNoise
 from csql_sim.sim.video import check_video_options, video_frame_count, write_video
@@ -23,8 +24,8 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
                    seed: int = 0, width: int = 640, height: int = 480, fps: int = 30,
                    workers: int | None = None, perturb: bool = False, perception: str = "pose",
                    progress: bool = True, provenance_extra: dict | None = None,
-                   camera_noise: CameraNoise = NO_NOISE,
-                   renderer: str = "auto") -> tuple[EpisodeResult, Path]:
+                   camera_noise: CameraNoise = NO_NOISE, renderer: str = "auto",
+                   names: tuple[str, ...] | None = None) -> tuple[EpisodeResult, Path]:
     """Run one recorded episode, write its video and the video's provenance sidecar (``<video>.json``).
 
     The sidecar (:func:`sidecar_record`) is written after the video; a failed write of it is
@@ -46,6 +47,8 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
         provenance_extra: further parameters to record in the sidecar (e.g. the rule file).
         camera_noise: sensor noise of camera perception.
         renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
+        names: the cubes' names in the legend (default: their letters); the sidecar's
+            ``video.legend`` maps each to its colour.
 
     Returns:
         The episode result and the path of the video (written even if the episode failed).
@@ -62,6 +65,7 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
                                       perception=perception, fps=fps, on_action=lambda _k: bar.update(),
                                       camera_noise=camera_noise)
     assert result.recording is not None
+    result.recording.names = names
     path = write_video(result.recording, out, width, height, fps, workers, progress=progress, renderer=renderer)
     record = provenance(start=start.notation(), goal=goal.notation(), policy=getattr(policy, "name", "bfs"),
                         seed=seed, width=width, height=height, fps=fps, perturb=perturb, perception=perception,
@@ -69,7 +73,8 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
                         renderer=renderer,
                         **(provenance_extra or {}))
     video = {"file": path.name, "frames": video_frame_count(result.recording, fps),
-             "actions": result.length, "success": result.success, "reason": result.reason}
+             "actions": result.length, "success": result.success, "reason": result.reason,
+             "legend": cube_legend(start.n, names)}
     write_or_keep([(sidecar_path(path), json.dumps(sidecar_record(record, video), indent=1) + "\n")])
     return result, path
 

@@ -143,3 +143,6 @@ COLOURS: tuple[tuple[float, float, float, float], ...] = (
 )
 """The cubes' paint. Sorted by hue the ten paints are at least 21 degrees apart (orange to
 yellow), more than twice the segmentation's hue tolerance (rgbd.SegmentationLimits.hue)."""
+COLOUR_NAMES: tuple[str, ...] = ("red", "green", "blue", "yellow", "purple", "orange", "cyan", "magenta", "lime",
+                                 "teal")
+"""The paints' names, in the order of :data:`COLOURS` (cube A red, B green, ...): the legend's words."""

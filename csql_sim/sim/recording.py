@@ -39,12 +39,16 @@ class Frame:
 
 @dataclass
 class Recording:
-    """Frames of one episode at ``fps`` frames per simulated second."""
+    """Frames of one episode at ``fps`` frames per simulated second.
+
+    ``names``: the cubes' names in the video's legend (PDDL object names; None: the letters).
+    """
 
     n: int
     fps: int
     config: SimConfig = DEFAULT_CONFIG
     frames: list[Frame] = field(default_factory=list)
+    names: tuple[str, ...] | None = None
 
     @property
     def actions(self) -> int:

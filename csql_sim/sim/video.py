@@ -12,7 +12,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 from collections import deque
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from concurrent.futures import Future
 from pathlib import Path
 
@@ -21,12 +21,12 @@ import numpy as np
 from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
-from csql_sim.core.state.world import LETTERS
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file
 from csql_sim.infra.workers import worker_count, worker_pool
 from csql_sim.sim.camera import Camera, capture, render_camera
-from csql_sim.sim.config import COLOURS, SimConfig
+from csql_sim.sim.config import SimConfig
+from csql_sim.sim.legend import draw_legend, legend_names
 from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.renderer import close_quietly, resolve_renderer
 from csql_sim.sim.replay import apply_snapshot, replay_scene
@@ -68,27 +68,23 @@ def hold_frames(fps: int) -> int:
     return max(1, round(HOLD_SECONDS * fps))
 
 
-def caption_image(rgb: np.ndarray, text: str, legend: int = 0) -> np.ndarray:
-    """Draw ``text`` on a dark strip along the bottom, and a legend of the first ``legend`` cubes.
+def caption_image(rgb: np.ndarray, text: str, legend: int | Sequence[str] = 0, full: bool = False) -> np.ndarray:
+    """Draw ``text`` on a dark strip along the bottom, and the cubes' legend along the top.
 
-    The legend (top left) is a coloured square with each cube's letter: A red, B green, ...
+    ``legend``: the cubes' names in cube order (or a count: the letters A, B, ...); each is
+    drawn beside its colour's square, with the colour word when ``full``
+    (:func:`csql_sim.sim.legend.draw_legend`).
     """
     img = Image.fromarray(rgb)
     h = img.height
     strip = max(12, int(h * CAPTION_HEIGHT))
     draw = ImageDraw.Draw(img)
     draw.rectangle((0, h - strip, img.width, h), fill=(20, 20, 20))
-    font = ImageFont.load_default(size=max(8, int(strip * 0.6)))
     caption_font, text = fit_caption(draw, text, img.width - 12, max(8, int(strip * 0.6)))
     draw.text((6, h - strip + strip * 0.15), text, fill=(255, 255, 255), font=caption_font)
-    if legend:
-        box = max(8, strip * 0.8)
-        for i in range(legend):
-            x0, y0 = 4 + i * (box + 4), 4
-            colour = tuple(int(255 * c) for c in COLOURS[i][:3])
-            draw.rectangle((x0, y0, x0 + box, y0 + box), fill=colour, outline=(255, 255, 255))
-            draw.text((x0 + box / 2, y0 + box / 2), LETTERS[i], fill=(255, 255, 255), font=font, anchor="mm",
-                      stroke_width=1, stroke_fill=(0, 0, 0))
+    names = legend_names(legend) if isinstance(legend, int) else tuple(legend)
+    if names:
+        draw_legend(draw, img.width, max(8, strip * 0.6), names, full)
     return np.asarray(img)
 
 
@@ -131,19 +127,21 @@ class ReplayRenderer:
         return self._scenes[key]
 
     def render(self, n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-               camera: Camera | None = None, total: int = 0) -> list[np.ndarray]:
+               camera: Camera | None = None, total: int = 0, names: Sequence[str] | None = None) -> list[np.ndarray]:
         """Captioned RGB frames: the replay scene set to each frame's poses, seen by ``camera``.
 
         Captions read ``step k/K  <what>  <message>`` with K = ``total`` (the episode's
-        actions); a legend in the top left tells the ``n`` cubes apart.
+        actions); a legend along the top names the ``n`` cubes (``names``, default their
+        letters), with their colour words in the frames before the first action.
         """
+        names = legend_names(n, names)
         scene = self.scene(n, config)
         camera = render_camera(n) if camera is None else camera
         out = []
         for frame in frames:
             apply_snapshot(scene, frame.poses, frame.joints)
             rgb, _, _ = capture(scene, camera, width, height)
-            out.append(caption_image(rgb, frame.caption.text(total), legend=n))
+            out.append(caption_image(rgb, frame.caption.text(total), legend=names, full=frame.caption.step == 0))
         return out
 
     def close(self) -> None:
@@ -162,9 +160,9 @@ def _init_render_worker(renderer: str) -> None:
 
 
 def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-                      camera: Camera, total: int) -> list[np.ndarray]:
+                      camera: Camera, total: int, names: tuple[str, ...] | None) -> list[np.ndarray]:
     assert _WORKER_RENDERER is not None, "rendering worker started without _init_render_worker"
-    return _WORKER_RENDERER.render(n, config, frames, width, height, camera, total)
+    return _WORKER_RENDERER.render(n, config, frames, width, height, camera, total, names)
 
 
 def _chunks(frames: list[Frame], size: int) -> list[list[Frame]]:
@@ -318,12 +316,12 @@ def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, hei
     encoder (not every frame of the video at once). Futures are never cancelled here: when
     the encoder fails or on Ctrl-C, the pool is stopped (:func:`~csql_sim.infra.workers.stop_pool`).
     """
-    n, config, total = recording.n, recording.config, recording.actions
+    n, config, total, names = recording.n, recording.config, recording.actions, recording.names
     if workers <= 1:
         replay = ReplayRenderer(renderer)
         try:
             for c in chunks:
-                yield replay.render(n, config, c, width, height, camera, total)
+                yield replay.render(n, config, c, width, height, camera, total, names)
         finally:
             replay.close()
         return
@@ -332,7 +330,7 @@ def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, hei
     with worker_pool(workers, _init_render_worker, (renderer,), mp_context=context) as pool:
         pending: deque[Future] = deque()
         for chunk in chunks:
-            pending.append(pool.submit(_render_in_worker, n, config, chunk, width, height, camera, total))
+            pending.append(pool.submit(_render_in_worker, n, config, chunk, width, height, camera, total, names))
             if len(pending) >= CHUNKS_IN_FLIGHT * workers:
                 yield pending.popleft().result()
         while pending:

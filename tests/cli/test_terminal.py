@@ -20,7 +20,7 @@ def test_no_progress_bar_or_banner_when_stderr_is_not_a_terminal(tmp_path):
                           "--plot", str(tmp_path / "e.png")], capture_output=True, text=True, timeout=120)
     assert out.returncode == 0
     assert out.stderr == f"wrote {tmp_path / 'e.png'}\n"  # no bar, no "pybullet build time" from the workers
-    assert "pybullet" not in out.stdout and out.stdout.startswith("episodes: 2\n")
+    assert "pybullet" not in out.stdout and out.stdout.startswith("legend: A = red, B = green, C = blue\nepisodes: 2\n")
 
 
 def _read(fd: int, seconds: float) -> bytes:

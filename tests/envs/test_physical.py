@@ -3,6 +3,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from csql_sim.core.model.search import BfsPolicy
 from csql_sim.envs.physical import PhysicalBlocksEnv
@@ -88,4 +89,25 @@ def test_reset_without_seed_continues_the_seeded_stream():
     assert env.physics_seed == first
     env.reset()
     assert (env.physics_seed, env.state, env.goal) == second
+    env.close()
+
+
+@pytest.mark.slow
+def test_eight_cubes_on_the_arm_through_the_environment():
+    from csql_sim.core.state.notation import parse_config
+    from csql_sim.core.state.relational_message import format_large_message
+    from csql_sim.core.state.world import State, action_index
+    from csql_sim.learners.gn1 import Gn1Policy
+
+    env = PhysicalBlocksEnv(8, perception="camera", render_mode="rgb_array", width=64, height=48)
+    obs, info = env.reset(seed=3, options={"start": "A,B,C,D,E,F,G,H", "goal": "HGFEDCBA"})
+    assert isinstance(info["state"], State) and obs == format_large_message(info["state"], info["goal"])
+    assert env.observation_space.contains(obs) and info["action_mask"].shape == (env.action_space.n,)
+    policy, term, trunc = Gn1Policy(), False, False
+    for _ in range(20):
+        obs, reward, term, trunc, info = env.step(action_index(policy.act(info["state"], info["goal"]), 8))
+        if term or trunc:
+            break
+    assert term and not trunc and reward == 1.0 and info["state"] == parse_config("HGFEDCBA")  # as perceived
+    assert env.render().shape == (48, 64, 3)
     env.close()

@@ -58,13 +58,14 @@ def test_the_module_colon_id_form_imports_and_makes():
     assert out.startswith("S") and len(out.strip()) == 16  # the paper's 3-block state message
 
 
-@pytest.mark.parametrize("env_id", [BLOCKS_WORLD_ID, PANDA_BLOCKS_ID])
-def test_check_env_passes_without_a_warning(env_id):
+@pytest.mark.parametrize("env_id, blocks", [(BLOCKS_WORLD_ID, 3), (PANDA_BLOCKS_ID, 3), (BLOCKS_WORLD_ID, 8),
+                                            (PANDA_BLOCKS_ID, 8)])
+def test_check_env_passes_without_a_warning(env_id, blocks):
     """Gymnasium's own checker on both environments, with every warning raised while it runs an error."""
     code = ("import warnings, gymnasium as gym, csql_sim.envs; from gymnasium.utils.env_checker import check_env\n"
             "with warnings.catch_warnings():\n"
             "    warnings.simplefilter('error')\n"
-            f"    env = gym.make({env_id!r}); check_env(env.unwrapped); env.close()\n")
+            f"    env = gym.make({env_id!r}, blocks={blocks}); check_env(env.unwrapped); env.close()\n")
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300, check=False)
     assert done.returncode == 0, done.stderr
 

@@ -55,6 +55,8 @@ def test_evaluate_json(tmp_path):
     assert {"config", "episodes", "successes", "success_rate", "optimal", "mean_sim_seconds_per_action",
             "perturbations", "mismatches", "plan_length", "failures", "runs", "provenance"} <= set(data)
     assert data["optimal"] == 4 and data["perturbations"] == data["mismatches"] == 0
+    assert data["legend"] == {"A": "red", "B": "green", "C": "blue"}
+    assert report.text().splitlines()[0] == "legend: A = red, B = green, C = blue"
     config = data["config"]
     assert config["rules"] == {"file": None, "sha256": None} and config["blocks"] == 3
     assert (config["perception"], config["perturb"], config["seeds"], config["seed"]) == ("pose", False, 1, 0)
@@ -100,7 +102,10 @@ def test_cli_evaluate_and_render(tmp_path, capsys):
                          "--width", "64", "--height", "48", "--fps", "5", "--workers", "1"])
     assert args.func(args) == 0
     assert (tmp_path / "v.gif").exists()
-    assert "reached the goal" in capsys.readouterr().out
+    printed = capsys.readouterr().out
+    assert "reached the goal" in printed and printed.startswith("legend: A = red, B = green, C = blue\n")
+    assert json.loads((tmp_path / "v.gif.json").read_text())["video"]["legend"] == {"A": "red", "B": "green",
+                                                                                     "C": "blue"}
 
 
 def test_cli_bad_input_is_csql_error(tmp_path):

@@ -176,10 +176,12 @@ def test_the_command_reports_json_and_exit_status(tmp_path, capsys):
     assert cli(["execute", "--problem", problem, "--plan", str(short)]) == 1
     text = capsys.readouterr().out
     assert "objects: a -> A, b -> B, c -> C" in text and "NOT reached: the plan ended" in text
+    assert "legend: a = red, b = green, c = blue" in text and report["legend"] == {"a": "red", "b": "green",
+                                                                                   "c": "blue"}
     eight = write(tmp_path / "p8.pddl", generate_problem(8, np.random.default_rng(0)))
     assert cli(["execute", "--problem", str(eight), "--planner", "bfs"]) == 2
     err = capsys.readouterr().err
-    assert "csql-sim executes at most 6" in err and err.count("\n") == 1
+    assert "BFS enumerates the world and plans only up to 6 blocks" in err and err.count("\n") == 1
 
 
 def test_the_command_writes_a_video_with_its_provenance(tmp_path, capsys):
@@ -189,5 +191,37 @@ def test_the_command_writes_a_video_with_its_provenance(tmp_path, capsys):
     sidecar = json.loads((tmp_path / "run.mp4.json").read_text())
     assert video.stat().st_size > 0 and sidecar["video"]["actions"] == 2 and sidecar["video"]["success"] is True
     assert sidecar["parameters"]["command"] == "execute"
+    assert sidecar["video"]["legend"] == {"a": "red", "b": "green", "c": "blue"}
     assert cli(["execute", "--problem", str(DATA / "blocks3-01.pddl"), "--planner", "bfs", "--video",
                 str(tmp_path)]) == 2  # a folder is refused before any work
+
+
+def test_past_six_blocks_a_partial_goal_aims_at_a_fixed_target_and_stops_once_satisfied():
+    from csql_sim.core.state.notation import parse_config
+    from csql_sim.jobs.execute import GoalSetPolicy, task_problem
+    from csql_sim.learners.gn1 import Gn1Policy
+
+    bp = task_problem("ABC,DEF,GH", ["(on a e)", "(on e h)"])
+    assert bp.n == 8 and bp.goal.partial and bp.goal.count is None
+    target = bp.goal.nearest(bp.start)
+    seen = []
+
+    class Spy(Gn1Policy):
+        def act(self, state, goal):
+            seen.append(goal)
+            return super().act(state, goal)
+
+    policy = GoalSetPolicy(Spy(), bp.goal, target)
+    assert policy.blocks is None  # not a ground table: the arm takes it past six blocks
+    assert policy.act(bp.start, bp.start) is not None and seen == [target]
+    done = parse_config("BC,D,F,GHEA")  # a goal state that is not the target
+    assert bp.goal.satisfied(done) and done != target and policy.act(done, done) is None
+
+
+def test_past_six_blocks_a_ground_rule_file_is_refused_before_physics(monkeypatch):
+    import csql_sim.sim.executor as executor
+
+    monkeypatch.setattr(executor, "run_physical_episode", lambda *a, **k: pytest.fail("physics ran"))
+    rules = Path(__file__).resolve().parents[2] / "assets" / "rules" / "blocks3.yaml"
+    with pytest.raises(CsqlError, match="is for 3 blocks, not 8"):
+        execute_task("A,B,C,D,E,F,G,H", ["(on a b)"], rules=rules)

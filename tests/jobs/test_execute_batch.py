@@ -15,11 +15,16 @@ def test_every_problem_with_its_plan_reaches_the_goal(capsys):
     assert report["format"] == "csql-sim problems report" and report["version"] == 1
     assert report["problems"] == report["reached"] == len(list(PROBLEMS.glob("blocks*.pddl"))) == 6
     assert all(r["plan"] == r["problem"].replace(".pddl", ".plan") for r in report["runs"])
+    sizes = {r["problem"]: int(r["problem"][6]) for r in report["runs"]}  # blocks<N>-<k>.pddl
+    assert all(r["legend"] == dict(zip("abcde", ["red", "green", "blue", "yellow", "purple"][:sizes[r["problem"]]],
+                                       strict=False)) for r in report["runs"])
 
 
 def test_without_plans_the_bfs_planner_runs_each_problem(capsys):
     assert main(["evaluate", "--problems", str(PROBLEMS), "--quiet"]) == 0
-    assert capsys.readouterr().out.startswith("6/6 problems reached on the arm")
+    printed = capsys.readouterr().out
+    assert printed.startswith("6/6 problems reached on the arm")
+    assert "    legend: a = red, b = green, c = blue\n" in printed
 
 
 def test_a_wrong_plan_is_a_refused_row_and_exit_1(tmp_path, capsys):
@@ -29,7 +34,7 @@ def test_a_wrong_plan_is_a_refused_row_and_exit_1(tmp_path, capsys):
     assert main(["evaluate", "--problems", str(PROBLEMS), "--plans", str(plans), "--json", "--quiet"]) == 1
     rows = {r["problem"]: r for r in json.loads(capsys.readouterr().out)["runs"]}
     assert not rows["blocks3-01.pddl"]["reached"] and rows["blocks3-01.pddl"]["reason"].startswith("refused:")
-    assert "line 1" in rows["blocks3-01.pddl"]["reason"]
+    assert "line 1" in rows["blocks3-01.pddl"]["reason"] and rows["blocks3-01.pddl"]["legend"] is None
     assert sum(r["reached"] for r in rows.values()) == 5
 
 

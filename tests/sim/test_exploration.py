@@ -43,6 +43,9 @@ def test_render_discovery_writes_a_video_and_its_provenance(tmp_path, capsys):
     frames = sum(1 for _ in iio.imiter(out))
     assert sidecar["format"] == "csql-sim video provenance" and sidecar["video"]["frames"] == frames
     assert f"({frames} frames)" in printed and sidecar["parameters"]["transitions"] == 2
+    legend = {"A": "red", "B": "green", "C": "blue", "D": "yellow"}
+    assert sidecar["video"]["legend"] == dict(list(legend.items())[:sidecar["parameters"]["blocks"]])
+    assert printed.startswith("legend: A = red, B = green")
 
 
 def test_a_putdown_with_no_free_spot_is_a_failure_not_a_refusal():

@@ -69,9 +69,34 @@ def test_caption_changes_pixels():
     blank = np.full((120, 160, 3), 200, dtype=np.uint8)
     out = caption_image(blank, "pickup(A) S7111000ttt0000C")
     assert out.shape == blank.shape and (out != blank).any()
-    # the legend: a red square for A, a green one for B, top left
+    # the legend: a red square for A, then a green one for B, along the top
     legend = caption_image(blank, "x", legend=2)
-    assert tuple(legend[5, 5]) == (216, 38, 38) and tuple(legend[5, 19]) == (38, 178, 51)
+    top = [tuple(p) for p in legend[6, :80]]
+    assert top[6] == (216, 38, 38) and (38, 178, 51) in top[20:]
+    assert top.index((38, 178, 51)) > top.index((216, 38, 38))
+    # named cubes: the names (and, before the first action, the colour words) take more room
+    named = caption_image(blank, "x", legend=["ruby", "jade"])
+    full = caption_image(blank, "x", legend=["ruby", "jade"], full=True)
+    green_at = [[tuple(p) for p in img[6]].index((38, 178, 51)) for img in (legend, named, full)]
+    assert green_at[0] < green_at[1] < green_at[2]
+
+
+def test_frames_name_the_cubes_with_colour_words_before_the_first_action(recording):
+    first, later = recording.frames[0], recording.frames[-1]
+    assert (first.caption.step, later.caption.step) == (0, 2)
+    replay = ReplayRenderer("tiny")
+    try:
+        plain = replay.render(3, recording.config, [first, later], 320, 240, total=2)
+        named = replay.render(3, recording.config, [first, later], 320, 240, total=2, names=("ruby", "jade", "b2"))
+    finally:
+        replay.close()
+    green = (38, 178, 51)  # cube B's square, after A's label
+
+    def green_at(img):
+        return [tuple(p) for p in img[6]].index(green)
+
+    assert green_at(plain[1]) < green_at(named[1]) < green_at(named[0])  # "A" < "ruby (A)" < "ruby (A) = red"
+    assert green_at(plain[1]) < green_at(plain[0])  # letters too get their colour words first
 
 
 def test_render_camera_sees_the_whole_arm(recording):

@@ -38,6 +38,7 @@ from csql_sim.core.state.world import (
     Precondition,
     State,
     WorldError,
+    action_name,
     is_legal,
     preconditions,
     successor,
@@ -168,6 +169,9 @@ def check_plan(start: State, steps: Sequence[PlanStep], names: Sequence[str] | N
                source: str = "plan") -> list[State]:
     """Apply ``steps`` to ``start``; the states before each action, and the end state last.
 
+    Any n: the STRIPS preconditions and effects act on the relational state
+    (:func:`csql_sim.core.state.world.successor`).
+
     Raises:
         PlanError: ``<source> line L: step K <text> = <action> is not applicable in <state>: <why>``
             for the first action whose preconditions fail.
@@ -177,8 +181,9 @@ def check_plan(start: State, steps: Sequence[PlanStep], names: Sequence[str] | N
         for action in step.actions:
             k += 1
             if not is_legal(state, action):
-                own = step.text.replace(" ", "").lower() == action.name().lower()  # written in cube letters
-                part = "" if own else f" = {action.name()}" if len(step.actions) == 1 else f" (its {action.name()})"
+                label = action_name(action)
+                own = step.text.replace(" ", "").lower() == label.lower()  # written in cube letters
+                part = "" if own else f" = {label}" if len(step.actions) == 1 else f" (its {label})"
                 raise PlanError(f"{source} line {step.line}: step {k} {step.text}{part} is not applicable in "
                                 f"{state.notation()}: {why_not(state, action, None if own else names)}")
             state = successor(state, action)
@@ -202,7 +207,7 @@ def why_not(state: State, action: Action, names: Sequence[str] | None = None) ->
     if failed.what == "clear":
         if state.support[b] == HAND:
             return f"{name(b)} is held"
-        return f"{name(b)} is not clear ({name(state.above(b))} is on it)"
+        return f"{name(b)} is not clear ({name(state.support.index(b))} is on it)"
     where = state.support[b]
     now = "in the hand" if where == HAND else "on the table" if where == TABLE else f"on {name(where)}"
     target = "the table" if failed.value == TABLE else name(failed.value)

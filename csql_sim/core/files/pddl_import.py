@@ -22,12 +22,12 @@ Predicate spellings accepted: ``ontable``/``on-table``/``on_table``, ``handempty
 **Names.** The blocks are the problem's objects and the domain's constants, less the
 table (an object named ``table`` or of type ``table``), sorted by name (numbers inside
 names compare as numbers: ``b2`` before ``b10``); the first is cube A, the next B, and so
-on, whatever order the file lists them in. Between 2 and 6 blocks (the cubes A-F the scene
-has). :attr:`BlocksProblem.objects` are the names in lower case (as the parser reads
-them; PDDL names compare without case); the start state carries them as written in the
-file (:attr:`BlocksProblem.names`, the first spelling of each).
+on, whatever order the file lists them in. Between 2 and 26 blocks (letters A-Z; the arm
+itself takes at most 10 cubes). :attr:`BlocksProblem.objects` are the names in lower case
+(as the parser reads them; PDDL names compare without case); the start state carries them
+as written in the file (:attr:`BlocksProblem.names`, the first spelling of each).
 
-**Refused** with one line (:class:`PddlImportError`): unknown predicates, more than six
+**Refused** with one line (:class:`PddlImportError`): unknown predicates, more than 26
 blocks, an initial state that is not exactly one configuration (a block placed twice or
 nowhere, ``clear`` atoms that disagree with the towers, two blocks held), a goal that is
 not a conjunction of atoms and negated atoms, or one no state satisfies. A goal that
@@ -42,7 +42,8 @@ import re
 from dataclasses import dataclass, replace
 
 from csql_sim.core.model.goal_spec import Atom, GoalError, GoalSpec
-from csql_sim.core.state.world import BLOCK_NAMES, HAND, MAX_BLOCKS, MIN_BLOCKS, TABLE, State, WorldError
+from csql_sim.core.state.state import MAX_LETTERS
+from csql_sim.core.state.world import HAND, LETTERS, MIN_BLOCKS, TABLE, State, WorldError
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_text_file
 
@@ -72,8 +73,8 @@ class BlocksProblem:
 
     Attributes:
         name: the problem's name.
-        objects: the blocks' PDDL names; ``objects[i]`` is cube ``BLOCK_NAMES[i]``.
-        start: the initial state.
+        objects: the blocks' PDDL names; ``objects[i]`` is cube ``LETTERS[i]``.
+        start: the initial state (relational past six blocks).
         goal: the goal (full or partial).
         style: ``"4op"``, ``"move"`` or ``"csql"`` (see the module docstring).
         actions: the domain's action names when a domain was read, else None.
@@ -99,7 +100,7 @@ class BlocksProblem:
     @property
     def mapping(self) -> dict[str, str]:
         """PDDL object name -> cube letter."""
-        return {name: BLOCK_NAMES[i] for i, name in enumerate(self.objects)}
+        return {name: LETTERS[i] for i, name in enumerate(self.objects)}
 
     @property
     def index(self) -> dict[str, int]:
@@ -217,9 +218,8 @@ def _style(actions: frozenset[str]) -> str:
 
 
 def _check_count(n: int, source: str, objects: tuple[str, ...]) -> None:
-    if n > MAX_BLOCKS:
-        raise PddlImportError(f"{source}: {n} blocks ({' '.join(objects)}); csql-sim executes at most "
-                              f"{MAX_BLOCKS} (cubes A-F)")
+    if n > MAX_LETTERS:
+        raise PddlImportError(f"{source}: {n} blocks; csql-sim reads at most {MAX_LETTERS} (letters A-Z)")
     if n < MIN_BLOCKS:
         raise PddlImportError(f"{source}: {n} block(s); csql-sim needs at least {MIN_BLOCKS}")
 
@@ -266,7 +266,8 @@ def _canonical(atoms: list[tuple[str, tuple[str, ...]]], index: dict[str, int], 
     return out
 
 
-def _start_state(atoms: set[Atom], n: int, source: str, objects: tuple[str, ...], uses_hand: bool) -> State:
+def _start_state(atoms: set[Atom], n: int, source: str, objects: tuple[str, ...],
+                 uses_hand: bool) -> State:
     """The one configuration the initial atoms describe, or a one-line refusal."""
     where: dict[int, list[int]] = {i: [] for i in range(n)}
     for pred, args in atoms:
@@ -277,7 +278,8 @@ def _start_state(atoms: set[Atom], n: int, source: str, objects: tuple[str, ...]
         what = "is placed nowhere (no on, ontable or holding atom)" if not where[bad] else "is in two places"
         raise PddlImportError(f"{source}: the initial state is not a full configuration: {objects[bad]} {what}")
     try:
-        state = State(tuple(where[i][0] for i in range(n)))
+        support = tuple(where[i][0] for i in range(n))
+        state = State(support)
     except WorldError as exc:
         raise PddlImportError(f"{source}: the initial state is not a configuration ({exc})") from None
     if uses_hand and (("handempty", ()) in atoms) != (state.held is None):

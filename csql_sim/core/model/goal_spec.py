@@ -13,6 +13,13 @@ A PDDL goal is a conjunction of atoms; csql-sim's executor and planners take one
   satisfying state a breadth-first search from that state meets over the true transitions
   (fewest actions; ties broken by the stable action order), so a plan to it is an optimal
   plan for the whole goal set.
+
+Past six blocks (relational :class:`~csql_sim.core.state.world.State` states)
+the satisfying states are not listed: :meth:`GoalSpec.nearest` is then a *target*
+configuration derived from the given state (:func:`goal_target`): every block the goal
+places stands where the goal says, every other block keeps its support where that is
+consistent with the goal, else stands on the table (a short backtracking search settles
+negated atoms). The satisfiability check is the same search.
 """
 
 from __future__ import annotations
@@ -22,12 +29,14 @@ from collections import deque
 from dataclasses import dataclass, field
 
 from csql_sim.core.model.transition_table import true_table
-from csql_sim.core.state.world import HAND, TABLE, BlocksWorld, State, WorldError, all_states, block_name
+from csql_sim.core.state.world import HAND, LETTERS, MAX_BLOCKS, TABLE, BlocksWorld, State, WorldError, all_states
 
 Atom = tuple[str, tuple[int, ...]]
 """``(predicate, block indices)``; ``TABLE`` stands for the table in ``on``."""
 PREDICATES = {"on": 2, "clear": 1, "holding": 1, "handempty": 0}
 """The canonical predicates and their arities."""
+TARGET_SEARCH_LIMIT = 200_000
+"""The most partial assignments :func:`goal_target` tries before it gives up (negated atoms only)."""
 
 
 class GoalError(WorldError):
@@ -55,7 +64,7 @@ def atom_text(atom: Atom, names: tuple[str, ...] | None = None) -> str:
     def name(i: int) -> str:
         if i == TABLE:
             return "table"
-        return names[i] if names is not None else block_name(i).lower()
+        return names[i] if names is not None else LETTERS[i].lower()
 
     if pred == "on" and args[1] == TABLE:
         return f"(ontable {name(args[0])})"
@@ -90,13 +99,21 @@ class GoalSpec:
         for pred, args in self.positive | self.negative:
             if PREDICATES.get(pred) != len(args) or any(not (0 <= a < self.n or a == TABLE) for a in args):
                 raise GoalError(f"({pred} {' '.join(map(str, args))}) is not an atom of the {self.n}-block world")
-        if not self.states:
-            raise GoalError(f"no state of the {self.n}-block world satisfies the goal {self.text()}")
+        if self.enumerated:
+            if not self.states:
+                raise GoalError(f"no state of the {self.n}-block world satisfies the goal {self.text()}")
+        else:
+            goal_target(self, State((TABLE,) * self.n))
 
     @classmethod
     def of_state(cls, state: State, names: tuple[str, ...] | None = None) -> GoalSpec:
         """The full goal of one state."""
         return cls(state.n, state_atoms(state), names=names)
+
+    @property
+    def enumerated(self) -> bool:
+        """Whether the goal's states are listed (n <= 6); past six only targets are derived."""
+        return self.n <= MAX_BLOCKS
 
     def satisfied(self, state: State | None) -> bool:
         """Whether ``state`` satisfies every positive atom and no negated one (None: nothing perceived)."""
@@ -105,17 +122,36 @@ class GoalSpec:
         return all(holds(a, state) for a in self.positive) and not any(holds(a, state) for a in self.negative)
 
     @functools.cached_property
-    def states(self) -> tuple[State, ...]:
-        """Every state that satisfies the goal, in the stable state order."""
-        return tuple(s for s in all_states(self.n) if self.satisfied(s))
+    def states(self) -> tuple[State, ...] | tuple[State, ...]:
+        """Every state that satisfies the goal, in the stable state order.
+
+        Past six blocks only a full goal lists its one state; a partial one raises GoalError.
+        """
+        if self.enumerated:
+            return tuple(s for s in all_states(self.n) if self.satisfied(s))
+        if self.partial:
+            raise GoalError(f"the states of a partial goal of {self.n} blocks are not listed")
+        return (goal_target(self, State((TABLE,) * self.n)),)
 
     @property
     def partial(self) -> bool:
         """True when more than one state satisfies the goal."""
-        return len(self.states) > 1
+        if self.enumerated:
+            return len(self.states) > 1
+        return len({args[0] for pred, args in self.positive if pred in ("on", "holding")}) < self.n
+
+    @property
+    def count(self) -> int | None:
+        """How many states satisfy the goal (None: a partial goal past six blocks, not counted)."""
+        return len(self.states) if self.enumerated or not self.partial else None
 
     def nearest(self, state: State) -> State:
-        """The satisfying state fewest actions away from ``state`` (ties: the stable action order)."""
+        """The satisfying state fewest actions away from ``state`` (ties: the stable action order).
+
+        Past six blocks: the target :func:`goal_target` derives from ``state``.
+        """
+        if not self.enumerated:
+            return goal_target(self, state)
         if len(self.states) == 1:
             return self.states[0]
         return _nearest(self, state)
@@ -150,3 +186,94 @@ def _nearest(goal: GoalSpec, start: State) -> State:
                 seen.add(nxt)
                 queue.append(nxt)
     raise GoalError(f"no state satisfying {goal.text()} is reachable from {start.notation()}")
+
+
+def goal_target(goal: GoalSpec, state: State) -> State:
+    """A configuration satisfying ``goal`` that keeps as much of ``state`` as the goal allows.
+
+    A block the goal places (an ``on`` or ``holding`` atom) stands there; every other block
+    keeps its support in ``state`` when that is consistent (the support is not claimed by a
+    placed block, not required clear, not held, and makes no cycle), else stands on the
+    table. Negated atoms this leaves false are met by a depth-first search over the other
+    supports (table, blocks, hand, in that order; at most :data:`TARGET_SEARCH_LIMIT` tries).
+
+    Raises:
+        GoalError: no configuration satisfies the goal (or none was found within the limit).
+    """
+    n, fixed = goal.n, _placed(goal)
+    cleared = {args[0] for pred, args in goal.positive if pred == "clear"}
+    flat = [fixed.get(i, TABLE) for i in range(n)]
+    if not _valid(flat) or not all(holds(a, State(tuple(flat))) for a in goal.positive):
+        raise GoalError(f"no state of the {n}-block world satisfies the goal {goal.text()}")
+    support = [fixed[i] if i in fixed else _kept(i, state, fixed, cleared) for i in range(n)]
+    while (loop := _cycle(support)) is not None:  # a cycle always holds a block the goal does not place
+        support[next(i for i in loop if i not in fixed)] = TABLE
+    if goal.satisfied(State(tuple(support))):
+        return State(tuple(support))
+    options = [(fixed[i],) if i in fixed else tuple(dict.fromkeys(
+        s for s in (support[i], TABLE, *range(n), HAND) if s != i and s not in cleared)) for i in range(n)]
+    tries = [0]
+    found = _assign(goal, options, [], set(), tries)
+    if found is None:
+        more = f" (gave up after {TARGET_SEARCH_LIMIT} tries)" if tries[0] > TARGET_SEARCH_LIMIT else ""
+        raise GoalError(f"no state of the {n}-block world satisfies the goal {goal.text()}{more}")
+    return State(found)
+
+
+def _placed(goal: GoalSpec) -> dict[int, int]:
+    """Block -> support for the blocks the goal's ``on`` and ``holding`` atoms place."""
+    fixed: dict[int, int] = {}
+    for pred, args in goal.positive:
+        if pred in ("on", "holding"):
+            where = args[1] if pred == "on" else HAND
+            if fixed.setdefault(args[0], where) != where:
+                raise GoalError(f"no state of the {goal.n}-block world satisfies the goal {goal.text()}")
+    return fixed
+
+
+def _kept(i: int, state: State, fixed: dict[int, int], cleared: set[int]) -> int:
+    """Block i's support in ``state`` if the goal leaves it free, else the table."""
+    s = state.support[i]
+    taken = s in fixed.values() or s in cleared or fixed.get(s) == HAND
+    return TABLE if s == HAND or (s >= 0 and taken) else s
+
+
+def _cycle(support: list[int]) -> list[int] | None:
+    """The blocks of a cycle of supports, if there is one."""
+    for i in range(len(support)):
+        path, j = [i], support[i]
+        while j >= 0 and j not in path and len(path) <= len(support):
+            path.append(j)
+            j = support[j]
+        if j == i:
+            return path
+    return None
+
+
+def _valid(support: list[int]) -> bool:
+    try:
+        State(tuple(support))
+    except WorldError:
+        return False
+    return True
+
+
+def _assign(goal: GoalSpec, options: list, chosen: list[int], used: set[int], tries: list[int]) -> tuple | None:
+    """Depth-first: the first full assignment of supports that is a state satisfying ``goal``."""
+    if len(chosen) == goal.n:
+        if not _valid(chosen):
+            return None
+        return tuple(chosen) if goal.satisfied(State(tuple(chosen))) else None
+    for s in options[len(chosen)]:
+        tries[0] += 1
+        if tries[0] > TARGET_SEARCH_LIMIT:
+            return None
+        if s in used or (s == HAND and ("handempty", ()) in goal.positive):
+            continue
+        if s != TABLE:
+            used.add(s)
+        found = _assign(goal, options, [*chosen, s], used, tries)
+        used.discard(s)
+        if found is not None:
+            return found
+    return None

@@ -12,10 +12,11 @@ from csql_sim.core.files.pddl_import import PddlImportError, parse_problem_text,
 from csql_sim.core.model.goal_spec import GoalError, GoalSpec
 from csql_sim.core.model.search import bfs_plan
 from csql_sim.core.state.notation import parse_config
-from csql_sim.core.state.world import all_states
+from csql_sim.core.state.world import State, all_states
 from csql_sim.jobs.problems import DOMAIN_TEXT, generate_problem, task_problem_text, write_problem_set
 
 DATA = Path(__file__).resolve().parents[2] / "data" / "problems"
+LARGE = DATA.parent / "large"
 IPC2000 = """(define (problem BLOCKS-4-0)
 (:domain BLOCKS)
 (:objects D B A C )
@@ -102,11 +103,25 @@ def test_unrepresentable_problems_are_refused_in_one_line(text, needle):
     assert needle in str(caught.value) and "\n" not in str(caught.value)
 
 
-def test_more_than_six_blocks_are_refused(tmp_path):
+def test_past_six_blocks_the_start_is_relational_and_past_26_refused(tmp_path):
     path = tmp_path / "p8.pddl"
     path.write_text(generate_problem(8, np.random.default_rng(0)))
-    with pytest.raises(PddlImportError, match=r"8 blocks \(a b c d e f g h\); csql-sim executes at most 6"):
-        read_problem(path)
+    bp = read_problem(path)
+    assert isinstance(bp.start, State) and bp.n == 8 and bp.mapping["h"] == "H"
+    assert not bp.goal.partial and bp.goal.satisfied(bp.goal.states[0]) and not bp.goal.satisfied(bp.start)
+    names = " ".join(f"b{i}" for i in range(1, 28))
+    on_table = " ".join(f"(ontable b{i}) (clear b{i})" for i in range(1, 28))
+    with pytest.raises(PddlImportError, match=r"27 blocks; csql-sim reads at most 26"):
+        parse_problem_text(problem(f"(handempty) {on_table}", "(on b1 b2)", names))
+
+
+def test_names_past_six_blocks_sort_as_numbers_and_keep_their_spelling():
+    names = "Red green b10 b2 blue yellow orange pink"
+    init = " ".join(f"(ontable {x}) (clear {x})" for x in names.lower().split())
+    bp = parse_problem_text(problem(f"(handempty) {init}", "(and (on red b2) (on b10 pink))", names))
+    assert bp.objects == ("b2", "b10", "blue", "green", "orange", "pink", "red", "yellow")
+    assert bp.goal.partial and bp.goal.count is None
+    assert bp.goal.atom_texts() == ["(on b10 pink)", "(on red b2)"]
 
 
 def test_a_foreign_domain_is_refused():
@@ -213,3 +228,16 @@ def test_object_names_sort_as_numbers_without_converting_them():
 
     huge = "c" + "9" * 5000  # past Python's 4,300-digit limit for int()
     assert sorted(["b10", "b2", "B1", huge, "a"], key=name_key) == ["a", "B1", "b2", "b10", huge]
+
+
+def test_a_plan_for_eight_named_blocks_is_checked_relationally_and_refused_with_its_line():
+    bp = read_problem(LARGE / "blocks8-names.pddl", DATA / "domain.pddl")
+    steps = read_plan(LARGE / "blocks8-names.plan", bp.index, bp.n, bp.actions)
+    trace = check_plan(bp.start, steps, bp.objects, "p8.plan")
+    assert all(isinstance(s, State) for s in trace) and len(trace) == len(steps) + 1
+    assert bp.goal.satisfied(trace[-1]) and not bp.goal.satisfied(trace[-2])
+    bad = parse_plan(["(unstack x-ray b10)", "(stack x-ray ruby)"], bp.index, bp.n)
+    with pytest.raises(PlanError, match=r"^p8.plan line 2: step 2 \(stack x-ray ruby\) = stack\(H,F\) is not "
+                                        r"applicable in BFE,C,GAD\+H: ruby is not clear \(jade is on it\)$"):
+        check_plan(bp.start, bad, bp.objects, "p8.plan")
+    assert ipc_plan_text([steps[0].actions[0]]).splitlines()[0] == "(unstack h c)"
