@@ -79,6 +79,7 @@ def stop_pool(pool: ProcessPoolExecutor) -> None:
     """Cancel queued tasks and end every worker now (SIGTERM, then SIGKILL after a second)."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
     results = getattr(pool, "_result_queue", None)  # shutdown() drops it
+    manager = getattr(pool, "_executor_manager_thread", None)  # and this
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         if process.is_alive():
@@ -90,6 +91,10 @@ def stop_pool(pool: ProcessPoolExecutor) -> None:
             process.kill()
             process.join(STOP_SECONDS)
     _end_result_pipe(results)
+    if manager is not None and manager is not threading.current_thread():
+        # Let the manager thread close its wake-up pipe now: at exit the interpreter wakes every
+        # pool's manager, and a close racing that wake-up printed "Bad file descriptor" (CPython 3.11).
+        manager.join(STOP_SECONDS)
 
 
 def _end_result_pipe(results: object) -> None:
