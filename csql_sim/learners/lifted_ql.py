@@ -181,17 +181,67 @@ class LiftedRun:
         return LiftedPolicy(self.classifiers, meta)
 
 
+class _Ground:
+    """The ground Q-classifiers, made on demand: one per (state, target) met, by index.
+
+    Each holds the state's misplaced blocks (the lower bound of its value in moves), its learned
+    excess over that bound, its successors' indices (through :func:`after`, in move order) and
+    its moves' relations, all remembered.
+    """
+
+    def __init__(self) -> None:
+        self.index: dict[tuple[LargeState, LargeState], int] = {}
+        self.keys: list[tuple[LargeState, LargeState]] = []
+        self.low: list[int] = []
+        self.excess: list[float] = []
+        self.nexts: list[list[int] | None] = []
+        self.relations: list[tuple[tuple[Move, ...], list[tuple[int, ...]]] | None] = []
+
+    def of(self, state: LargeState, target: LargeState) -> int:
+        """The index of (state, target), made with excess 0 when new."""
+        key = (state, target)
+        i = self.index.get(key)
+        if i is None:
+            i = self.index[key] = len(self.keys)
+            self.keys.append(key)
+            self.low.append(well_placed(state, target).count(False))
+            self.excess.append(0.0)
+            self.nexts.append(None)
+            self.relations.append(None)
+        return i
+
+    def successors(self, i: int) -> list[int]:
+        """The indices of the hand-empty states after each move of state i (move order)."""
+        nexts = self.nexts[i]
+        if nexts is None:
+            state, target = self.keys[i]
+            nexts = self.nexts[i] = [self.of(after(state, m), target) for m in moves(state)]
+        return nexts
+
+    def moves_of(self, i: int) -> tuple[tuple[Move, ...], list[tuple[int, ...]]]:
+        """State i's legal moves and their relations (:class:`MoveRelations`)."""
+        found = self.relations[i]
+        if found is None:
+            rel = MoveRelations(*self.keys[i])
+            found = self.relations[i] = (rel.moves, [rel.bits(m) for m in rel.moves])
+        return found
+
+    def backup(self, i: int) -> list[float]:
+        """Q of every move of state i in moves (1 + the successor's value); the excess becomes the least."""
+        q = [1.0 + self.low[j] + self.excess[j] for j in self.successors(i)]
+        self.excess[i] = min(q) - self.low[i]
+        return q
+
+
 class _Learner:
     """One training run's classifiers and counters."""
 
     def __init__(self, params: LiftedParams, rng: np.random.Generator) -> None:
         self.params, self.rng = params, rng
         self.rules: list[_Rule] = []
-        self.ground: dict[tuple[LargeState, LargeState], float] = {}
+        self.ground = _Ground()
         self.goals: dict[int, list[LargeState]] = {}
         self.match: dict[tuple[tuple[int, ...], str], _Rule] = {}
-        self.misplaced: dict[tuple[LargeState, LargeState], int] = {}
-        self.successors: dict[tuple[LargeState, LargeState], list[LargeState]] = {}
         self.model = LiftedWorldModel(BLOCKS_WORLD)
         self.steps = self.reached = self.splits = self.merges = self.covered = 0
 
@@ -218,7 +268,9 @@ class _Learner:
     def trial(self) -> None:
         """One Q-learning trial: a training goal of a random size, a random start, up to 3n + 3 moves."""
         n = int(self.rng.choice(self.params.sizes))
-        pool = self.goals.setdefault(n, [sample_state(n, self.rng) for _ in range(self.params.goals)])
+        if n not in self.goals:
+            self.goals[n] = [sample_state(n, self.rng) for _ in range(self.params.goals)]
+        pool = self.goals[n]
         start = sample_state(n, self.rng)
         target = target_goal(start, pool[int(self.rng.integers(len(pool)))])
         state = start
@@ -233,54 +285,34 @@ class _Learner:
 
         With probability ``epsilon`` a random legal move is taken instead, its pick and put at once.
         """
-        rel = MoveRelations(state, target)
-        self.backup(rel, target)
+        i = self.ground.of(state, target)
+        move = self.backup(i)
         if self.rng.random() < self.params.epsilon:
-            return self.apply(state, rel.moves[int(self.rng.integers(len(rel.moves)))])
-        move = self.greedy(rel)
-        if state.held is None:
+            options = self.ground.moves_of(i)[0]
+            move = options[int(self.rng.integers(len(options)))]
+            if state.held is None:
+                state = self.model.successor(state, pick_action(state, move.block))
+                self.steps += 1
+        elif state.held is None:
             state = self.model.successor(state, pick_action(state, move.block))
             self.steps += 1
-            rel = MoveRelations(state, target)
-            self.backup(rel, target)
-            move = self.greedy(rel)
+            move = self.backup(self.ground.of(state, target))
         self.steps += 1
         return self.model.successor(state, put_action(move))
 
-    def greedy(self, rel: MoveRelations) -> Move:
-        """The move of least lifted advantage (ties: move order), as :class:`LiftedPolicy` chooses."""
-        return min(rel.moves, key=lambda m: self.rule_for(rel.bits(m), m.kind).advantage)
+    def backup(self, i: int) -> Move:
+        """The full backup of state i (its value, every move's lifted advantage); the greedy move after it.
 
-    def lower(self, state: LargeState, target: LargeState) -> int:
-        """Misplaced blocks (remembered): the lower bound of Q(s) in moves."""
-        key = (state, target)
-        if key not in self.misplaced:
-            self.misplaced[key] = well_placed(state, target).count(False)
-        return self.misplaced[key]
-
-    def value(self, state: LargeState, target: LargeState) -> float:
-        """Q(s) in moves: the ground classifier's value, made on demand (misplaced blocks + learned excess)."""
-        if state == target:
-            return 0.0
-        return self.lower(state, target) + self.ground.get((state, target), 0.0)
-
-    def backup(self, rel: MoveRelations, target: LargeState) -> dict[Move, float]:
-        """The full backup of one state: every move's Q, the state's new value, the lifted advantages."""
-        q = {m: 1.0 + self.value(after(rel.state, m), target) for m in rel.moves}
-        low = min(q.values())
-        self.ground[(rel.state, target)] = low - rel.misplaced()
-        for move, value in q.items():
-            bits = rel.bits(move)
+        The greedy move is the one of least lifted advantage (ties: move order), as
+        :class:`LiftedPolicy` chooses.
+        """
+        q = self.ground.backup(i)
+        low = min(q)
+        options, relations = self.ground.moves_of(i)
+        for move, bits, value in zip(options, relations, q, strict=True):
             self.rule_for(bits, move.kind).update(value - low, bits, self.params.beta)
-        return q
-
-    def apply(self, state: LargeState, move: Move) -> LargeState:
-        """The move through the world model: the pick (unless held) and the put."""
-        if state.held is None:
-            state = self.model.successor(state, pick_action(state, move.block))
-            self.steps += 1
-        self.steps += 1
-        return self.model.successor(state, put_action(move))
+        ranks = [self.rule_for(bits, move.kind).advantage for move, bits in zip(options, relations, strict=True)]
+        return options[ranks.index(min(ranks))]
 
     def replay(self) -> None:
         """A sweep through the model: back up every remembered hand-empty state once more; its successors join.
@@ -289,17 +321,10 @@ class _Learner:
         worlds, spreading from the states met: the ground values (and with them the lifted
         advantages) soon measure moves exactly instead of the misplaced-blocks lower bound.
         """
-        for (state, target) in list(self.ground):
-            if state.held is not None:
-                continue
-            nexts = self.successors.get((state, target))
-            if nexts is None:
-                nexts = self.successors[(state, target)] = [after(state, m) for m in moves(state)]
-            low = min(1.0 + self.value(s, target) for s in nexts)
-            self.ground[(state, target)] = low - self.lower(state, target)
-            for s in nexts:
-                if s != target:
-                    self.ground.setdefault((s, target), 0.0)
+        g = self.ground
+        for i in range(len(g.keys)):
+            if g.low[i] and g.keys[i][0].held is None:  # not the target, hand empty
+                g.backup(i)
 
     def frozen(self) -> tuple[LiftedQClassifier, ...]:
         """The classifiers now, sorted by kind and condition."""
@@ -386,7 +411,7 @@ def train_lifted(params: LiftedParams, rng: np.random.Generator,
         if k in checkpoints and at_checkpoint is not None:
             at_checkpoint(k, learner.frozen())
     return LiftedRun(learner.frozen(), params.trials, learner.steps, time.perf_counter() - t0,
-                     learner.reached, len(learner.ground), learner.splits, learner.merges, learner.covered)
+                     learner.reached, len(learner.ground.keys), learner.splits, learner.merges, learner.covered)
 
 
 __all__ = ["ATOMS", "TRAIN_SIZES", "LiftedParams", "LiftedRun", "train_lifted"]
