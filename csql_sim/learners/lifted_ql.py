@@ -15,8 +15,9 @@ through the world model of lifted rules (:data:`csql_sim.core.classifiers.lifted
   its pick; holding the block, the held state is backed up and the put chosen again, so the
   decision the policy makes after a pick (atom ``holding``) is practised. With probability
   ``epsilon`` a random legal move instead, its pick and put at once;
-* **update**: Q(s, m) = misplaced(s) + excess, one move costing 1, so every move of the state
-  is backed up through the model to ``1 + misplaced(s') + excess(s')`` (0 at the goal); the
+* **update**: Q(s, m) = misplaced(s) + excess, one move costing 1 (and ``early`` per block
+  still misplaced after it), so every move of the state is backed up through the model to
+  ``1 + early * misplaced(s') + misplaced(s') + excess(s')`` (excess 0 at the goal); the
   state's ground excess becomes the least of these minus misplaced(s), and the classifier
   that matches each move learns the move's advantage, its Q minus the least, with rate
   ``beta``; it also keeps, for each of its ``#`` atoms, the mean target when that atom held
@@ -87,6 +88,10 @@ class LiftedParams:
         sweep: trials between specialization and generalization sweeps. Range >= 1; default 100.
         replay: whether every sweep also backs up the remembered ground values through the
             world model (:meth:`_Learner.replay`). True or False; default True.
+        early: the cost of a move per block still misplaced after it, in moves. Range [0, 1);
+            default 0.02: too small to trade a move for it at five blocks, it makes the learner
+            prefer, among plans of one length, the one that places blocks sooner (a constructive
+            move before a table move that five blocks cannot tell apart from it).
     """
 
     trials: int = 3000
@@ -98,6 +103,7 @@ class LiftedParams:
     min_experience: int = 30
     sweep: int = 100
     replay: bool = True
+    early: float = 0.02
 
     def __post_init__(self) -> None:
         checks = {
@@ -110,6 +116,7 @@ class LiftedParams:
             "min_experience": isinstance(self.min_experience, int) and self.min_experience >= 1,
             "sweep": isinstance(self.sweep, int) and self.sweep >= 1,
             "replay": isinstance(self.replay, bool),
+            "early": 0 <= self.early < 1,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:
@@ -189,7 +196,8 @@ class _Ground:
     its moves' relations, all remembered.
     """
 
-    def __init__(self) -> None:
+    def __init__(self, early: float = 0.0) -> None:
+        self.early = early
         self.index: dict[tuple[LargeState, LargeState], int] = {}
         self.keys: list[tuple[LargeState, LargeState]] = []
         self.low: list[int] = []
@@ -227,8 +235,8 @@ class _Ground:
         return found
 
     def backup(self, i: int) -> list[float]:
-        """Q of every move of state i in moves (1 + the successor's value); the excess becomes the least."""
-        q = [1.0 + self.low[j] + self.excess[j] for j in self.successors(i)]
+        """Q of every move of state i: 1 + early x misplaced(s') + Q(s'); the excess becomes the least."""
+        q = [1.0 + (1.0 + self.early) * self.low[j] + self.excess[j] for j in self.successors(i)]
         self.excess[i] = min(q) - self.low[i]
         return q
 
@@ -239,7 +247,7 @@ class _Learner:
     def __init__(self, params: LiftedParams, rng: np.random.Generator) -> None:
         self.params, self.rng = params, rng
         self.rules: list[_Rule] = []
-        self.ground = _Ground()
+        self.ground = _Ground(params.early)
         self.goals: dict[int, list[LargeState]] = {}
         self.match: dict[tuple[tuple[int, ...], str], _Rule] = {}
         self.model = LiftedWorldModel(BLOCKS_WORLD)

@@ -18,7 +18,7 @@ SHIPPED = Path(__file__).resolve().parents[2] / "assets" / "rules" / "lifted.jso
 
 @pytest.mark.parametrize("change", [{"trials": 0}, {"sizes": (6,)}, {"sizes": ()}, {"beta": 0.0}, {"epsilon": 1.0},
                                     {"tau": float("inf")}, {"goals": 0}, {"min_experience": 0}, {"sweep": 0},
-                                    {"replay": 1}])
+                                    {"replay": 1}, {"early": 1.0}])
 def test_out_of_range_parameters_are_refused_by_name(change):
     with pytest.raises(ParamsError) as exc:
         LiftedParams(**change)
