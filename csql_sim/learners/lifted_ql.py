@@ -49,19 +49,16 @@ import numpy as np
 from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD
 from csql_sim.core.model.lifted_model import LiftedWorldModel
 from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier, condition_holds
-from csql_sim.core.state.goal_relations import well_placed
 from csql_sim.core.state.large_state import LargeState
 from csql_sim.core.state.move_relations import (
     ATOMS,
     Move,
-    MoveRelations,
-    after,
-    moves,
     pick_action,
     put_action,
     target_goal,
 )
 from csql_sim.core.state.state_count import sample_state
+from csql_sim.learners.lifted_ground import GroundValues
 from csql_sim.learners.params import ParamsError
 
 TRAIN_SIZES = (3, 4, 5)
@@ -188,66 +185,13 @@ class LiftedRun:
         return LiftedPolicy(self.classifiers, meta)
 
 
-class _Ground:
-    """The ground Q-classifiers, made on demand: one per (state, target) met, by index.
-
-    Each holds the state's misplaced blocks (the lower bound of its value in moves), its learned
-    excess over that bound, its successors' indices (through :func:`after`, in move order) and
-    its moves' relations, all remembered.
-    """
-
-    def __init__(self, early: float = 0.0) -> None:
-        self.early = early
-        self.index: dict[tuple[LargeState, LargeState], int] = {}
-        self.keys: list[tuple[LargeState, LargeState]] = []
-        self.low: list[int] = []
-        self.excess: list[float] = []
-        self.nexts: list[list[int] | None] = []
-        self.relations: list[tuple[tuple[Move, ...], list[tuple[int, ...]]] | None] = []
-
-    def of(self, state: LargeState, target: LargeState) -> int:
-        """The index of (state, target), made with excess 0 when new."""
-        key = (state, target)
-        i = self.index.get(key)
-        if i is None:
-            i = self.index[key] = len(self.keys)
-            self.keys.append(key)
-            self.low.append(well_placed(state, target).count(False))
-            self.excess.append(0.0)
-            self.nexts.append(None)
-            self.relations.append(None)
-        return i
-
-    def successors(self, i: int) -> list[int]:
-        """The indices of the hand-empty states after each move of state i (move order)."""
-        nexts = self.nexts[i]
-        if nexts is None:
-            state, target = self.keys[i]
-            nexts = self.nexts[i] = [self.of(after(state, m), target) for m in moves(state)]
-        return nexts
-
-    def moves_of(self, i: int) -> tuple[tuple[Move, ...], list[tuple[int, ...]]]:
-        """State i's legal moves and their relations (:class:`MoveRelations`)."""
-        found = self.relations[i]
-        if found is None:
-            rel = MoveRelations(*self.keys[i])
-            found = self.relations[i] = (rel.moves, [rel.bits(m) for m in rel.moves])
-        return found
-
-    def backup(self, i: int) -> list[float]:
-        """Q of every move of state i: 1 + early x misplaced(s') + Q(s'); the excess becomes the least."""
-        q = [1.0 + (1.0 + self.early) * self.low[j] + self.excess[j] for j in self.successors(i)]
-        self.excess[i] = min(q) - self.low[i]
-        return q
-
-
 class _Learner:
     """One training run's classifiers and counters."""
 
     def __init__(self, params: LiftedParams, rng: np.random.Generator) -> None:
         self.params, self.rng = params, rng
         self.rules: list[_Rule] = []
-        self.ground = _Ground(params.early)
+        self.ground = GroundValues(params.early)
         self.goals: dict[int, list[LargeState]] = {}
         self.match: dict[tuple[tuple[int, ...], str], _Rule] = {}
         self.model = LiftedWorldModel(BLOCKS_WORLD)
