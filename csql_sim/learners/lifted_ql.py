@@ -10,17 +10,27 @@ through the world model of lifted rules (:data:`csql_sim.core.classifiers.lifted
 * **match and cover**: every legal move is bound to ``?x`` and ``?d``; a move that no
   classifier matches is covered by a new classifier whose condition is the move's
   relations exactly (excess 0: optimistic, so it gets tried);
-* **act**: the move of least predicted excess (its most specific matching classifier),
-  or with probability ``epsilon`` a random legal move;
-* **update**: Q(s, m) = misplaced(s) + excess, one move costing 1, so the classifier that
-  predicted the move learns the target ``1 + misplaced(s') - misplaced(s) + min excess(s')``
-  (0 after the goal) with rate ``beta``; it also keeps, for each of its ``#`` atoms, the mean
-  target when that atom held and when it did not;
+* **act** as the policy acts: with the hand empty, the move its classifiers rank first
+  (least advantage of the most specific matching classifier, ties in move order) and only
+  its pick; holding the block, the held state is backed up and the put chosen again, so the
+  decision the policy makes after a pick (atom ``holding``) is practised. With probability
+  ``epsilon`` a random legal move instead, its pick and put at once;
+* **update**: Q(s, m) = misplaced(s) + excess, one move costing 1 (and ``early`` per block
+  still misplaced after it), so every move of the state is backed up through the model to
+  ``1 + early * misplaced(s') + misplaced(s') + excess(s')`` (excess 0 at the goal); the
+  state's ground excess becomes the least of these minus misplaced(s), and the classifier
+  that matches each move learns the move's advantage, its Q minus the least, with rate
+  ``beta``; it also keeps, for each of its ``#`` atoms, the mean target when that atom held
+  and when it did not;
 * every ``sweep`` trials, **specialization**: a classifier whose targets differ by more
   than ``tau`` between the two values of one of its ``#`` atoms is split on the atom that
   separates them most; **generalization**: two classifiers of one kind whose conditions
   differ in one atom only, both with ``min_experience`` updates and excesses within
-  ``tau / 2``, are merged into one with ``#`` there.
+  ``tau / 2``, are merged into one with ``#`` there; with ``replay``, before these, a
+  **sweep through the model**: every remembered hand-empty state is backed up once more and
+  its successors join the memory (value iteration over the training goals' worlds), so the
+  ground values stop resting on the misplaced-blocks lower bound, under which a put onto a
+  block that must move again ties with the table put.
 
 The learned classifiers plan greedily (:class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy`)
 for any number of blocks up to 26: no atom names a block, so nothing is specific to the
@@ -31,7 +41,7 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass, field, fields
 
 import numpy as np
@@ -39,10 +49,16 @@ import numpy as np
 from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD
 from csql_sim.core.model.lifted_model import LiftedWorldModel
 from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier, condition_holds
-from csql_sim.core.state.goal_relations import well_placed
-from csql_sim.core.state.move_relations import ATOMS, Move, MoveRelations, after, pick_action, put_action, target_goal
+from csql_sim.core.state.move_relations import (
+    ATOMS,
+    Move,
+    pick_action,
+    put_action,
+    target_goal,
+)
 from csql_sim.core.state.state_count import sample_state
 from csql_sim.core.state.world import State
+from csql_sim.learners.lifted_ground import GroundValues
 from csql_sim.learners.params import ParamsError
 
 TRAIN_SIZES = (3, 4, 5)
@@ -67,6 +83,12 @@ class LiftedParams:
             closely are merged).
         min_experience: updates before a classifier is split or merged. Range >= 1; default 30.
         sweep: trials between specialization and generalization sweeps. Range >= 1; default 100.
+        replay: whether every sweep also backs up the remembered ground values through the
+            world model (:meth:`_Learner.replay`). True or False; default True.
+        early: the cost of a move per block still misplaced after it, in moves. Range [0, 1);
+            default 0.02: too small to trade a move for it at five blocks, it makes the learner
+            prefer, among plans of one length, the one that places blocks sooner (a constructive
+            move before a table move that five blocks cannot tell apart from it).
     """
 
     trials: int = 3000
@@ -77,6 +99,8 @@ class LiftedParams:
     tau: float = 0.05
     min_experience: int = 30
     sweep: int = 100
+    replay: bool = True
+    early: float = 0.02
 
     def __post_init__(self) -> None:
         checks = {
@@ -88,6 +112,8 @@ class LiftedParams:
             "tau": 0 < self.tau < math.inf,
             "min_experience": isinstance(self.min_experience, int) and self.min_experience >= 1,
             "sweep": isinstance(self.sweep, int) and self.sweep >= 1,
+            "replay": isinstance(self.replay, bool),
+            "early": 0 <= self.early < 1,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:
@@ -165,14 +191,21 @@ class _Learner:
     def __init__(self, params: LiftedParams, rng: np.random.Generator) -> None:
         self.params, self.rng = params, rng
         self.rules: list[_Rule] = []
-        self.ground: dict[tuple[State, State], float] = {}
+        self.ground = GroundValues(params.early)
         self.goals: dict[int, list[State]] = {}
+        self.match: dict[tuple[tuple[int, ...], str], _Rule] = {}
         self.model = LiftedWorldModel(BLOCKS_WORLD)
         self.steps = self.reached = self.splits = self.merges = self.covered = 0
 
     def rule_for(self, bits: tuple[int, ...], kind: str) -> _Rule:
-        """The most specific matching rule (ties: smaller error), covering when none matches."""
-        best = None
+        """The most specific matching rule (ties: smaller error), covering when none matches.
+
+        Remembered until the next sweep: a covered rule matches its own relations only.
+        """
+        key = (bits, kind)
+        best = self.match.get(key)
+        if best is not None:
+            return best
         for r in self.rules:
             if r.matches(bits, kind) and (best is None or (r.condition.count("#"), r.error)
                                           < (best.condition.count("#"), best.error)):
@@ -181,12 +214,15 @@ class _Learner:
             best = _Rule("".join(map(str, bits)), kind)
             self.rules.append(best)
             self.covered += 1
+        self.match[key] = best
         return best
 
     def trial(self) -> None:
         """One Q-learning trial: a training goal of a random size, a random start, up to 3n + 3 moves."""
         n = int(self.rng.choice(self.params.sizes))
-        pool = self.goals.setdefault(n, [sample_state(n, self.rng) for _ in range(self.params.goals)])
+        if n not in self.goals:
+            self.goals[n] = [sample_state(n, self.rng) for _ in range(self.params.goals)]
+        pool = self.goals[n]
         start = sample_state(n, self.rng)
         target = target_goal(start, pool[int(self.rng.integers(len(pool)))])
         state = start
@@ -194,43 +230,66 @@ class _Learner:
             if state == target:
                 self.reached += 1
                 return
-            q = self.backup(MoveRelations(state, target), target)
-            moves = list(q)
-            if self.rng.random() < self.params.epsilon:
-                move = moves[int(self.rng.integers(len(moves)))]
-            else:
-                move = min(moves, key=q.__getitem__)
-            state = self.apply(state, move)
+            state = self.step(state, target)
 
-    def value(self, state: State, target: State) -> float:
-        """Q(s) in moves: the ground classifier's value, made on demand (misplaced blocks + learned excess)."""
-        if state == target:
-            return 0.0
-        return well_placed(state, target).count(False) + self.ground.get((state, target), 0.0)
+    def step(self, state: State, target: State) -> State:
+        """One move as the policy makes it: back up, choose; after a pick, back up the held state and choose the put.
 
-    def backup(self, rel: MoveRelations, target: State) -> dict[Move, float]:
-        """The full backup of one state: every move's Q, the state's new value, the lifted advantages."""
-        q = {m: 1.0 + self.value(after(rel.state, m), target) for m in rel.moves}
-        low = min(q.values())
-        self.ground[(rel.state, target)] = low - rel.misplaced()
-        for move, value in q.items():
-            bits = rel.bits(move)
-            self.rule_for(bits, move.kind).update(value - low, bits, self.params.beta)
-        return q
-
-    def apply(self, state: State, move: Move) -> State:
-        """The move through the world model: the pick (unless held) and the put."""
-        if state.held is None:
+        With probability ``epsilon`` a random legal move is taken instead, its pick and put at once.
+        """
+        i = self.ground.of(state, target)
+        move = self.backup(i)
+        if self.rng.random() < self.params.epsilon:
+            options = self.ground.moves_of(i)[0]
+            move = options[int(self.rng.integers(len(options)))]
+            if state.held is None:
+                state = self.model.successor(state, pick_action(state, move.block))
+                self.steps += 1
+        elif state.held is None:
             state = self.model.successor(state, pick_action(state, move.block))
             self.steps += 1
+            move = self.backup(self.ground.of(state, target))
         self.steps += 1
         return self.model.successor(state, put_action(move))
 
+    def backup(self, i: int) -> Move:
+        """The full backup of state i (its value, every move's lifted advantage); the greedy move after it.
+
+        The greedy move is the one of least lifted advantage (ties: move order), as
+        :class:`LiftedPolicy` chooses.
+        """
+        q = self.ground.backup(i)
+        low = min(q)
+        options, relations = self.ground.moves_of(i)
+        for move, bits, value in zip(options, relations, q, strict=True):
+            self.rule_for(bits, move.kind).update(value - low, bits, self.params.beta)
+        ranks = [self.rule_for(bits, move.kind).advantage for move, bits in zip(options, relations, strict=True)]
+        return options[ranks.index(min(ranks))]
+
+    def replay(self) -> None:
+        """A sweep through the model: back up every remembered hand-empty state once more; its successors join.
+
+        Repeated every ``sweep`` trials, these passes are value iteration over the training goals'
+        worlds, spreading from the states met: the ground values (and with them the lifted
+        advantages) soon measure moves exactly instead of the misplaced-blocks lower bound.
+        """
+        g = self.ground
+        for i in range(len(g.keys)):
+            if g.low[i] and g.keys[i][0].held is None:  # not the target, hand empty
+                g.backup(i)
+
+    def frozen(self) -> tuple[LiftedQClassifier, ...]:
+        """The classifiers now, sorted by kind and condition."""
+        return tuple(r.frozen() for r in sorted(self.rules, key=lambda r: (r.kind, r.condition)))
+
     def sweep(self) -> None:
         """Specialize the rules whose ``#`` hides a difference; merge siblings that agree."""
+        if self.params.replay:
+            self.replay()
         self._specialize()
         while self._generalize_once():
             pass
+        self.match.clear()
 
     def _specialize(self) -> None:
         p = self.params
@@ -279,13 +338,19 @@ def _sibling_position(a: _Rule, b: _Rule) -> int | None:
 
 
 def train_lifted(params: LiftedParams, rng: np.random.Generator,
-                 progress: Callable[[int, int], None] | None = None) -> LiftedRun:
+                 progress: Callable[[int, int], None] | None = None,
+                 checkpoints: Collection[int] = (),
+                 at_checkpoint: Callable[[int, tuple[LiftedQClassifier, ...]], None] | None = None) -> LiftedRun:
     """Learn lifted Q-classifiers from an empty population (module docstring).
 
     Args:
         params: the learner's parameters.
         rng: the run's one generator (pairs, exploration).
         progress: called with (trials done, trials) after every sweep.
+        checkpoints: trial counts at which to call ``at_checkpoint``.
+        at_checkpoint: called with (trials done, the classifiers then), after that trial's sweep
+            if it has one; the run goes on unchanged, so a checkpoint at a multiple of ``sweep``
+            gives the classifiers of a run of that many trials.
     """
     learner = _Learner(params, rng)
     t0 = time.perf_counter()
@@ -295,9 +360,10 @@ def train_lifted(params: LiftedParams, rng: np.random.Generator,
             learner.sweep()
             if progress is not None:
                 progress(k, params.trials)
-    rules = sorted(learner.rules, key=lambda r: (r.kind, r.condition))
-    return LiftedRun(tuple(r.frozen() for r in rules), params.trials, learner.steps, time.perf_counter() - t0,
-                     learner.reached, len(learner.ground), learner.splits, learner.merges, learner.covered)
+        if k in checkpoints and at_checkpoint is not None:
+            at_checkpoint(k, learner.frozen())
+    return LiftedRun(learner.frozen(), params.trials, learner.steps, time.perf_counter() - t0,
+                     learner.reached, len(learner.ground.keys), learner.splits, learner.merges, learner.covered)
 
 
 __all__ = ["ATOMS", "TRAIN_SIZES", "LiftedParams", "LiftedRun", "train_lifted"]

@@ -10,14 +10,15 @@ from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state_count import sample_pairs, state_count, unrank_state
-from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted_ql import ATOMS, LiftedParams, train_lifted
 from csql_sim.learners.params import ParamsError
 
 SHIPPED = Path(__file__).resolve().parents[2] / "assets" / "rules" / "lifted.json"
 
 
 @pytest.mark.parametrize("change", [{"trials": 0}, {"sizes": (6,)}, {"sizes": ()}, {"beta": 0.0}, {"epsilon": 1.0},
-                                    {"tau": float("inf")}, {"goals": 0}, {"min_experience": 0}, {"sweep": 0}])
+                                    {"tau": float("inf")}, {"goals": 0}, {"min_experience": 0}, {"sweep": 0},
+                                    {"replay": 1}, {"early": 1.0}])
 def test_out_of_range_parameters_are_refused_by_name(change):
     with pytest.raises(ParamsError) as exc:
         LiftedParams(**change)
@@ -32,6 +33,17 @@ def test_a_short_run_is_deterministic_and_grows_from_an_empty_population():
     assert 0 < len(a.classifiers) <= a.covered + a.splits
     assert a.ground > 0 and a.reached <= a.trials
     assert all(set(c.condition) <= set("01#") for c in a.classifiers)
+
+
+def test_the_held_decision_is_practised_and_checkpoints_give_the_shorter_run():
+    seen = {}
+    params = LiftedParams(trials=200, sweep=50)
+    run = train_lifted(params, np.random.default_rng(2), checkpoints={100, 150},
+                       at_checkpoint=lambda k, classifiers: seen.setdefault(k, classifiers))
+    assert set(seen) == {100, 150}
+    assert seen[100] == train_lifted(LiftedParams(trials=100, sweep=50), np.random.default_rng(2)).classifiers
+    assert seen[150] != run.classifiers
+    assert any(c.condition[ATOMS.index("holding")] == "1" for c in run.classifiers)  # puts after its own picks
 
 
 @pytest.fixture(scope="module")
@@ -64,3 +76,12 @@ def test_learned_on_five_blocks_solves_every_pair_of_a_seeded_sample_at_ten(lear
     for start, goal in sample_pairs(10, 100, np.random.default_rng(10)):
         run = rollout_relational(policy, start, goal)
         assert run.reached, (start, goal, run.reason)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(10))
+def test_every_seed_at_the_defaults_solves_a_seeded_sample_at_ten(seed):
+    policy = train_lifted(LiftedParams(), np.random.default_rng(seed)).policy()
+    for start, goal in sample_pairs(10, 200, np.random.default_rng(200)):
+        run = rollout_relational(policy, start, goal)
+        assert run.reached, (seed, start, goal, run.reason)

@@ -4,12 +4,13 @@ A lifted Q-classifier reads the relations of a move (:mod:`csql_sim.core.state.m
 instead of a state message, so one classifier speaks of every block at once. It is
 written, in the paper's style of ``#`` for don't care, as::
 
-    Q 1110#1# move(?x,?d)->table  advantage=0.007 error=0.015 experience=4743
+    Q 1110#1## move(?x,?d)->table  advantage=0.007 error=0.015 experience=4743
 
 * the condition, one character per atom of :data:`~csql_sim.core.state.move_relations.ATOMS`
   (``misplaced(?x)``, ``goal-on(?x,?d)``, ``ready(?d)``, ``deadlocked(?x)``,
-  ``above-needed(?x)``, ``least-stuck(?x)``, ``deadlock``): ``1`` holds, ``0`` does not,
-  ``#`` either;
+  ``above-needed(?x)``, ``least-stuck(?x)``, ``deadlock``, ``holding``): ``1`` holds, ``0``
+  does not, ``#`` either; a file written with the first seven atoms only is read with ``#``
+  for ``holding``;
 * the action: move ``?x`` to the table (``->table``) or onto a block ``?d`` (``->block``);
 * the learned **advantage**: how many moves more than the state's best move the
   classifier expects its move to cost (0: a best move), with the mean absolute error of
@@ -184,17 +185,27 @@ def dumps_lifted_policy(classifiers: Iterable[LiftedQClassifier], meta: dict) ->
 def loads_lifted_policy(text: str, source: str = "lifted Q-classifier file") -> LiftedPolicy:
     """The policy of a file's text; raises LiftedPolicyError naming the source and what is wrong."""
     doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, LIFTED_Q_VERSION, LiftedPolicyError)
-    if doc.get("atoms") != list(ATOMS):
+    atoms = doc.get("atoms")
+    if not isinstance(atoms, list) or atoms != list(ATOMS[:len(atoms)]) or len(atoms) < len(ATOMS) - 1:
         raise LiftedPolicyError(f"{source} names other atoms than this csql-sim's {', '.join(ATOMS)}")
+    pad = "#" * (len(ATOMS) - len(atoms))  # a file written before ``holding``: either value
     lines, meta = doc.get("classifiers"), doc.get("meta", {})
     if not isinstance(lines, list) or not all(isinstance(x, str) for x in lines) or not isinstance(meta, dict):
         raise LiftedPolicyError(f"{source}: 'classifiers' must be a list of lines and 'meta' an object")
     if not 0 < len(lines) <= MAX_CLASSIFIERS:
         raise LiftedPolicyError(f"{source} holds {len(lines)} classifiers; expected 1..{MAX_CLASSIFIERS}")
     try:
-        return LiftedPolicy([parse_lifted_q(x) for x in lines], meta)
+        return LiftedPolicy([_padded(parse_lifted_q, x, pad) for x in lines], meta)
     except LiftedPolicyError as exc:
         raise LiftedPolicyError(f"{source}: {exc}") from None
+
+
+def _padded(parse, line: str, pad: str) -> LiftedQClassifier:
+    """One line read with ``pad`` (``#`` for atoms the file predates) after its condition."""
+    if pad:
+        head, sep, rest = line.strip().partition(" move(")
+        line = head + pad + sep + rest
+    return parse(line)
 
 
 def load_lifted_policy(path: str | os.PathLike) -> LiftedPolicy:

@@ -22,6 +22,7 @@ The relations of a move, in this order, are the atoms a condition tests (``1`` h
                       no other move to the table would leave fewer blocks deadlocked
 ``deadlock``          some block is deadlocked (a relation of the state, not the move:
                       it tells states that need a detour from those that do not)
+``holding``           the move is the put of a held block (the decision after a pick)
 ====================  ===================================================================
 
 The move's kind (``table`` or ``block``) is the classifier's action, not an atom. The
@@ -36,7 +37,7 @@ from csql_sim.core.state.goal_relations import deadlocked, well_placed
 from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 
 ATOMS = ("misplaced(?x)", "goal-on(?x,?d)", "ready(?d)", "deadlocked(?x)", "above-needed(?x)", "least-stuck(?x)",
-         "deadlock")
+         "deadlock", "holding")
 """The relations of a move, in condition order."""
 KINDS = ("table", "block")
 """A move's kind: to the table, or onto a block."""
@@ -143,6 +144,7 @@ class MoveRelations:
             int(_needed_below(s, t, self.placed, x)),
             int(d == TABLE and self.stuck_after[move] == self.least),
             int(bool(self.stuck)),
+            int(s.held is not None),
         )
 
     def misplaced(self) -> int:

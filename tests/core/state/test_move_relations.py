@@ -40,7 +40,7 @@ def test_moves_are_exactly_the_legal_pick_and_put_pairs_at_four_blocks():
 def test_relations_follow_their_definitions():
     state, goal = parse_config("CAB,ED"), parse_config("ABC,DE")
     rel = MoveRelations(state, goal)
-    assert len(ATOMS) == 7
+    assert len(ATOMS) == 8
     placed = well_placed(state, goal)
     stuck = deadlocked(state, goal)
     for m in rel.moves:
@@ -49,6 +49,9 @@ def test_relations_follow_their_definitions():
         assert bits[1] == (goal.support[m.block] == m.onto)
         assert bits[3] == (m.block in stuck)
         assert bits[6] == bool(stuck)
+        assert bits[7] == 0  # the hand is empty: no move is the put of a held block
+    held = MoveRelations(parse_config("CA,ED+B"), goal)
+    assert held.moves and all(held.bits(m)[7] == 1 for m in held.moves)
     # goal: E on the table, D on E. With E clear on A (misplaced), D onto E is not for good
     goal = parse_config("ABC,ED")
     assert MoveRelations(parse_config("AE,D,CB"), goal).bits(Move(3, 4))[:3] == (1, 1, 0)
