@@ -38,7 +38,7 @@ from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_
 from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
 from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
 from csql_sim.core.policies.policy import Policy
-from csql_sim.core.state.world import LETTERS, Action, State
+from csql_sim.core.state.world import LETTERS, MAX_BLOCKS, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
@@ -64,7 +64,8 @@ class PlanReplay:
 
     def __init__(self, actions: Sequence[Action], trace: Sequence[State]) -> None:
         self.actions, self.trace = tuple(actions), tuple(trace)
-        self.blocks = self.trace[0].n if isinstance(self.trace[0], State) else None  # not a ground table past six
+        n = self.trace[0].n
+        self.blocks = n if n <= MAX_BLOCKS else None  # not a ground table past six
         self.next = 0
         self.issued = False
         self.diverged: tuple[int, State] | None = None

@@ -156,7 +156,6 @@ class LiftedPolicy(Policy):
 
     def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``: None at the goal or when no classifier matches."""
-        state, goal = _relational(state), _relational(goal)
         if state == goal:
             return None
         target = target_goal(state, goal)
@@ -166,10 +165,6 @@ class LiftedPolicy(Policy):
         if move is None:
             return None
         return put_action(move) if state.held is not None else pick_action(state, move.block)
-
-
-def _relational(state: State) -> State:
-    return state if isinstance(state, State) else state
 
 
 # ---------------------------------------------------------------- the file
