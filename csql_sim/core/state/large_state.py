@@ -99,7 +99,8 @@ class LargeState:
 
 def _validate(support: tuple[int, ...]) -> None:
     n = len(support)
-    check_large_n(n)
+    if n < MIN_BLOCKS:  # any n from supports; the letter notation alone is capped at 26 (check_large_n)
+        raise WorldError(f"number of blocks must be at least {MIN_BLOCKS}, got {n}")
     if support.count(HAND) > 1:
         raise WorldError("more than one block is held")
     under: set[int] = set()
