@@ -27,21 +27,37 @@ which is kept for n <= 6.
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
 
-from csql_sim.core.state.large_state import LargeState, check_large_n
-from csql_sim.core.state.world import HAND, TABLE, WorldError
+from csql_sim.core.state.large_state import LargeState
+from csql_sim.core.state.world import HAND, MIN_BLOCKS, TABLE, WorldError
+
+MAX_COUNTED = 2000
+"""The most blocks counted, ranked and sampled here (the integers have thousands of digits)."""
 
 
-@functools.cache
+def check_counted_n(n: int) -> int:
+    """Return ``n`` if it is 2..MAX_COUNTED, else raise WorldError."""
+    if not isinstance(n, int) or isinstance(n, bool) or not MIN_BLOCKS <= n <= MAX_COUNTED:
+        raise WorldError(f"number of blocks must be {MIN_BLOCKS}..{MAX_COUNTED}, got {n!r}")
+    return n
+
+
+_FORESTS = [1, 1]
+
+
 def forest_count(m: int) -> int:
-    """F(m): the hand-empty configurations of m blocks (sets of towers)."""
-    if m == 0:
-        return 1
-    return sum(_tower_term(m, k) for k in range(1, m + 1))
+    """F(m): the hand-empty configurations of m blocks (sets of towers).
+
+    By the sum in the module docstring, or as fast by its equivalent recurrence
+    F(m) = (2m - 1) F(m-1) - (m-1)(m-2) F(m-2) (OEIS A000262), kept in a list.
+    """
+    while len(_FORESTS) <= m:
+        k = len(_FORESTS)
+        _FORESTS.append((2 * k - 1) * _FORESTS[k - 1] - (k - 1) * (k - 2) * _FORESTS[k - 2])
+    return _FORESTS[m]
 
 
 def _tower_term(m: int, k: int) -> int:
@@ -51,7 +67,7 @@ def _tower_term(m: int, k: int) -> int:
 
 def state_count(n: int) -> int:
     """S(n): the states of n blocks (hand empty, or one block held)."""
-    check_large_n(n)
+    check_counted_n(n)
     return forest_count(n) + n * forest_count(n - 1)
 
 
@@ -185,6 +201,12 @@ def uniform_below(bound: int, rng: np.random.Generator) -> int:
 def sample_state(n: int, rng: np.random.Generator) -> LargeState:
     """One state of n blocks, uniformly at random."""
     return unrank_state(uniform_below(state_count(n), rng), n)
+
+
+def sample_hand_empty(n: int, rng: np.random.Generator) -> LargeState:
+    """One hand-empty state of n blocks, uniformly at random (all F(n) equally likely)."""
+    check_counted_n(n)
+    return unrank_state(uniform_below(forest_count(n), rng), n)
 
 
 def sample_pairs(n: int, k: int, rng: np.random.Generator) -> list[tuple[LargeState, LargeState]]:

@@ -1,18 +1,22 @@
+import math
+
 import numpy as np
 import pytest
 
 from csql_sim.core.state.large_state import LargeState
 from csql_sim.core.state.state_count import (
+    MAX_COUNTED,
     forest_count,
     pair_count,
     rank_state,
+    sample_hand_empty,
     sample_pairs,
     sample_state,
     state_count,
     uniform_below,
     unrank_state,
 )
-from csql_sim.core.state.world import all_states
+from csql_sim.core.state.world import WorldError, all_states
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 5, 6])
@@ -65,3 +69,22 @@ def test_sampling_at_three_blocks_reaches_every_state_about_equally():
     seen = [rank_state(sample_state(3, rng)) for _ in range(4400)]
     counts = np.bincount(seen, minlength=22)
     assert counts.min() > 120 and counts.max() < 280  # 200 expected each
+
+
+def test_the_forest_recurrence_is_the_defining_sum():
+    def by_sum(m, memo={0: 1}):  # noqa: B006 - a memo across calls
+        if m not in memo:
+            memo[m] = sum(math.comb(m - 1, k - 1) * math.factorial(k) * by_sum(m - k) for k in range(1, m + 1))
+        return memo[m]
+
+    assert [forest_count(m) for m in range(40)] == [by_sum(m) for m in range(40)]
+
+
+def test_hand_empty_states_of_a_thousand_blocks_are_drawn_and_ranked_back():
+    rng = np.random.default_rng(5)
+    state = sample_hand_empty(1000, rng)
+    assert state.n == 1000 and state.held is None
+    assert unrank_state(rank_state(state), 1000) == state
+    assert sample_hand_empty(1000, np.random.default_rng(5)) == state
+    with pytest.raises(WorldError):
+        sample_hand_empty(MAX_COUNTED + 1, rng)
