@@ -15,7 +15,8 @@ Never used to plan: these are yardsticks for the benchmark and the reports.
   model (OR-Tools), one component at a time: per block a table-visit flag, a time for its
   final move and one for its table visit, and the deadlock graph's precedences between
   first and final moves; minimise the visitors. Proven when CP-SAT proves optimality,
-  else bounded by its best bound and its best solution.
+  else bounded by its best bound and its best solution, each narrowed by what the branch
+  and bound finds in a tenth of the budget (its cycle packing is often the better lower bound).
 """
 
 from __future__ import annotations
@@ -133,5 +134,8 @@ def cpsat_optimum(start: LargeState, goal: LargeState, budget_s: float = 10.0, u
     low = high = len(pre.misplaced)
     for comp in sorted(_components(pre, start.n), key=lambda c: len(c.members)):
         lo, hi = _cpsat_component(comp, deadline - time.monotonic())
+        if lo < hi:
+            more_lo, more_hi = fewest_within(comp, time.monotonic() + budget_s / 10)
+            lo, hi = max(lo, more_lo), min(hi, more_hi)
         low, high = low + lo, high + hi
     return Bound(2 * low, 2 * high, "CP-SAT").narrowed(upper)
