@@ -37,11 +37,25 @@ def slope(points: list[tuple[int, float]]) -> float | None:
     return float(np.polyfit(x, y, 1)[0])
 
 
+def _ratios(measured: list[tuple[int, int, bool]]) -> tuple[str, str, str]:
+    """Cost / yardstick over all measured tasks, over the proven ones, and how many are proven."""
+    if not measured:
+        return "-", "-", "-"
+    exact = sum(p for _, _, p in measured)
+    ratio = f"{sum(c for c, _, _ in measured) / sum(r for _, r, _ in measured):.3f}"
+    ratio += "" if exact == len(measured) else " (bound)"
+    proven = f"{exact} proven" + ("" if exact == len(measured) else f", {len(measured) - exact} bounded")
+    on_proven = "-"
+    if exact:
+        on_proven = f"{sum(c for c, _, p in measured if p) / sum(r for _, r, p in measured if p):.3f} ({exact})"
+    return ratio, on_proven, proven
+
+
 def table(out: Path) -> tuple[list[str], dict[str, list[tuple[int, float]]]]:
     """The markdown lines and, per planner, (n, median CPU seconds per task)."""
     plans, optima = _rows(out / "plans.jsonl"), {r["task"]: r for r in _rows(out / "optimum.jsonl")}
-    lines = ["| n | planner | tasks | solved | total cost | cost / optimum | optimum | time per task (CPU s) "
-             "| wall s |", "|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| n | planner | tasks | solved | total cost | cost / optimum | on proven tasks | optimum "
+             "| time per task (CPU s) | wall s |", "|---|---|---|---|---|---|---|---|---|---|"]
     times: dict[str, list[tuple[int, float]]] = {}
     for n in sorted({r["n"] for r in plans}):
         for key, label in PLANNERS.items():
@@ -53,16 +67,10 @@ def table(out: Path) -> tuple[list[str], dict[str, list[tuple[int, float]]]]:
             wall = statistics.median(r["wall_s"] for r in rows)
             times.setdefault(key, []).append((n, cpu))
             measured = [(r["cost"], *reference(optima[r["task"]])) for r in solved if r["task"] in optima]
-            ratio, proven = "-", "-"
-            if measured:
-                total_ref = sum(ref for _, ref, _ in measured)
-                exact = sum(p for _, _, p in measured)
-                ratio = f"{sum(c for c, _, _ in measured) / total_ref:.3f}"
-                ratio += "" if exact == len(measured) else " (bound)"
-                proven = f"{exact} proven" + ("" if exact == len(measured) else f", {len(measured) - exact} bounded")
+            ratio, on_proven, proven = _ratios(measured)
             cost = sum(r["cost"] for r in solved)
-            lines.append(f"| {n} | {label} | {len(rows)} | {len(solved)} | {cost:,} | {ratio} | {proven} | "
-                         f"{cpu:.2f} | {wall:.2f} |")
+            lines.append(f"| {n} | {label} | {len(rows)} | {len(solved)} | {cost:,} | {ratio} | {on_proven} | "
+                         f"{proven} | {cpu:.2f} | {wall:.2f} |")
     return lines, times
 
 
