@@ -34,6 +34,7 @@ import os
 import resource
 import statistics
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -95,8 +96,14 @@ def plan_fd(domain: Path, path: Path, timeout: float) -> tuple[bool, int | None]
 
     get_environment().credits_stream = None
     problem = PDDLReader().parse_problem(str(domain), str(path))
-    with OneshotPlanner(name="fast-downward") as planner:
-        result = planner.solve(problem, timeout=timeout)
+    here = os.getcwd()
+    with tempfile.TemporaryDirectory(prefix="fd-") as scratch:  # its translator writes output.sas here
+        os.chdir(scratch)
+        try:
+            with OneshotPlanner(name="fast-downward") as planner:
+                result = planner.solve(problem, timeout=timeout)
+        finally:
+            os.chdir(here)
     if result.plan is None or "SOLVED" not in result.status.name:
         return False, None
     return True, len(result.plan.actions)
