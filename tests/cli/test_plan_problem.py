@@ -166,3 +166,16 @@ def test_a_folder_gives_one_row_per_task_and_a_failed_row_for_a_broken_file(caps
     (tmp_path / "zz-broken.pddl").unlink()
     code, out, _ = run(capsys, "plan", "--problems", tmp_path, "--planner", "gn1", "--optimum-budget", "0.1")
     assert code == 0 and "2/2 problems solved" in out
+
+
+def test_an_unsolved_task_exits_1_and_is_a_failed_row(capsys, tmp_path):
+    doc = json.loads(SHIPPED.read_text())
+    doc["classifiers"] = ["Q 01##### move(?x,?d)->block  advantage=1.000 error=0.000 experience=100"]  # never matches
+    (tmp_path / "rules").mkdir()
+    (tmp_path / "rules" / "none.json").write_text(json.dumps(doc))
+    _, (problem,) = generated(tmp_path, 12)
+    code, out, err = run(capsys, "plan", "--problem", problem, "--rules", tmp_path / "rules" / "none.json")
+    assert code == 1 and out == "" and "not solved by rules: no action" in err and err.count("\n") == 1
+    code, out, _ = run(capsys, "plan", "--problems", tmp_path, "--rules", tmp_path / "rules" / "none.json", "--json")
+    row = json.loads(out)["rows"][0]
+    assert code == 1 and not row["solved"] and row["cost"] is None and row["reason"].startswith("no action")
