@@ -179,3 +179,14 @@ def test_an_unsolved_task_exits_1_and_is_a_failed_row(capsys, tmp_path):
     code, out, _ = run(capsys, "plan", "--problems", tmp_path, "--rules", tmp_path / "rules" / "none.json", "--json")
     row = json.loads(out)["rows"][0]
     assert code == 1 and not row["solved"] and row["cost"] is None and row["reason"].startswith("no action")
+
+
+def test_csql_sims_own_export_is_planned_in_its_own_words(capsys, tmp_path):
+    assert run(capsys, "pddl", "--start", "CBA", "--goal", "BAC", "--out", tmp_path / "task")[0] == 0
+    task = tmp_path / "task"
+    code, out, err = run(capsys, "plan", "--problem", task / "problem.pddl", "--domain", task / "domain.pddl",
+                         "--plan-out", tmp_path / "p.plan")
+    assert code == 0, err
+    assert out.splitlines()[0] == "(unstack_a_b)" and "8 actions by bfs" in out and "optimum 8 (proven)" in out
+    bp, steps, end = replayed(task / "problem.pddl", tmp_path / "p.plan", task / "domain.pddl")
+    assert bp.style == "csql" and bp.goal.satisfied(end) and len(steps) == 8
