@@ -28,7 +28,7 @@ from contextlib import contextmanager
 from typing import Any
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, rulefile, sim
+from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, problems_cmd, rulefile, sim
 from csql_sim.cli.args import say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
@@ -85,7 +85,7 @@ class _ClosedStdout(io.TextIOBase):
         raise io.UnsupportedOperation("standard output is closed")
 
 
-SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, execute, generalize)
+SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, problems_cmd, execute, generalize)
 
 
 class OneLineParser(argparse.ArgumentParser):

@@ -40,8 +40,19 @@ non_negative_int = int_type(0)
 blocks_arg = int_type(MIN_BLOCKS, MAX_BLOCKS)
 large_blocks_arg = int_type(MIN_BLOCKS, MAX_LETTERS)
 """``--blocks`` of the commands that take relational states past six blocks: an integer 2..26."""
+drawn_blocks_arg = int_type(MIN_BLOCKS, 1000)
+"""``--blocks`` of drawn problems (``csql-sim problems``): an integer 2..1000."""
 seed_arg = non_negative_int
 """Seeds are non-negative integers (numpy's SeedSequence refuses negative ones)."""
+
+
+def sizes_type(item: Callable[[str], int]) -> Callable[[str], list[int]]:
+    """An argparse type for ``N`` or ``N,N,...``, each checked by ``item``."""
+
+    def parse(text: str) -> list[int]:
+        return [item(part) for part in text.split(",")]
+
+    return parse
 
 
 def threshold_arg(text: str) -> float:

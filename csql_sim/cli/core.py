@@ -18,6 +18,7 @@ from csql_sim.cli.args import (
 )
 from csql_sim.cli.output import emit
 from csql_sim.cli.plan import cmd_plan, declare_plan
+from csql_sim.cli.plan_problem import optimum_budget_arg
 from csql_sim.core.classifiers.r_classifier import r_classifiers
 from csql_sim.core.state.message import (
     format_state_message,
@@ -100,7 +101,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--all", dest="pairs", nargs=0, action=_AllPairs, new="--pairs all", help=argparse.SUPPRESS)
     p.add_argument("--plan-out", type=path_arg, default=None,
                    help="also write the plan as an IPC plan file (as Fast Downward writes them; "
-                        "'execute --plan' reads it)")
+                        "'execute --plan' reads it; with --problem in the problem's object and action names)")
+    p.add_argument("--problem", type=path_arg, default=None, metavar="FILE",
+                   help="plan a blocks-world PDDL problem of any size (up to 2,000 objects; full or partial goal)")
+    p.add_argument("--problems", type=path_arg, default=None, metavar="DIR",
+                   help="plan every PDDL problem of a folder: one row each (cost, time, lower bound, optimum)")
+    p.add_argument("--domain", type=path_arg, default=None,
+                   help="with --problem/--problems: their PDDL domain file (optional; its action names are "
+                        "the plan file's)")
+    p.add_argument("--optimum-budget", type=optimum_budget_arg, default=1.0, metavar="SECONDS",
+                   help="with --problem/--problems: seconds per task to measure the optimum after planning "
+                        "(default 1; 0: not measured)")
     add_json(p)
     add_quiet(p)
     p.set_defaults(func=cmd_plan, declare=declare_plan)

@@ -28,6 +28,7 @@ import argparse
 from csql_sim.cli.args import say
 from csql_sim.cli.output import emit
 from csql_sim.cli.plan_pairs import plan_pairs
+from csql_sim.cli.plan_problem import cmd_plan_problem, declare_problem
 from csql_sim.cli.plan_view import plan_steps, select_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.relational_rollout import RelationalPolicy
@@ -188,6 +189,8 @@ def plan_one(args: argparse.Namespace, policy: Policy | RelationalPolicy, start:
 
 def declare_plan(args: argparse.Namespace, outputs: Outputs) -> None:
     """``plan`` reads ``--rules`` (no output may be that file) and may write ``--plan-out``."""
+    if args.problem is not None or args.problems is not None:
+        declare_problem(args, outputs)
     outputs.input(args.rules, "rule file")
     if args.plan_out is not None:
         if args.pairs is not None:
@@ -197,7 +200,9 @@ def declare_plan(args: argparse.Namespace, outputs: Outputs) -> None:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
-    """``plan``: one ``--start``/``--goal`` task, or ``--pairs`` (see the module docstring)."""
+    """``plan``: one ``--start``/``--goal`` task, ``--pairs``, or PDDL ``--problem``/``--problems``."""
+    if args.problem is not None or args.problems is not None or args.domain is not None:
+        return cmd_plan_problem(args)
     n = relational_blocks(args)
     if args.pairs is not None and (args.start or args.goal):
         raise CsqlError("--pairs plans many pairs; do not give --start or --goal")

@@ -5,7 +5,8 @@
 (:data:`DOMAIN_TEXT`: ``pick-up``, ``put-down``, ``stack``, ``unstack``). Each
 configuration is drawn by taking the objects in a random order and putting each one
 either on the table or on top of one of the towers built so far, all of these choices
-equally likely (simple and reproducible; not uniform over configurations). The hand is
+equally likely: the **sequential** draw (simple and reproducible; it is not uniform over
+configurations: :func:`drawn_problems` draws uniformly, or tall towers). The hand is
 empty in both. The goal lists ``(on x y)`` for every stacked object and ``(ontable x)``
 for every bottom one, so it is one state.
 
@@ -13,6 +14,10 @@ for every bottom one, so it is one state.
 blocks, the optimal plan of each (:func:`~csql_sim.core.model.search.bfs_plan`, written as Fast
 Downward does by :func:`~csql_sim.core.files.ipc_plan.write_ipc_plan`). ``n`` may be 3..10;
 problems of more than six blocks are written, and ``execute`` refuses them today.
+
+:func:`drawn_problems` (``csql-sim problems``) draws tasks of up to 1,000 blocks named
+``b1 ... bN`` from a named distribution (:mod:`csql_sim.core.model.task_draws`:
+``tall-towers`` or ``uniform``), seeded and byte-identical per seed.
 """
 
 from __future__ import annotations
@@ -24,7 +29,8 @@ import numpy as np
 
 from csql_sim.core.files.ipc_plan import ipc_plan_text
 from csql_sim.core.model.search import bfs_plan
-from csql_sim.core.state.world import MAX_BLOCKS, TABLE, State
+from csql_sim.core.model.task_draws import draw_task as draw_relational
+from csql_sim.core.state.world import MAX_BLOCKS, TABLE, State, WorldError
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 
@@ -83,7 +89,7 @@ def _atoms(towers: Towers, names: str) -> list[str]:
     return out
 
 
-def problem_text(name: str, n: int, start: Towers, goal: Towers, names: str = NAMES) -> str:
+def problem_text(name: str, n: int, start: Towers, goal: Towers, names: str | list[str] = NAMES) -> str:
     """An IPC problem of the 4-operator domain: ``start`` and ``goal`` as towers of object indices."""
     init = ["(handempty)", *_atoms(start, names), *(f"(clear {names[t[-1]]})" for t in start)]
     return (f"(define (problem {name})\n  (:domain blocks)\n  (:objects {' '.join(names[:n])})\n"
@@ -138,3 +144,39 @@ def write_problem_set(out: str | os.PathLike, count: int, blocks: list[int], see
                 files.append((folder / f"{name}.plan", ipc_plan_text(bfs_plan(state_of(start, n), state_of(goal, n)))))
     folder.mkdir(parents=True, exist_ok=True)
     return write_or_keep(files)
+
+
+# ---------------------------------------------------------------- drawn tasks of up to 1,000 blocks
+
+
+def block_names(n: int) -> list[str]:
+    """``b1 ... bN``: the object names of drawn problems."""
+    return [f"b{i + 1}" for i in range(n)]
+
+
+def relational_problem_text(name: str, start: State, goal: State) -> str:
+    """A hand-empty relational task as an IPC problem with objects ``b1 ... bN``."""
+    return problem_text(name, start.n, [list(t) for t in start.towers()], [list(t) for t in goal.towers()],
+                        block_names(start.n))
+
+
+def drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0) -> list[tuple[str, str]]:
+    """``(file name, text)`` of ``domain.pddl`` and ``count`` problems per size, drawn from ``distribution``.
+
+    Problems are named ``<distribution>-<n>-<k>.pddl`` (k from 01); one generator seeded
+    with ``seed`` draws them all, size by size in the order given, start before goal.
+    """
+    if count < 1:
+        raise CsqlError(f"count must be at least 1, got {count}")
+    rng = np.random.default_rng(seed)
+    out = [("domain.pddl", DOMAIN_TEXT)]
+    for n in blocks:
+        for k in range(1, count + 1):
+            name = f"{distribution}-{n}-{k:02d}"
+            try:
+                start, goal = draw_relational(distribution, n, rng)
+            except WorldError as exc:
+                raise CsqlError(str(exc)) from None
+            header = f"; csql-sim problem: {distribution}, {n} blocks, seed {seed}, task {k}\n"
+            out.append((f"{name}.pddl", header + relational_problem_text(name, start, goal)))
+    return out

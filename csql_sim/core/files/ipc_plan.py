@@ -228,9 +228,18 @@ def ipc_plan_text(actions: Iterable[Action], names: Sequence[str] | None = None,
     ``header``: a comment line written first (e.g. ``; csql-sim plan ...``, which marks the
     file as the tool's own output); plan readers skip comments.
     """
-    lines = [ipc_action(a, names) for a in actions]
+    return ipc_lines_text([ipc_action(a, names) for a in actions], header)
+
+
+def ipc_lines_text(lines: Sequence[str], header: str = "") -> str:
+    """A plan file's text from its action lines (in any domain's words), with the cost line."""
     head = f"{header}\n" if header else ""
     return head + "".join(line + "\n" for line in lines) + f"; cost = {len(lines)} (unit cost)\n"
+
+
+def write_ipc_plan_lines(lines: Sequence[str], path: str | os.PathLike, header: str = "") -> Path:
+    """Write action lines (already in a domain's words) as an IPC plan file, atomically."""
+    return write_atomic(path, ipc_lines_text(lines, header))
 
 
 def write_ipc_plan(actions: Iterable[Action], path: str | os.PathLike, names: Sequence[str] | None = None,

@@ -23,7 +23,9 @@ Predicate spellings accepted: ``ontable``/``on-table``/``on_table``, ``handempty
 table (an object named ``table`` or of type ``table``), sorted by name (numbers inside
 names compare as numbers: ``b2`` before ``b10``); the first is cube A, the next B, and so
 on, whatever order the file lists them in. Between 2 and 26 blocks (letters A-Z; the arm
-itself takes at most 10 cubes). :attr:`BlocksProblem.objects` are the names in lower case
+itself takes at most 10 cubes); planning alone (``plan --problem``) reads up to
+:data:`MAX_PLANNED_BLOCKS` (``max_blocks``), named past Z as ``AA``, ``AB``, ....
+:attr:`BlocksProblem.objects` are the names in lower case
 (as the parser reads them; PDDL names compare without case); the start state carries them
 as written in the file (:attr:`BlocksProblem.names`, the first spelling of each).
 
@@ -42,13 +44,15 @@ import re
 from dataclasses import dataclass, replace
 
 from csql_sim.core.model.goal_spec import Atom, GoalError, GoalSpec
-from csql_sim.core.state.state import MAX_LETTERS
-from csql_sim.core.state.world import HAND, LETTERS, MIN_BLOCKS, TABLE, State, WorldError
+from csql_sim.core.state.state import MAX_LETTERS, default_name
+from csql_sim.core.state.world import HAND, MIN_BLOCKS, TABLE, State, WorldError
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_text_file
 
 MAX_PDDL_BYTES = 1 << 20
 """The largest PDDL file read (1 MiB)."""
+MAX_PLANNED_BLOCKS = 2000
+"""The most objects read for planning alone (``read_problem(..., max_blocks=MAX_PLANNED_BLOCKS)``)."""
 TABLE_NAME = "table"
 PREDICATE_ALIASES = {"on": "on", "ontable": "ontable", "on-table": "ontable", "on_table": "ontable",
                      "clear": "clear", "holding": "holding", "block": "block",
@@ -73,11 +77,12 @@ class BlocksProblem:
 
     Attributes:
         name: the problem's name.
-        objects: the blocks' PDDL names; ``objects[i]`` is cube ``LETTERS[i]``.
+        objects: the blocks' PDDL names; ``objects[i]`` is block ``i`` (cube ``LETTERS[i]``).
         start: the initial state (relational past six blocks).
         goal: the goal (full or partial).
         style: ``"4op"``, ``"move"`` or ``"csql"`` (see the module docstring).
         actions: the domain's action names when a domain was read, else None.
+        table: the name of the problem's table object (as the parser reads it), or None if it declares none.
     """
 
     name: str
@@ -86,6 +91,7 @@ class BlocksProblem:
     goal: GoalSpec
     style: str
     actions: frozenset[str] | None = None
+    table: str | None = None
 
     @property
     def n(self) -> int:
@@ -100,7 +106,7 @@ class BlocksProblem:
     @property
     def mapping(self) -> dict[str, str]:
         """PDDL object name -> cube letter."""
-        return {name: LETTERS[i] for i, name in enumerate(self.objects)}
+        return {name: default_name(i) for i, name in enumerate(self.objects)}
 
     @property
     def index(self) -> dict[str, int]:
@@ -122,8 +128,9 @@ def name_key(name: str) -> list:
             for part in re.split(r"(\d+)", name.lower())]
 
 
-def read_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = None) -> BlocksProblem:
-    """Read a blocks-world problem file (and its domain file, if given).
+def read_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = None,
+                 max_blocks: int = MAX_LETTERS) -> BlocksProblem:
+    """Read a blocks-world problem file (and its domain file, if given) of at most ``max_blocks`` objects.
 
     Raises:
         PddlImportError: one line naming the file and what cannot be represented.
@@ -134,16 +141,19 @@ def read_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = 
     dom = None if domain_text is None else _parse_text(domain_text, "domain", os.fspath(domain))
     actions = None if dom is None else domain_actions(dom, os.fspath(domain))
     problem_ = problem_from_pddl(_parse_text(text, "problem", source), source, actions,
-                                 constants=() if dom is None else tuple(c.name for c in dom.constants))
+                                 constants=() if dom is None else tuple(c.name for c in dom.constants),
+                                 max_blocks=max_blocks)
     return with_spelling(problem_, text + "\n" + (domain_text or ""))
 
 
-def parse_problem_text(text: str, source: str = "problem", domain_text: str | None = None) -> BlocksProblem:
+def parse_problem_text(text: str, source: str = "problem", domain_text: str | None = None,
+                       max_blocks: int = MAX_LETTERS) -> BlocksProblem:
     """:func:`read_problem` on texts instead of files."""
     dom = None if domain_text is None else _parse_text(domain_text, "domain", "domain")
     actions = None if dom is None else domain_actions(dom, "domain")
     problem = problem_from_pddl(_parse_text(text, "problem", source), source, actions,
-                                constants=() if dom is None else tuple(c.name for c in dom.constants))
+                                constants=() if dom is None else tuple(c.name for c in dom.constants),
+                                max_blocks=max_blocks)
     return with_spelling(problem, text + "\n" + (domain_text or ""))
 
 
@@ -186,7 +196,7 @@ def domain_actions(domain, source: str) -> frozenset[str]:  # noqa: ANN001 - a p
 
 
 def problem_from_pddl(problem, source: str, actions: frozenset[str] | None = None,  # noqa: ANN001
-                      constants: tuple[str, ...] = ()) -> BlocksProblem:
+                      constants: tuple[str, ...] = (), max_blocks: int = MAX_LETTERS) -> BlocksProblem:
     """A :class:`BlocksProblem` from a parsed ``pddl`` Problem (see the module docstring for the rules)."""
     init = [_atom(a, source, "initial state") for a in problem.init]
     goal_pos, goal_neg = _goal_atoms(problem.goal, source)
@@ -195,9 +205,11 @@ def problem_from_pddl(problem, source: str, actions: frozenset[str] | None = Non
     named = {o.name for o in problem.objects if o.type_tag != TABLE_NAME} | set(constants)
     for _, args in init + goal_pos + goal_neg:
         named.update(args)
-    tables = {o.name for o in problem.objects if o.type_tag == TABLE_NAME} | {TABLE_NAME}
+    declared = sorted(o.name for o in problem.objects if o.type_tag == TABLE_NAME)
+    table = declared[0] if declared else TABLE_NAME if TABLE_NAME in named else None
+    tables = {*declared, TABLE_NAME}
     objects = tuple(sorted(named - tables, key=name_key))
-    _check_count(len(objects), source, objects)
+    _check_count(len(objects), source, objects, max_blocks)
     index = {**{name: i for i, name in enumerate(objects)}, **dict.fromkeys(tables, TABLE)}
     init_atoms = _canonical(init, index, source, "initial state")
     uses_hand = any(PREDICATE_ALIASES.get(p) in ("handempty", "holding") for p, _ in init + goal_pos + goal_neg)
@@ -208,7 +220,7 @@ def problem_from_pddl(problem, source: str, actions: frozenset[str] | None = Non
     if style == "move":
         positive.add(("handempty", ()))
     goal = _goal(len(objects), positive, _canonical(goal_neg, index, source, "goal"), objects, source)
-    return BlocksProblem(problem.name, objects, start, goal, style, actions)
+    return BlocksProblem(problem.name, objects, start, goal, style, actions, table)
 
 
 def _style(actions: frozenset[str]) -> str:
@@ -217,9 +229,10 @@ def _style(actions: frozenset[str]) -> str:
     return "4op" if all(a in DOMAIN_ACTIONS["4op"] for a in actions) else "move"
 
 
-def _check_count(n: int, source: str, objects: tuple[str, ...]) -> None:
-    if n > MAX_LETTERS:
-        raise PddlImportError(f"{source}: {n} blocks; csql-sim reads at most {MAX_LETTERS} (letters A-Z)")
+def _check_count(n: int, source: str, objects: tuple[str, ...], max_blocks: int = MAX_LETTERS) -> None:
+    if n > max_blocks:
+        more = " (letters A-Z; 'plan --problem' plans more)" if max_blocks == MAX_LETTERS else " for planning"
+        raise PddlImportError(f"{source}: {n:,} blocks; csql-sim reads at most {max_blocks:,}{more}")
     if n < MIN_BLOCKS:
         raise PddlImportError(f"{source}: {n} block(s); csql-sim needs at least {MIN_BLOCKS}")
 

@@ -25,6 +25,8 @@ samples at n = 5 and 6 (tests/core/test_optimum.py).
 
 from __future__ import annotations
 
+import time
+
 from csql_sim.core.state.goal_relations import (
     Precedences,
     goal_place_ready,
@@ -35,7 +37,7 @@ from csql_sim.core.state.goal_relations import (
 from csql_sim.core.state.world import Action, ActionKind, State, WorldError, successor
 
 
-class _Component:
+class Component:
     """The ordering constraints inside one strongly connected component, as integer events.
 
     Event ``b`` is block b's final move (arrival at its goal place), event ``b + n`` its
@@ -89,7 +91,20 @@ class _Component:
         return sorted(out)
 
 
-def _cycle(edges: dict[int, list[int]]) -> list[int] | None:
+class OutOfTime(Exception):
+    """The search's deadline passed (:func:`fewest_within`); ``found`` cycles were packed by then."""
+
+    def __init__(self, found: int = 0) -> None:
+        super().__init__("deadline passed")
+        self.found = found
+
+
+def _check(deadline: float | None, found: int = 0) -> None:
+    if deadline is not None and time.monotonic() > deadline:
+        raise OutOfTime(found)
+
+
+def _cycle(edges: dict[int, list[int]], deadline: float | None = None) -> list[int] | None:
     """A shortest cycle of the event graph (its events in order), or None when it is acyclic.
 
     Short cycles have few splittable blocks: fewer branches, and more disjoint cycles for
@@ -97,6 +112,7 @@ def _cycle(edges: dict[int, list[int]]) -> list[int] | None:
     """
     best: list[int] | None = None
     for root in edges:
+        _check(deadline)
         parent, frontier, level, found = {root: root}, [root], 1, None
         while frontier and found is None and (best is None or level < len(best)):
             nxt = []
@@ -119,7 +135,7 @@ def _cycle(edges: dict[int, list[int]]) -> list[int] | None:
     return best
 
 
-def _packing(comp: _Component, visitors: frozenset[int]) -> tuple[int, frozenset[int]]:
+def _packing(comp: Component, visitors: frozenset[int], deadline: float | None = None) -> tuple[int, frozenset[int]]:
     """A lower bound on the visitors still needed, and a set of visitors that is enough.
 
     Cycles are found one after another, each in the graph with the splittable blocks of
@@ -127,22 +143,28 @@ def _packing(comp: _Component, visitors: frozenset[int]) -> tuple[int, frozenset
     their number is a lower bound, and the union of the sets removes every cycle.
     """
     split, count = set(visitors), 0
-    while (cycle := _cycle(comp.events(frozenset(split)))) is not None:
+    while True:
+        try:
+            cycle = _cycle(comp.events(frozenset(split)), deadline)
+        except OutOfTime:
+            raise OutOfTime(count) from None
+        if cycle is None:
+            return count, frozenset(split)
         split |= set(comp.splittable(cycle, frozenset(split)))
         count += 1
-    return count, frozenset(split)
 
 
-def _search(comp: _Component, visitors: frozenset[int], best: list[int], seen: set[frozenset[int]]) -> None:
+def _search(comp: Component, visitors: frozenset[int], best: list[int], seen: set[frozenset[int]],
+            deadline: float | None = None) -> None:
     """Branch and bound: split one splittable block of a cycle at a time; prune by :func:`_packing`.
 
     Any set that removes the cycle found must split one of its splittable blocks, so
     trying each of them in turn is exhaustive.
     """
-    bound, _ = _packing(comp, visitors)
+    bound, _ = _packing(comp, visitors, deadline)
     if len(visitors) + bound >= best[0]:
         return
-    cycle = _cycle(comp.events(visitors))
+    cycle = _cycle(comp.events(visitors), deadline)
     if cycle is None:
         best[0] = len(visitors)
         return
@@ -150,18 +172,37 @@ def _search(comp: _Component, visitors: frozenset[int], best: list[int], seen: s
         more = visitors | {b}
         if more not in seen:
             seen.add(more)
-            _search(comp, more, best, seen)
+            _search(comp, more, best, seen, deadline)
 
 
-def _fewest(comp: _Component) -> int:
+def _fewest(comp: Component) -> int:
     """The fewest visitors that remove every cycle of one component."""
-    _, enough = _packing(comp, frozenset())
-    for b in sorted(enough):  # shrink the packing's set to a minimal one: the first upper bound
-        if _cycle(comp.events(enough - {b})) is None:
-            enough -= {b}
+    return fewest_within(comp, None)[0]
+
+
+def fewest_within(comp: Component, deadline: float | None) -> tuple[int, int]:
+    """Lower and upper bounds on the fewest visitors of one component, equal when the search ended in time.
+
+    The lower bound is the root packing's count (as far as it got); the upper bound the
+    best set found, or every member (all of them visiting the table always removes every cycle).
+    """
+    try:
+        lower, enough = _packing(comp, frozenset(), deadline)
+    except OutOfTime as stop:
+        return stop.found, len(comp.members)
+    try:
+        for b in sorted(enough):  # shrink the packing's set to a minimal one: the first upper bound
+            if _cycle(comp.events(enough - {b}), deadline) is None:
+                enough -= {b}
+    except OutOfTime:
+        return lower, len(enough)
     best = [len(enough) + 1]
-    _search(comp, frozenset(), best, set())
-    return min(best[0], len(enough))
+    try:
+        _search(comp, frozenset(), best, set(), deadline)
+    except OutOfTime:
+        return lower, min(best[0], len(enough))
+    found = min(best[0], len(enough))
+    return found, found
 
 
 def fewest_table_visits(pre: Precedences, n: int) -> int:
@@ -170,7 +211,7 @@ def fewest_table_visits(pre: Precedences, n: int) -> int:
     total = 0
     for members in strongly_connected(graph):
         if len(members) > 1 or members[0] in graph[members[0]]:
-            total += _fewest(_Component(pre, members, n))
+            total += _fewest(Component(pre, members, n))
     return total
 
 

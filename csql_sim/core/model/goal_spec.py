@@ -191,11 +191,14 @@ def _nearest(goal: GoalSpec, start: State) -> State:
 def goal_target(goal: GoalSpec, state: State) -> State:
     """A configuration satisfying ``goal`` that keeps as much of ``state`` as the goal allows.
 
-    A block the goal places (an ``on`` or ``holding`` atom) stands there; every other block
-    keeps its support in ``state`` when that is consistent (the support is not claimed by a
-    placed block, not required clear, not held, and makes no cycle), else stands on the
-    table. Negated atoms this leaves false are met by a depth-first search over the other
-    supports (table, blocks, hand, in that order; at most :data:`TARGET_SEARCH_LIMIT` tries).
+    A block the goal places (an ``on`` or ``holding`` atom) stands there. Every other block
+    counts as well placed where it stands: it keeps its support in ``state`` when it need not
+    move, that is when it stands on the table, or on a block that is itself well placed (kept,
+    or placed by the goal where it stands, down to the table) and that no placed block claims,
+    the goal does not require clear and is not to be held; else it stands on the table (a block
+    that must move anyway goes where one move takes it). Negated atoms this leaves false are
+    met by a depth-first search over the other supports (table, blocks, hand, in that order; at
+    most :data:`TARGET_SEARCH_LIMIT` tries).
 
     Raises:
         GoalError: no configuration satisfies the goal (or none was found within the limit).
@@ -205,7 +208,7 @@ def goal_target(goal: GoalSpec, state: State) -> State:
     flat = [fixed.get(i, TABLE) for i in range(n)]
     if not _valid(flat) or not all(holds(a, State(tuple(flat))) for a in goal.positive):
         raise GoalError(f"no state of the {n}-block world satisfies the goal {goal.text()}")
-    support = [fixed[i] if i in fixed else _kept(i, state, fixed, cleared) for i in range(n)]
+    support = _kept_supports(state, fixed, cleared)
     while (loop := _cycle(support)) is not None:  # a cycle always holds a block the goal does not place
         support[next(i for i in loop if i not in fixed)] = TABLE
     if goal.satisfied(State(tuple(support))):
@@ -231,22 +234,39 @@ def _placed(goal: GoalSpec) -> dict[int, int]:
     return fixed
 
 
-def _kept(i: int, state: State, fixed: dict[int, int], cleared: set[int]) -> int:
-    """Block i's support in ``state`` if the goal leaves it free, else the table."""
-    s = state.support[i]
-    taken = s in fixed.values() or s in cleared or fixed.get(s) == HAND
-    return TABLE if s == HAND or (s >= 0 and taken) else s
+def _kept_supports(state: State, fixed: dict[int, int], cleared: set[int]) -> list[int]:
+    """The target's supports: placed blocks where the goal puts them, free ones kept where well placed.
+
+    Each tower of ``state`` is walked bottom-up, carrying whether the block below is well
+    placed (it keeps its support, and so does everything under it); O(n).
+    """
+    claimed = set(fixed.values()) | cleared | {b for b, where in fixed.items() if where == HAND}
+    support = [fixed.get(i, TABLE) for i in range(state.n)]  # the held block: placed, or onto the table
+    for tower in state.towers():
+        well = True  # the table
+        for i in tower:
+            below = state.support[i]
+            if i in fixed:
+                well = well and fixed[i] == below
+                continue
+            well = below == TABLE or (well and below not in claimed)
+            support[i] = below if well else TABLE
+    return support
 
 
 def _cycle(support: list[int]) -> list[int] | None:
-    """The blocks of a cycle of supports, if there is one."""
+    """The blocks of a cycle of supports, if there is one (each block visited once: O(n))."""
+    done = [False] * len(support)
     for i in range(len(support)):
-        path, j = [i], support[i]
-        while j >= 0 and j not in path and len(path) <= len(support):
+        path, on_path, j = [], set(), i
+        while j >= 0 and not done[j] and j not in on_path:
             path.append(j)
+            on_path.add(j)
             j = support[j]
-        if j == i:
-            return path
+        if j >= 0 and j in on_path:
+            return path[path.index(j):]
+        for k in path:
+            done[k] = True
     return None
 
 

@@ -28,6 +28,16 @@ from csql_sim.core.classifiers.lifted_rule import (
 from csql_sim.core.state.world import Action, ActionKind, State, WorldError
 
 
+class _ClearView:
+    """``clear[i]`` of a state, computed for the blocks asked about only."""
+
+    def __init__(self, state: State) -> None:
+        self.state = state
+
+    def __getitem__(self, i: int) -> bool:
+        return self.state.is_clear(i)
+
+
 class LiftedWorldModel:
     """Legal actions and next states of relational states, as lifted R-classifiers say.
 
@@ -58,7 +68,7 @@ class LiftedWorldModel:
         rule = self.pre.get(action.kind)
         if rule is None:
             return False
-        clear, held = state.clear(), state.held
+        clear, held = _ClearView(state), state.held  # the bound blocks' flags alone: O(1) at any n
         binding = self._binding(action)
         return all(field_holds(f, state.support, clear, held, binding) for f in rule.fields)
 

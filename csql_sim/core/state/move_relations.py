@@ -147,6 +147,10 @@ class MoveRelations:
             int(s.held is not None),
         )
 
+    def candidates(self) -> list[tuple[Move, tuple[int, ...]]]:
+        """Every legal move with its relations, in move order."""
+        return [(m, self.bits(m)) for m in self.moves]
+
     def misplaced(self) -> int:
         """The number of misplaced blocks: a lower bound on the moves still needed."""
         return self.placed.count(False)

@@ -31,29 +31,31 @@ import math
 
 import numpy as np
 
-from csql_sim.core.state.state import MIN_LETTERS
-from csql_sim.core.state.world import HAND, TABLE, State, WorldError
+from csql_sim.core.state.world import HAND, MIN_BLOCKS, TABLE, State, WorldError
 
-MAX_COUNTED = 1000
-"""The most blocks counted and sampled here (the exact integers grow as n!; 2,568 digits at 1,000)."""
+MAX_COUNTED = 2000
+"""The most blocks counted, ranked and sampled here (the integers have thousands of digits)."""
 
 
-def check_count_n(n: int) -> int:
-    """Return ``n`` if it is 2..:data:`MAX_COUNTED`, else raise WorldError."""
-    if not isinstance(n, int) or isinstance(n, bool) or not MIN_LETTERS <= n <= MAX_COUNTED:
-        raise WorldError(f"number of blocks must be {MIN_LETTERS}..{MAX_COUNTED}, got {n!r}")
+def check_counted_n(n: int) -> int:
+    """Return ``n`` if it is 2..MAX_COUNTED, else raise WorldError."""
+    if not isinstance(n, int) or isinstance(n, bool) or not MIN_BLOCKS <= n <= MAX_COUNTED:
+        raise WorldError(f"number of blocks must be {MIN_BLOCKS}..{MAX_COUNTED}, got {n!r}")
     return n
 
 
-_FORESTS = [1]
-"""F(0), F(1), ...: filled bottom-up (no recursion, so 1,000 blocks need no deep stack)."""
+_FORESTS = [1, 1]
 
 
 def forest_count(m: int) -> int:
-    """F(m): the hand-empty configurations of m blocks (sets of towers)."""
+    """F(m): the hand-empty configurations of m blocks (sets of towers).
+
+    By the sum in the module docstring, or as fast by its equivalent recurrence
+    F(m) = (2m - 1) F(m-1) - (m-1)(m-2) F(m-2) (OEIS A000262), kept in a list.
+    """
     while len(_FORESTS) <= m:
         k = len(_FORESTS)
-        _FORESTS.append(sum(_tower_term(k, j) for j in range(1, k + 1)))
+        _FORESTS.append((2 * k - 1) * _FORESTS[k - 1] - (k - 1) * (k - 2) * _FORESTS[k - 2])
     return _FORESTS[m]
 
 
@@ -64,7 +66,7 @@ def _tower_term(m: int, k: int) -> int:
 
 def state_count(n: int) -> int:
     """S(n): the states of n blocks (hand empty, or one block held)."""
-    check_count_n(n)
+    check_counted_n(n)
     return forest_count(n) + n * forest_count(n - 1)
 
 
@@ -198,6 +200,12 @@ def uniform_below(bound: int, rng: np.random.Generator) -> int:
 def sample_state(n: int, rng: np.random.Generator) -> State:
     """One state of n blocks, uniformly at random."""
     return unrank_state(uniform_below(state_count(n), rng), n)
+
+
+def sample_hand_empty(n: int, rng: np.random.Generator) -> State:
+    """One hand-empty state of n blocks, uniformly at random (all F(n) equally likely)."""
+    check_counted_n(n)
+    return unrank_state(uniform_below(forest_count(n), rng), n)
 
 
 def sample_pairs(n: int, k: int, rng: np.random.Generator) -> list[tuple[State, State]]:

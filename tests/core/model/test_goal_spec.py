@@ -27,9 +27,30 @@ def test_unplaced_blocks_keep_their_supports_where_the_goal_allows():
     spec = goal(8, {("on", (A, E)), ("on", (E, H))})
     target = spec.nearest(start)
     assert spec.partial and spec.count is None and spec.satisfied(target)
-    assert target.support[B] == A and target.support[C] == B  # untouched by the goal: kept
+    assert target.support[B] == TABLE and target.support[C] == TABLE  # on A, which the goal moves: they move
     assert target.support[F] == TABLE  # stood on E, which the goal moves: to the table
-    assert target.support[D] == TABLE and target.support[G] == TABLE
+    assert target.support[D] == TABLE and target.support[G] == TABLE and target.support[H] == G  # H stays put
+
+
+def test_a_free_block_counts_as_well_placed_where_it_stands():
+    start = parse_config("ABC,DEFG,H")
+    spec = goal(8, {("on", (H, G)), ("on", (B, A))})  # A, C, D, E, F, G free; B placed where it stands
+    target = spec.nearest(start)
+    assert target.support[C] == B and target.support[E:G + 1] == (D, E, F)  # need not move: kept
+    spec = goal(8, {("on", (A, H))})  # A must move, so must B and C above it: to the table, not back onto A
+    target = spec.nearest(start)
+    assert target.support[B] == TABLE and target.support[C] == TABLE and target.support[D:G + 1] == (TABLE, D, E, F)
+
+
+def well_placed(state, target):
+    """Blocks that keep their support in ``target`` and stand on blocks that do, down to the table."""
+    out = set()
+    for tower in state.towers():
+        for i in tower:
+            if target.support[i] != state.support[i] or (state.support[i] >= 0 and state.support[i] not in out):
+                break
+            out.add(i)
+    return out
 
 
 def test_a_required_clear_block_and_a_cycle_send_the_free_block_to_the_table():
@@ -71,9 +92,14 @@ def test_the_target_satisfies_random_partial_goals_and_keeps_what_it_may():
         target = goal_target(spec, start)
         assert spec.satisfied(target), (start, keep)
         placed = {args[0] for pred, args in keep if pred in ("on", "holding")}
+        claimed = {args[1] for pred, args in keep if pred == "on"} | {args[0] for pred, args in keep if pred == "clear"}
+        well = well_placed(start, target)
         for i in set(range(n)) - placed:  # a free block moves only to the table, and only when it must
             assert target.support[i] in (start.support[i], TABLE)
             assert target.support[i] != HAND
+            below = start.support[i]
+            must_move = below == HAND or (below >= 0 and (below not in well or below in claimed))
+            assert (target.support[i] == below) == (not must_move) == (i in well), (start, keep, i)
         assert all(holds(a, target) for a in keep)
 
 

@@ -1,17 +1,21 @@
+import math
+
 import numpy as np
 import pytest
 
 from csql_sim.core.state.state_count import (
+    MAX_COUNTED,
     forest_count,
     pair_count,
     rank_state,
+    sample_hand_empty,
     sample_pairs,
     sample_state,
     state_count,
     uniform_below,
     unrank_state,
 )
-from csql_sim.core.state.world import all_states
+from csql_sim.core.state.world import WorldError, all_states
 
 
 @pytest.mark.parametrize("n", [2, 3, 4, 5, 6])
@@ -74,3 +78,22 @@ def test_counting_and_sampling_reach_hundreds_of_blocks():
     assert len(str(state_count(300))) > 600  # exact integers, counted without deep recursion
     state = sample_state(300, np.random.default_rng(3))
     assert state.n == 300 and unrank_state(rank_state(state), 300) == state
+
+
+def test_the_forest_recurrence_is_the_defining_sum():
+    def by_sum(m, memo={0: 1}):  # noqa: B006 - a memo across calls
+        if m not in memo:
+            memo[m] = sum(math.comb(m - 1, k - 1) * math.factorial(k) * by_sum(m - k) for k in range(1, m + 1))
+        return memo[m]
+
+    assert [forest_count(m) for m in range(40)] == [by_sum(m) for m in range(40)]
+
+
+def test_hand_empty_states_of_a_thousand_blocks_are_drawn_and_ranked_back():
+    rng = np.random.default_rng(5)
+    state = sample_hand_empty(1000, rng)
+    assert state.n == 1000 and state.held is None
+    assert unrank_state(rank_state(state), 1000) == state
+    assert sample_hand_empty(1000, np.random.default_rng(5)) == state
+    with pytest.raises(WorldError):
+        sample_hand_empty(MAX_COUNTED + 1, rng)

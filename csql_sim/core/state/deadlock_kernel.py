@@ -1,0 +1,142 @@
+"""Compiled cycle counting on the deadlock graph (numba), for the move relations of large states.
+
+The deadlock graph (:func:`csql_sim.core.state.goal_relations.precedences`) is read straight
+from three arrays: ``above[b]`` (the block on b, or -1), ``goal[b]`` (b's goal support: a
+block, or -1 for the table) and ``placed[b]`` (well placed). Its nodes are the misplaced
+blocks; a misplaced block b has at most three out-edges: ``above[b]``, ``above[goal[b]]``
+and ``goal[b]`` when that is misplaced.
+
+:func:`deadlock_counts` finds the blocks on cycles (Tarjan, iterative) and, for every
+clear block x that may move to the table, the number of blocks on cycles after that move.
+A move of x to the table only removes edges into x, removes x (well placed on the table)
+or adds x as a sink (x was well placed), so it changes nothing unless x is on a cycle:
+only then is the graph searched again, with x on the table.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _edge(v: int, k: int, above: np.ndarray, goal: np.ndarray, placed: np.ndarray) -> int:
+    """The k-th out-edge (0..2) of misplaced block v, or -1 when there is none."""
+    if k == 0:
+        w = above[v]
+    else:
+        d = goal[v]
+        if d < 0:
+            return -1
+        w = above[d] if k == 1 else d
+    if w < 0 or placed[w]:
+        return -1
+    return w
+
+
+@njit(cache=True)
+def _scc(nodes: np.ndarray, above: np.ndarray, goal: np.ndarray, placed: np.ndarray, comp: np.ndarray, cid: int,
+         mask: np.ndarray, index: np.ndarray, low: np.ndarray, work: np.ndarray) -> int:
+    """Tarjan (iterative) over ``nodes``, following only edges to blocks w with ``comp[w] == cid``.
+
+    Sets ``mask`` of the nodes on a cycle and returns their number. With ``cid == -1`` every
+    misplaced block is followed and ``comp`` receives the component numbers. ``index`` must
+    be -1 on ``nodes``; ``low`` and ``work`` (4 x n) are scratch.
+    """
+    stack, on_stack, call, edge = work[0], work[1], work[2], work[3]
+    counter, total, sp, comps = 0, 0, 0, 0
+    for root in nodes:
+        if placed[root] or index[root] >= 0:
+            continue
+        index[root] = low[root] = counter
+        counter += 1
+        stack[sp], on_stack[root], sp = root, 1, sp + 1
+        call[0], edge[0], cp = root, 0, 1
+        while cp > 0:
+            v = call[cp - 1]
+            k = edge[cp - 1]
+            if k < 3:
+                edge[cp - 1] = k + 1
+                w = _edge(v, k, above, goal, placed)
+                if w < 0 or (cid >= 0 and comp[w] != cid):
+                    continue
+                if index[w] < 0:
+                    index[w] = low[w] = counter
+                    counter += 1
+                    stack[sp], on_stack[w], sp = w, 1, sp + 1
+                    call[cp], edge[cp], cp = w, 0, cp + 1
+                elif on_stack[w]:
+                    low[v] = min(low[v], index[w])
+                    if w == v and not mask[v]:
+                        mask[v] = True
+                        total += 1
+                continue
+            cp -= 1
+            if cp > 0:
+                u = call[cp - 1]
+                low[u] = min(low[u], low[v])
+            if low[v] == index[v]:
+                top = sp
+                while True:
+                    sp -= 1
+                    w = stack[sp]
+                    on_stack[w] = 0
+                    if cid < 0:
+                        comp[w] = comps
+                    if w == v:
+                        break
+                comps += 1
+                if top - sp > 1:
+                    for j in range(sp, top):
+                        if not mask[stack[j]]:
+                            mask[stack[j]] = True
+                            total += 1
+    return total
+
+
+@njit(cache=True)
+def deadlocked(above: np.ndarray, goal: np.ndarray, placed: np.ndarray, stuck: np.ndarray) -> int:
+    """Mark the deadlocked blocks (misplaced, on a cycle) in ``stuck``; return how many."""
+    n = above.shape[0]
+    stuck[:] = False
+    return _scc(np.arange(n), above, goal, placed, np.full(n, -1, np.int64), -1, stuck, np.full(n, -1, np.int64),
+                np.zeros(n, np.int64), np.zeros((4, n), np.int64))
+
+
+@njit(cache=True)
+def deadlock_counts(support: np.ndarray, above: np.ndarray, goal: np.ndarray, placed: np.ndarray,
+                    movers: np.ndarray, stuck: np.ndarray) -> np.ndarray:
+    """Mark the deadlocked blocks in ``stuck``; return, per mover, the count after it moves to the table.
+
+    Only the strongly connected component of a deadlocked mover is searched again.
+    ``above`` and ``placed`` are changed for a moment and restored. A move of x to the
+    table only removes edges into x, removes x (well placed on the table) or adds x as a
+    sink (x was well placed): nothing changes unless x is on a cycle.
+    """
+    n = above.shape[0]
+    index = np.full(n, -1, np.int64)
+    low = np.zeros(n, np.int64)
+    work = np.zeros((4, n), np.int64)
+    comp = np.full(n, -1, np.int64)
+    stuck[:] = False
+    base = _scc(np.arange(n), above, goal, placed, comp, -1, stuck, index, low, work)
+    counts = np.full(movers.shape[0], base, np.int64)
+    scratch = np.zeros(n, np.bool_)
+    for i in range(movers.shape[0]):
+        x = movers[i]
+        if not stuck[x]:
+            continue
+        members = np.flatnonzero(comp == comp[x])
+        index[members] = -1
+        scratch[members] = False
+        s = support[x]
+        was = placed[x]
+        if s >= 0:
+            above[s] = -1
+        placed[x] = goal[x] < 0
+        again = _scc(members, above, goal, placed, comp, comp[x], scratch, index, low, work)
+        counts[i] = base - members.shape[0] + again
+        if s >= 0:
+            above[s] = x
+        placed[x] = was
+    return counts

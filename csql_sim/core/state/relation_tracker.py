@@ -1,0 +1,245 @@
+"""The relations of :class:`~csql_sim.core.state.move_relations.MoveRelations`, kept up to date move by move.
+
+:class:`MoveRelations` computes every relation of one state from scratch: all O(n^2) moves
+and, for each move to the table, the deadlock graph again. :class:`RelationTracker` holds
+one mutable state towards one fixed target and updates only what an action changes:
+
+* the supports, the block above each block, the clear blocks and the well-placed flags
+  (a pick or a put changes the flag of the moved block alone: nothing stands on it);
+* the deadlock graph is read from these arrays (each misplaced block has at most three
+  out-edges: the block on it, the block on its goal support, its misplaced goal support),
+  and its cycles are found once per state;
+* ``least-stuck`` needs the deadlocked count after each move to the table
+  (:func:`~csql_sim.core.state.deadlock_kernel.deadlock_counts`: only a deadlocked block's
+  move changes it, and only its own strongly connected component is searched again).
+  These counts are computed when asked for (:meth:`RelationTracker.resolve`), so a
+  caller that does not need ``least-stuck`` in a state does not pay for it.
+
+The relations are exact, the same as from scratch (tested move by move).
+:meth:`RelationTracker.candidates` gives, in move order, the first move of every class of
+moves with the same block, kind and relations: a greedy choice of least advantage with
+ties to the first move in order is the same over the candidates as over all moves.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from csql_sim.core.state.deadlock_kernel import deadlock_counts, deadlocked
+from csql_sim.core.state.move_relations import Move
+from csql_sim.core.state.state import State
+from csql_sim.core.state.world import HAND, TABLE, Action, ActionKind, WorldError
+
+Bits = tuple[int, ...]
+
+
+class RelationTracker:
+    """One state's move relations towards a fixed hand-empty target, updated by :meth:`apply`."""
+
+    def __init__(self, state: State, target: State) -> None:
+        if state.n != target.n:
+            raise WorldError(f"state has {state.n} blocks but target has {target.n}")
+        if target.held is not None:
+            raise WorldError("the target of the move relations holds no block")
+        n = state.n
+        self.n = n
+        self.sup = list(state.support)
+        self.goal = target.support
+        self.goal_above: list[int | None] = list(target.above_of)
+        self.above: list[int | None] = list(state.above_of)
+        self.held = state.held
+        self.placed = self._initial_placed()
+        self.clear = {b for b in range(n) if self.is_clear(b)}
+        self._goal_a = np.array(target.support, np.int64)
+        self._sup_a = np.array(self.sup, np.int64)
+        self._above_a = np.array([-1 if a is None else a for a in self.above], np.int64)
+        self._placed_a = np.array(self.placed, np.bool_)
+        self._fresh = False
+
+    def _initial_placed(self) -> list[bool]:
+        """Each block's well-placed flag: on its goal support, with everything below it well placed."""
+        known: list[bool | None] = [None] * self.n
+        for b in range(self.n):
+            chain, c = [], b
+            while known[c] is None:
+                s = self.sup[c]
+                if s != self.goal[c] or s < 0:
+                    known[c] = s == self.goal[c]
+                    break
+                chain.append(c)
+                c = s
+            for d in chain:
+                known[d] = known[c]
+        return [bool(k) for k in known]
+
+    @property
+    def support(self) -> tuple[int, ...]:
+        """The current state's supports."""
+        return tuple(self.sup)
+
+    def state(self) -> State:
+        """The current state."""
+        return State(self.support)
+
+    def is_clear(self, b: int) -> bool:
+        """Nothing on block b and it is not held."""
+        return self.above[b] is None and self.sup[b] != HAND
+
+    # ---------------------------------------------------------------- actions
+
+    def apply(self, action: Action) -> None:
+        """Apply a legal action (raises WorldError otherwise)."""
+        x, kind = action.block, action.kind
+        if kind in (ActionKind.PICKUP, ActionKind.UNSTACK):
+            s = TABLE if kind is ActionKind.PICKUP else action.target
+            if self.held is not None or x not in self.clear or self.sup[x] != s:
+                raise WorldError(f"{kind.value} of block {x} is not legal here")
+            if s >= 0:
+                self.above[s] = None
+                self._above_a[s] = -1
+                self.clear.add(s)
+            self.clear.discard(x)
+            self.sup[x], self.held, self.placed[x] = HAND, x, False
+        else:
+            s = TABLE if kind is ActionKind.PUTDOWN else action.target
+            if self.held != x or (s >= 0 and s not in self.clear):
+                raise WorldError(f"{kind.value} of block {x} is not legal here")
+            self.sup[x], self.held = s, None
+            if s >= 0:
+                self.above[s] = x
+                self._above_a[s] = x
+                self.clear.discard(s)
+            self.clear.add(x)
+            self.placed[x] = self.goal[x] == s and (s < 0 or self.placed[s])
+        self._sup_a[x] = self.sup[x]
+        self._placed_a[x] = self.placed[x]
+        self._fresh = False
+
+    # ---------------------------------------------------------------- the deadlock graph
+
+    def _graph_placed(self) -> np.ndarray:
+        """The well-placed flags of the deadlock graph: a held block counts as standing on the table."""
+        if self.held is None:
+            return self._placed_a
+        placed = self._placed_a.copy()
+        placed[self.held] = self.goal[self.held] == TABLE
+        return placed
+
+    def _refresh(self) -> None:
+        """The deadlocked blocks; the table moves' counts wait for :meth:`resolve`."""
+        if self._fresh:
+            return
+        mask = np.zeros(self.n, np.bool_)
+        deadlocked(self._above_a, self._goal_a, self._graph_placed(), mask)
+        self._stuck = frozenset(np.flatnonzero(mask).tolist())
+        self._movers = self._table_movers()
+        self._stuck_after: dict[Move, int] | None = None
+        if not any(x in self._stuck for x in self._movers):  # no move changes the count
+            self._stuck_after = {Move(x, TABLE): len(self._stuck) for x in self._movers}
+        self._fresh = True
+
+    def resolve(self) -> None:
+        """Count the deadlocked blocks after every move to the table (``least-stuck``)."""
+        self._refresh()
+        if self._stuck_after is None:
+            mask = np.zeros(self.n, np.bool_)
+            counts = deadlock_counts(self._sup_a, self._above_a, self._goal_a, self._graph_placed(),
+                                     np.array(self._movers, np.int64), mask)
+            self._stuck_after = {Move(x, TABLE): c for x, c in zip(self._movers, counts.tolist(), strict=True)}
+
+    @property
+    def stuck(self) -> frozenset[int]:
+        """The deadlocked blocks (a held block counts as standing on the table)."""
+        self._refresh()
+        return self._stuck
+
+    @property
+    def stuck_after(self) -> dict[Move, int]:
+        """The number of deadlocked blocks after each move to the table."""
+        self.resolve()
+        return self._stuck_after
+
+    @property
+    def least(self) -> int:
+        """The fewest deadlocked blocks any move to the table leaves (0 when there is none)."""
+        return min(self._stuck_after.values(), default=0)
+
+    def _table_movers(self) -> list[int]:
+        if self.held is not None:
+            return [self.held]
+        return sorted(x for x in self.clear if self.sup[x] != TABLE)
+
+    # ---------------------------------------------------------------- the relations of moves
+
+    def moves(self) -> tuple[Move, ...]:
+        """The legal moves, in the order of :func:`~csql_sim.core.state.move_relations.moves`."""
+        clear = sorted(self.clear)
+        movers = [self.held] if self.held is not None else clear
+        out = []
+        for x in movers:
+            if self.sup[x] != TABLE:
+                out.append(Move(x, TABLE))
+            out.extend(Move(x, y) for y in clear if y != x and self.sup[x] != y)
+        return tuple(out)
+
+    def _ready(self, d: int, mover: int) -> bool:
+        return d == TABLE or (d >= 0 and d != mover and self.placed[d] and d in self.clear)
+
+    def above_needed(self, x: int) -> bool:
+        """A block under x is misplaced with its goal place ready, or the placed goal support of a misplaced one."""
+        placed, goal_above, goal, sup = self.placed, self.goal_above, self.goal, self.sup
+        below = sup[x]
+        while below >= 0:
+            if placed[below]:
+                owner = goal_above[below]
+                if owner is not None and not placed[owner]:
+                    return True
+            elif self._ready(goal[below], below):
+                return True
+            below = sup[below]
+        return False
+
+    def bits(self, move: Move) -> Bits:
+        """The move's relations, as :meth:`MoveRelations.bits` gives them."""
+        self._refresh()
+        x, d = move.block, move.onto
+        return (int(not self.placed[x]), int(self.goal[x] == d), int(self._ready(d, x)), int(x in self._stuck),
+                int(self.above_needed(x)), int(d == TABLE and self._stuck_after[move] == self.least),
+                int(bool(self._stuck)), int(self.held is not None))
+
+    def candidates(self, resolve: bool = True) -> list[tuple[Move, Bits]]:
+        """The first move of every (block, kind, relations) class, in move order (module docstring).
+
+        With ``resolve`` False, ``least-stuck`` is -1 (unknown) where the counts were not yet needed.
+        """
+        self._refresh()
+        if resolve:
+            self.resolve()
+        after, least = self._stuck_after, None if self._stuck_after is None else self.least
+        clear = sorted(self.clear)
+        good = [b for b in clear if self.placed[b]]
+        bad = [b for b in clear if not self.placed[b]]
+        deadlock, holding = int(bool(self._stuck)), int(self.held is not None)
+        out = []
+        for x in ([self.held] if self.held is not None else clear):
+            mis, stuck, needed = int(not self.placed[x]), int(x in self._stuck), int(self.above_needed(x))
+            g, s = self.goal[x], self.sup[x]
+            if s != TABLE:
+                fewest = -1 if after is None else int(after[Move(x, TABLE)] == least)
+                out.append((Move(x, TABLE), (mis, int(g == TABLE), 1, stuck, needed, fewest, deadlock, holding)))
+            found = []
+            if g >= 0 and g != x and g != s and g in self.clear:
+                found.append(g)
+            for group in (good, bad):
+                for y in group:
+                    if y != x and y != s and y != g:
+                        found.append(y)
+                        break
+            for y in sorted(found):
+                out.append((Move(x, y), (mis, int(g == y), int(self._ready(y, x)), stuck, needed, 0, deadlock,
+                                         holding)))
+        return out
+
+    def misplaced(self) -> int:
+        """The number of misplaced blocks."""
+        return self.placed.count(False)
