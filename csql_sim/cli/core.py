@@ -114,4 +114,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "(default 1; 0: not measured)")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_plan, declare=declare_plan)
+    p.set_defaults(func=cmd_plan, declare=declare_plan, mode_options=_pddl_options)
+
+
+PDDL_OPTIONS = ("problem", "problems", "domain", "optimum_budget")
+"""``plan``'s options for PDDL problems (``--problem``/``--problems``)."""
+
+
+def _pddl_options(args: argparse.Namespace) -> tuple[str, ...]:
+    """The PDDL options when ``plan`` runs pairs or one plan from configurations (not its parameters there)."""
+    return PDDL_OPTIONS if args.problem is None and args.problems is None else ()

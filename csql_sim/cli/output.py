@@ -20,7 +20,8 @@ from csql_sim.infra.files import OutputError, atomic_output, write_or_keep
 from csql_sim.infra.outputs import Outputs
 from csql_sim.infra.provenance import provenance
 
-NOT_PARAMETERS = ("func", "declare", "json", "quiet", "overwrite")  # how a command reports, not what it computes
+NOT_PARAMETERS = ("func", "declare", "json", "quiet", "overwrite", "mode_options")
+"""How a command reports and reads its options, not what it computes."""
 REPORT_VERSION = 1
 """The version of the JSON reports whose format :func:`with_format` names."""
 
@@ -84,8 +85,15 @@ def wants_json(args: argparse.Namespace) -> bool:
 
 
 def command_parameters(args: argparse.Namespace) -> dict[str, Any]:
-    """The subcommand and every parameter it ran with (defaults included)."""
-    return {k: v for k, v in vars(args).items() if k not in NOT_PARAMETERS}
+    """The subcommand and every parameter it ran with (defaults included).
+
+    A command with modes (``plan``: pairs and single plans, or PDDL problems) names with
+    ``set_defaults(mode_options=f)`` the options that belong to a mode not running:
+    ``f(args)``. They are refused when given in another mode, so they are left out.
+    """
+    mode_options = getattr(args, "mode_options", None)
+    other = set(mode_options(args)) if mode_options is not None else set()
+    return {k: v for k, v in vars(args).items() if k not in NOT_PARAMETERS and k not in other}
 
 
 def default_path(args: argparse.Namespace, name: str, value: str) -> bool:

@@ -190,3 +190,14 @@ def test_csql_sims_own_export_is_planned_in_its_own_words(capsys, tmp_path):
     assert out.splitlines()[0] == "(unstack_a_b)" and "8 actions by bfs" in out and "optimum 8 (proven)" in out
     bp, steps, end = replayed(task / "problem.pddl", tmp_path / "p.plan", task / "domain.pddl")
     assert bp.style == "csql" and bp.goal.satisfied(end) and len(steps) == 8
+
+
+def test_the_pddl_options_are_parameters_of_pddl_jobs_only(capsys, tmp_path):
+    code, out, _ = run(capsys, "plan", "--start", "CBA", "--goal", "BAC", "--json")
+    parameters = json.loads(out)["provenance"]["parameters"]
+    assert code == 0 and parameters["start"] == "CBA"
+    assert not {"problem", "problems", "domain", "optimum_budget"} & set(parameters)
+    _, (problem,) = generated(tmp_path, 8)
+    code, out, _ = run(capsys, "plan", "--problem", problem, "--planner", "gn1", "--json")
+    parameters = json.loads(out)["provenance"]["parameters"]
+    assert code == 0 and parameters["problem"] == str(problem) and parameters["optimum_budget"] == 1.0
