@@ -3,13 +3,15 @@
     python scripts/lifted_curves.py [--seeds 0-4] [--checkpoints 10,30,100,300,1000,3000,10000,30000]
                                     [--pairs 1000] [--sizes 10,20] [--pairs-seed 0]
                                     [--json curves.json] [--png curves.png]
+    python scripts/lifted_curves.py --merge a.json b.json --json curves.json [--png curves.png]
 
 For every seed, one training run with the learner's defaults (``trials`` set to the last
 checkpoint) from ``np.random.default_rng(seed)``; at every checkpoint the classifiers of that
 moment (``train_lifted``'s ``at_checkpoint``) plan the fixed pairs of every n of ``--sizes``
 (``--pairs`` per n, drawn in turn by one generator seeded ``--pairs-seed``), and solved and
 optimal % are recorded against the exact optimum (a yardstick). Results go to ``--json`` and,
-with ``--png``, a plot: one line per seed, one panel per n.
+with ``--png``, a plot: one line per seed, one panel per n. ``--merge`` joins the seeds of runs
+made side by side (same pairs and checkpoints) into one file and plot.
 """
 
 from __future__ import annotations
@@ -73,6 +75,24 @@ def plot(result: dict, path: str) -> None:
     fig.savefig(path, dpi=110)
 
 
+def merge(paths: list[str], out: str, png: str | None) -> int:
+    """Join the seeds of several results files made on the same pairs and checkpoints."""
+    docs = [json.load(open(p)) for p in paths]
+    keys = ("sizes", "pairs", "pairs_seed", "checkpoints", "default_trials")
+    if any(d[k] != docs[0][k] for d in docs for k in keys):
+        print(f"lifted_curves: {', '.join(paths)} were not made on the same pairs and checkpoints", file=sys.stderr)
+        return 2
+    result = {**{k: docs[0][k] for k in keys}, "seeds": {}}
+    for d in docs:
+        result["seeds"].update(d["seeds"])
+    result["seeds"] = dict(sorted(result["seeds"].items(), key=lambda kv: int(kv[0])))
+    with open(out, "w") as f:
+        json.dump(result, f, indent=1)
+    if png:
+        plot(result, png)
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run every seed, write the JSON and the plot."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -84,7 +104,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--pairs-seed", type=int, default=0, help="seed of the pairs' generator (default 0)")
     parser.add_argument("--json", default="curves.json", help="results file (default curves.json)")
     parser.add_argument("--png", help="plot file (default: none)")
+    parser.add_argument("--merge", nargs="+", metavar="JSON", help="join these results files instead of running")
     args = parser.parse_args(argv)
+    if args.merge:
+        return merge(args.merge, args.json, args.png)
     checkpoints = sorted({int(x) for x in args.checkpoints.split(",")})
     sizes = [int(x) for x in args.sizes.split(",")]
     rng = np.random.default_rng(args.pairs_seed)
