@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Callable
 
@@ -41,27 +42,49 @@ def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:
 def cmd_train_lifted(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from csql_sim.core.policies.feature_policy import dumps_feature_policy
     from csql_sim.core.policies.lifted_policy import dumps_lifted_policy
     from csql_sim.infra.files import write_or_keep
     from csql_sim.infra.provenance import provenance
     from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
 
-    params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals)
+    params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
+                          domain=args.domain, complexity=args.complexity)
     run = train_lifted(params, np.random.default_rng(args.seed), progress=_progress(args))
     training = {"trials": run.trials, "steps": run.steps, "seconds": round(run.seconds, 1), "reached": run.reached,
                 "ground_q_classifiers": run.ground, "covered": run.covered, "specializations": run.splits,
                 "generalizations": run.merges, "lifted_q_classifiers": len(run.classifiers)}
+    if run.features:
+        training["features"] = run.features
     meta = {"method": "lq-cs", "seed": args.seed, "params": params.as_dict(), "training": training,
             "provenance": provenance(seed=args.seed, params=params)}
-    path = write_or_keep([(args.out, dumps_lifted_policy(run.classifiers, meta))])[0]
-    doc = {**meta, "classifiers": [c.text() for c in run.classifiers], "written": str(path)}
+    if run.literals:
+        text = dumps_feature_policy(run.classifiers, run.literals, run.domain, run.features["formulation"], meta)
+    else:
+        text = dumps_lifted_policy(run.classifiers, meta)
+    path = write_or_keep([(args.out, text)])[0]
+    policy = run.policy()
+    lines = [c.text() for c in policy.classifiers]
+    doc = {**meta, "classifiers": lines, "written": str(path)}
+    if run.literals:
+        doc["atoms"] = [lit.text() for lit in policy.literals]
     emit(args, doc, lambda: [
         f"LQ-CS: {run.trials} trials on {','.join(map(str, params.sizes))} blocks, {run.steps} steps, "
         f"{run.seconds:.1f} s; {run.covered} lifted Q-classifiers covered, {run.splits} specialized, "
         f"{run.merges} generalized; {len(run.classifiers)} kept",
-        *(f"  {c.text()}" for c in run.classifiers),
+        *(f"  {line}" for line in lines),
+        *(f"  literal {j + 1}: {lit.words()}" for j, lit in enumerate(getattr(policy, "literals", ()))),
         f"wrote {path}"])
     return 0
+
+
+def _domain(text: str) -> str:
+    """A shipped formulation's name or a readable PDDL domain file."""
+    from csql_sim.core.features.formulation import BUILTIN
+
+    if text in BUILTIN or os.path.isfile(text):
+        return text
+    raise argparse.ArgumentTypeError(f"expected {' or '.join(BUILTIN)} or a PDDL domain file, got {text!r}")
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -72,7 +95,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--trials", type=int_type(1, 10**7), default=3000, help="training trials (default 3000)")
     p.add_argument("--sizes", type=_sizes, default=(5,),
                    help="numbers of blocks of the worlds trained on, a comma list among 3,4,5 (default 5)")
-    p.add_argument("--goals", type=int_type(1, 10**6), default=40, help="training goals per size (default 40)")
+    p.add_argument("--goals", type=int_type(1, 10**6), help="training goals per size (default 40; 200 with "
+                   "--features generated)")
+    p.add_argument("--features", choices=("given", "generated"), default="given",
+                   help="what the classifiers read: the eight hand-written atoms (given, the default) or features "
+                        "generated from the domain's predicates")
+    p.add_argument("--domain", type=_domain, default="4op",
+                   help="with --features generated: the formulation, 4op (default), move, or a PDDL domain file")
+    p.add_argument("--complexity", type=int_type(1, 10), default=8,
+                   help="with --features generated: the feature grammar's complexity bound K (default 8)")
     add_seed(p, "seed of the run's one generator")
     add_json(p)
     add_quiet(p)

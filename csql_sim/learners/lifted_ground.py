@@ -8,27 +8,34 @@ A backup looks one move ahead through every legal move (:func:`after`), each mov
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
+import numpy as np
+
 from csql_sim.core.state.goal_relations import well_placed
-from csql_sim.core.state.move_relations import Move, MoveRelations, after, moves
+from csql_sim.core.state.move_relations import Move, after, moves
 from csql_sim.core.state.world import State
+
+Relations = Callable[[State, State], tuple[tuple[Move, ...], np.ndarray]]
+"""A vocabulary's moves and feature vectors of a (state, target) pair."""
 
 
 class GroundValues:
     """The ground Q-classifiers, made on demand: one per (state, target) met, by index.
 
     Each holds the state's misplaced blocks (the lower bound of its value in moves), its learned
-    excess over that bound, its successors' indices (through :func:`after`, in move order) and
-    its moves' relations, all remembered.
+    excess over that bound and its successors' indices (through :func:`after`, in move order),
+    remembered; and its moves' feature vectors (``relations``), remembered when ``cache``.
     """
 
-    def __init__(self, early: float = 0.0) -> None:
-        self.early = early
+    def __init__(self, relations: Relations, early: float = 0.0, cache: bool = True) -> None:
+        self.early, self._relations, self.cache = early, relations, cache
         self.index: dict[tuple[State, State], int] = {}
         self.keys: list[tuple[State, State]] = []
         self.low: list[int] = []
         self.excess: list[float] = []
         self.nexts: list[list[int] | None] = []
-        self.relations: list[tuple[tuple[Move, ...], list[tuple[int, ...]]] | None] = []
+        self.relations: list[tuple[tuple[Move, ...], np.ndarray] | None] = []
 
     def of(self, state: State, target: State) -> int:
         """The index of (state, target), made with excess 0 when new."""
@@ -51,12 +58,13 @@ class GroundValues:
             nexts = self.nexts[i] = [self.of(after(state, m), target) for m in moves(state)]
         return nexts
 
-    def moves_of(self, i: int) -> tuple[tuple[Move, ...], list[tuple[int, ...]]]:
-        """State i's legal moves and their relations (:class:`MoveRelations`)."""
+    def moves_of(self, i: int) -> tuple[tuple[Move, ...], np.ndarray]:
+        """State i's legal moves and their feature vectors (moves, width)."""
         found = self.relations[i]
         if found is None:
-            rel = MoveRelations(*self.keys[i])
-            found = self.relations[i] = (rel.moves, [rel.bits(m) for m in rel.moves])
+            found = self._relations(*self.keys[i])
+            if self.cache:
+                self.relations[i] = found
         return found
 
     def backup(self, i: int) -> list[float]:

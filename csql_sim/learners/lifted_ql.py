@@ -47,8 +47,11 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from csql_sim.core.classifiers.lifted_rule import BLOCKS_WORLD
+from csql_sim.core.features.formulation import BUILTIN, MAX_DOMAIN_BYTES, load_formulation, parse_formulation
+from csql_sim.core.features.move_features import Literal
 from csql_sim.core.model.lifted_model import LiftedWorldModel
-from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier, condition_holds
+from csql_sim.core.policies.feature_policy import FeaturePolicy, used_literals
+from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier
 from csql_sim.core.state.move_relations import (
     ATOMS,
     Move,
@@ -56,13 +59,19 @@ from csql_sim.core.state.move_relations import (
     put_action,
     target_goal,
 )
-from csql_sim.core.state.state_count import sample_state
+from csql_sim.core.state.state_count import sample_hand_empty, sample_state
 from csql_sim.core.state.world import State
+from csql_sim.infra.assets import asset_text
+from csql_sim.infra.files import read_text_file
 from csql_sim.learners.lifted_ground import GroundValues
+from csql_sim.learners.lifted_rules import Rule, generalize_once, specialize
+from csql_sim.learners.lifted_vocab import GeneratedFeatures, GivenAtoms, Vocabulary
 from csql_sim.learners.params import ParamsError
 
 TRAIN_SIZES = (3, 4, 5)
 """The world sizes a lifted learner may train on."""
+FEATURES = ("given", "generated")
+"""What the lifted classifiers may read."""
 
 
 @dataclass(frozen=True)
@@ -74,14 +83,18 @@ class LiftedParams:
         sizes: world sizes drawn uniformly per trial. Each of 3, 4, 5; default (5,): the
             largest small world has the situations (deadlocks between towers) that large
             worlds are made of.
-        goals: training goals per size, drawn once when the size is first met. Range >= 1; default 40.
+        goals: training goals per size, drawn once when the size is first met. Range >= 1; default 40
+            with the given atoms, 200 with generated features (thousands of features need more
+            situations to tell the general ones from the accidents of a few goals).
         beta: learning rate of the lifted advantages and errors. Range (0, 1]; default 0.02.
         epsilon: probability of a random legal move (wide exploration spreads the updates
             over the states). Range [0, 1); default 0.5.
         tau: moves of advantage that tell two conditions apart. Range > 0; default 0.05
             (near-ties decide the detours of large worlds, so only conditions that agree
             closely are merged).
-        min_experience: updates before a classifier is split or merged. Range >= 1; default 30.
+        min_experience: updates before a classifier is split or merged. Range >= 1; default 30
+            with the given atoms, 100 with generated features (a split chosen among thousands
+            needs more evidence).
         sweep: trials between specialization and generalization sweeps. Range >= 1; default 100.
         replay: whether every sweep also backs up the remembered ground values through the
             world model (:meth:`_Learner.replay`). True or False; default True.
@@ -89,20 +102,37 @@ class LiftedParams:
             default 0.02: too small to trade a move for it at five blocks, it makes the learner
             prefer, among plans of one length, the one that places blocks sooner (a constructive
             move before a table move that five blocks cannot tell apart from it).
+        features: what the classifiers read: ``given`` (the eight hand-written atoms) or
+            ``generated`` (features built from the domain's predicates,
+            :mod:`~csql_sim.learners.lifted_vocab`). Default ``given``.
+        domain: the formulation of ``generated`` features: ``4op``, ``move`` or a PDDL domain
+            file (:func:`~csql_sim.core.features.formulation.load_formulation`). Default ``4op``.
+        complexity: the grammar's complexity bound K for ``generated``. Range 1..10; default 8.
+        sample: (state, goal) pairs the generated features are pruned on (with every move of
+            each). Range 10..5000; default 200.
     """
 
     trials: int = 3000
     sizes: tuple[int, ...] = (5,)
-    goals: int = 40
+    goals: int | None = None
     beta: float = 0.02
     epsilon: float = 0.5
     tau: float = 0.05
-    min_experience: int = 30
+    min_experience: int | None = None
     sweep: int = 100
     replay: bool = True
     early: float = 0.02
+    features: str = "given"
+    domain: str = "4op"
+    complexity: int = 8
+    sample: int = 200
 
     def __post_init__(self) -> None:
+        generated = self.features == "generated"
+        if self.goals is None:
+            object.__setattr__(self, "goals", 200 if generated else 40)
+        if self.min_experience is None:
+            object.__setattr__(self, "min_experience", 100 if generated else 30)
         checks = {
             "trials": isinstance(self.trials, int) and self.trials >= 1,
             "sizes": bool(self.sizes) and all(isinstance(n, int) and n in TRAIN_SIZES for n in self.sizes),
@@ -114,6 +144,10 @@ class LiftedParams:
             "sweep": isinstance(self.sweep, int) and self.sweep >= 1,
             "replay": isinstance(self.replay, bool),
             "early": 0 <= self.early < 1,
+            "features": self.features in FEATURES,
+            "domain": isinstance(self.domain, str) and bool(self.domain),
+            "complexity": isinstance(self.complexity, int) and 1 <= self.complexity <= 10,
+            "sample": isinstance(self.sample, int) and 10 <= self.sample <= 5000,
         }
         bad = [name for name, ok in checks.items() if not ok]
         if bad:
@@ -121,39 +155,10 @@ class LiftedParams:
                               "(see LiftedParams)")
 
     def as_dict(self) -> dict:
-        """The parameters as plain values."""
-        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)}
-
-
-@dataclass
-class _Rule:
-    """A lifted classifier being learned: its statistics and, per ``#`` atom, advantage sums by the atom's value."""
-
-    condition: str
-    kind: str
-    advantage: float = 0.0
-    error: float = 0.0
-    experience: int = 0
-    split: dict[int, list[float]] = field(default_factory=dict)
-
-    def matches(self, bits: tuple[int, ...], kind: str) -> bool:
-        return kind == self.kind and condition_holds(self.condition, bits)
-
-    def update(self, advantage: float, bits: tuple[int, ...], beta: float) -> None:
-        """One update of the advantage and its error (MAM: plain averages for the first 1/beta updates)."""
-        self.experience += 1
-        rate = max(beta, 1.0 / self.experience)
-        self.error += rate * (abs(advantage - self.advantage) - self.error)
-        self.advantage += rate * (advantage - self.advantage)
-        for i, c in enumerate(self.condition):
-            if c == "#":
-                sums = self.split.setdefault(i, [0.0, 0, 0.0, 0])
-                sums[2 * bits[i]] += advantage
-                sums[2 * bits[i] + 1] += 1
-
-    def frozen(self) -> LiftedQClassifier:
-        return LiftedQClassifier(self.condition, self.kind, round(self.advantage, 3), round(self.error, 3),
-                                 self.experience)
+        """The parameters as plain values (the generated features' own only when they are used)."""
+        own = () if self.features == "generated" else ("features", "domain", "complexity", "sample")
+        return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)
+                if f.name not in own}
 
 
 @dataclass(frozen=True)
@@ -161,13 +166,16 @@ class LiftedRun:
     """What a training run learned and what it cost.
 
     Attributes:
-        classifiers: the learned lifted Q-classifiers.
+        classifiers: the learned lifted Q-classifiers (conditions over ``atoms``).
         trials: trials run.
         steps: actions taken (a move is a pick and a put: two).
         seconds: wall time of the training loop.
         reached: trials that reached their goal.
         ground: ground Q-classifiers made on demand (the learner's working memory).
         splits: specializations made; merges: generalizations made; covered: lifted classifiers covered.
+        literals: with generated features, the literals the conditions range over (else empty).
+        domain: with generated features, the PDDL domain's text (else empty).
+        features: with generated features, the feature space's figures (else empty).
     """
 
     classifiers: tuple[LiftedQClassifier, ...]
@@ -179,10 +187,26 @@ class LiftedRun:
     splits: int
     merges: int
     covered: int
+    literals: tuple[Literal, ...] = ()
+    domain: str = ""
+    features: dict = field(default_factory=dict)
 
-    def policy(self, meta: dict | None = None) -> LiftedPolicy:
+    def policy(self, meta: dict | None = None) -> LiftedPolicy | FeaturePolicy:
         """The greedy policy of the learned classifiers."""
-        return LiftedPolicy(self.classifiers, meta)
+        if not self.literals:
+            return LiftedPolicy(self.classifiers, meta)
+        cut, kept = used_literals(self.classifiers, self.literals)
+        return FeaturePolicy(cut, kept, parse_formulation(self.domain, "domain"), self.domain, meta)
+
+
+def vocabulary_of(params: LiftedParams) -> Vocabulary:
+    """The vocabulary the parameters name."""
+    if params.features == "given":
+        return GivenAtoms()
+    form = load_formulation(params.domain)
+    domain = asset_text("domains", BUILTIN[params.domain]) if params.domain in BUILTIN else \
+        read_text_file(params.domain, MAX_DOMAIN_BYTES, "PDDL domain")
+    return GeneratedFeatures(form, domain, params.complexity, params.sample)
 
 
 class _Learner:
@@ -190,40 +214,46 @@ class _Learner:
 
     def __init__(self, params: LiftedParams, rng: np.random.Generator) -> None:
         self.params, self.rng = params, rng
-        self.rules: list[_Rule] = []
-        self.ground = GroundValues(params.early)
+        self.vocab = vocabulary_of(params)
+        self.hand = not isinstance(self.vocab, GeneratedFeatures) or self.vocab.form.hand
+        self.rules: list[Rule] = []
+        self.ground = GroundValues(self.vocab.relations, params.early, self.vocab.cache_relations)
         self.goals: dict[int, list[State]] = {}
-        self.match: dict[tuple[tuple[int, ...], str], _Rule] = {}
+        self.match: dict = {}
         self.model = LiftedWorldModel(BLOCKS_WORLD)
-        self.steps = self.reached = self.splits = self.merges = self.covered = 0
+        self.steps = self.reached = self.splits = self.merges = self.covered = self.sweeps = 0
 
-    def rule_for(self, bits: tuple[int, ...], kind: str) -> _Rule:
+    def rule_for(self, i: int, j: int, bits: np.ndarray, kind: str) -> Rule:
         """The most specific matching rule (ties: smaller error), covering when none matches.
 
-        Remembered until the next sweep: a covered rule matches its own relations only.
+        Remembered until the next sweep: a covered rule matches only moves no rule matched.
         """
-        key = (bits, kind)
+        key = self.vocab.match_key(i, j, bits, kind)
         best = self.match.get(key)
         if best is not None:
             return best
         for r in self.rules:
-            if r.matches(bits, kind) and (best is None or (r.condition.count("#"), r.error)
-                                          < (best.condition.count("#"), best.error)):
+            if r.matches(bits, kind) and (best is None or (-r.specificity, r.error) < (-best.specificity, best.error)):
                 best = r
         if best is None:
-            best = _Rule("".join(map(str, bits)), kind)
+            best = Rule(self.vocab.cover(bits), kind, self.vocab.width)
             self.rules.append(best)
             self.covered += 1
         self.match[key] = best
         return best
 
+    def draw(self, n: int) -> State:
+        """A state of n blocks, uniformly (hand-empty ones only in a domain without a hand)."""
+        return sample_state(n, self.rng) if self.hand else sample_hand_empty(n, self.rng)
+
     def trial(self) -> None:
         """One Q-learning trial: a training goal of a random size, a random start, up to 3n + 3 moves."""
         n = int(self.rng.choice(self.params.sizes))
         if n not in self.goals:
-            self.goals[n] = [sample_state(n, self.rng) for _ in range(self.params.goals)]
+            self.goals[n] = [self.draw(n) for _ in range(self.params.goals)]
+            self.vocab.prepare(n, self.goals[n], self.rng)
         pool = self.goals[n]
-        start = sample_state(n, self.rng)
+        start = self.draw(n)
         target = target_goal(start, pool[int(self.rng.integers(len(pool)))])
         state = start
         for _ in range(3 * n + 3):
@@ -236,6 +266,7 @@ class _Learner:
         """One move as the policy makes it: back up, choose; after a pick, back up the held state and choose the put.
 
         With probability ``epsilon`` a random legal move is taken instead, its pick and put at once.
+        Without a hand (the move domain) a move is one action: its pick and put at once.
         """
         i = self.ground.of(state, target)
         move = self.backup(i)
@@ -248,7 +279,8 @@ class _Learner:
         elif state.held is None:
             state = self.model.successor(state, pick_action(state, move.block))
             self.steps += 1
-            move = self.backup(self.ground.of(state, target))
+            if self.hand:
+                move = self.backup(self.ground.of(state, target))
         self.steps += 1
         return self.model.successor(state, put_action(move))
 
@@ -261,9 +293,16 @@ class _Learner:
         q = self.ground.backup(i)
         low = min(q)
         options, relations = self.ground.moves_of(i)
-        for move, bits, value in zip(options, relations, q, strict=True):
-            self.rule_for(bits, move.kind).update(value - low, bits, self.params.beta)
-        ranks = [self.rule_for(bits, move.kind).advantage for move, bits in zip(options, relations, strict=True)]
+        rules = []
+        for j, (move, bits, value) in enumerate(zip(options, relations, q, strict=True)):
+            rule = self.rule_for(i, j, bits, move.kind)  # in move order: a match is decided as the last update left it
+            rule.update(value - low, self.params.beta)
+            rules.append(rule)
+        for rule in dict.fromkeys(rules):
+            at = [j for j, r in enumerate(rules) if r is rule]
+            rule.add_stats(np.array([q[j] - low for j in at]), relations[at])
+        ranks = [self.rule_for(i, j, bits, move.kind).advantage
+                 for j, (move, bits) in enumerate(zip(options, relations, strict=True))]
         return options[ranks.index(min(ranks))]
 
     def replay(self) -> None:
@@ -280,61 +319,24 @@ class _Learner:
 
     def frozen(self) -> tuple[LiftedQClassifier, ...]:
         """The classifiers now, sorted by kind and condition."""
-        return tuple(r.frozen() for r in sorted(self.rules, key=lambda r: (r.kind, r.condition)))
+        return tuple(sorted((self.vocab.classifier(r) for r in self.rules), key=lambda c: (c.kind, c.condition)))
 
     def sweep(self) -> None:
         """Specialize the rules whose ``#`` hides a difference; merge siblings that agree."""
-        if self.params.replay:
+        p = self.params
+        if p.replay:
             self.replay()
-        self._specialize()
-        while self._generalize_once():
-            pass
+        self.sweeps += 1
+        if self.sweeps > self.vocab.warmup:
+            self.rules, splits = specialize(self.rules, p.tau, p.min_experience, self.vocab.band)
+            self.splits += splits
+        if self.vocab.fresh_stats:
+            for r in self.rules:
+                r.stats = None
+        while (merged := generalize_once(self.rules, p.tau, p.min_experience)) is not None:
+            self.rules = merged
+            self.merges += 1
         self.match.clear()
-
-    def _specialize(self) -> None:
-        p = self.params
-        out = []
-        for r in self.rules:
-            best, gap = None, p.tau
-            for i, (s0, c0, s1, c1) in r.split.items():
-                if min(c0, c1) >= p.min_experience and abs(s0 / c0 - s1 / c1) > gap:
-                    best, gap = i, abs(s0 / c0 - s1 / c1)
-            if best is None or r.experience < p.min_experience:
-                out.append(r)
-                continue
-            s0, c0, s1, c1 = r.split[best]
-            for value, total, count in (("0", s0, c0), ("1", s1, c1)):
-                cond = r.condition[:best] + value + r.condition[best + 1:]
-                out.append(_Rule(cond, r.kind, total / count, r.error, int(count)))
-            self.splits += 1
-        self.rules = out
-
-    def _generalize_once(self) -> bool:
-        p = self.params
-        for i, a in enumerate(self.rules):
-            for b in self.rules[i + 1:]:
-                pos = _sibling_position(a, b)
-                if pos is None or min(a.experience, b.experience) < p.min_experience \
-                        or abs(a.advantage - b.advantage) >= p.tau / 2:
-                    continue
-                total = a.experience + b.experience
-                merged = _Rule(a.condition[:pos] + "#" + a.condition[pos + 1:], a.kind,
-                               (a.advantage * a.experience + b.advantage * b.experience) / total,
-                               max(a.error, b.error), total)
-                self.rules = [r for r in self.rules if r is not a and r is not b] + [merged]
-                self.merges += 1
-                return True
-        return False
-
-
-def _sibling_position(a: _Rule, b: _Rule) -> int | None:
-    """The one atom where a and b differ as 0 and 1 (same kind, same elsewhere), else None."""
-    if a.kind != b.kind:
-        return None
-    diff = [i for i, (x, y) in enumerate(zip(a.condition, b.condition, strict=True)) if x != y]
-    if len(diff) != 1 or {a.condition[diff[0]], b.condition[diff[0]]} != {"0", "1"}:
-        return None
-    return diff[0]
 
 
 def train_lifted(params: LiftedParams, rng: np.random.Generator,
@@ -362,8 +364,14 @@ def train_lifted(params: LiftedParams, rng: np.random.Generator,
                 progress(k, params.trials)
         if k in checkpoints and at_checkpoint is not None:
             at_checkpoint(k, learner.frozen())
+    vocab = learner.vocab
+    generated = isinstance(vocab, GeneratedFeatures) and vocab.space is not None
+    features = {} if not generated else {
+        "formulation": vocab.form.name, "complexity": vocab.space.complexity, "candidates": vocab.space.candidates,
+        "concepts": vocab.space.generated, "literals": len(vocab.space.literals)}
     return LiftedRun(learner.frozen(), params.trials, learner.steps, time.perf_counter() - t0,
-                     learner.reached, len(learner.ground.keys), learner.splits, learner.merges, learner.covered)
+                     learner.reached, len(learner.ground.keys), learner.splits, learner.merges, learner.covered,
+                     vocab.literals if generated else (), vocab.domain if generated else "", features)
 
 
 __all__ = ["ATOMS", "TRAIN_SIZES", "LiftedParams", "LiftedRun", "train_lifted"]

@@ -41,3 +41,42 @@ def test_an_existing_file_of_someone_else_is_kept(tmp_path, capsys):
     out.write_text("mine")
     assert main(["train-lifted", "--trials", "5", "--out", str(out)]) == 2
     assert out.read_text() == "mine"
+
+
+@pytest.mark.parametrize("domain", ["move", "4op"])
+def test_train_lifted_over_generated_features_writes_a_file_plan_reads(tmp_path, capsys, domain):
+    out = tmp_path / "g.json"
+    argv = ["train-lifted", "--features", "generated", "--domain", domain, "--complexity", "4", "--trials", "120",
+            "--goals", "10", "--sizes", "4", "--out", str(out), "--quiet", "--json"]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out)
+    written = json.loads(out.read_text())
+    assert written["formulation"] == domain and "(define (domain" in written["domain"]
+    assert doc["atoms"] == written["atoms"] and doc["training"]["features"]["complexity"] == 4
+    assert doc["params"]["features"] == "generated" and doc["training"]["features"]["literals"] >= len(doc["atoms"])
+    assert main(["plan", "--rules", str(out), "--start", "A,B,C,D,E,F,G", "--goal", "GFEDCBA", "--json"]) in (0, 1)
+    assert json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize(("argv", "names"), [
+    (["--features", "learned"], "--features"),
+    (["--domain", "nowhere.pddl"], "--domain"),
+    (["--complexity", "11"], "--complexity"),
+])
+def test_bad_feature_options_are_refused_in_one_line(tmp_path, capsys, argv, names):
+    out = tmp_path / "g.json"
+    with pytest.raises(SystemExit) as exit_:
+        main(["train-lifted", "--out", str(out), "--features", "generated", *argv])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and names in err and not out.exists()
+
+
+def test_a_domain_that_is_not_a_blocks_world_is_one_line(tmp_path, capsys):
+    domain = tmp_path / "d.pddl"
+    domain.write_text("(define (domain d) (:predicates (at ?x)) (:action go :parameters (?x) :precondition (at ?x) "
+                      ":effect (not (at ?x))))")
+    out = tmp_path / "g.json"
+    assert main(["train-lifted", "--features", "generated", "--domain", str(domain), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "d.pddl" in err and not out.exists()

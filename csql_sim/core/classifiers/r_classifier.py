@@ -31,8 +31,6 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
-from importlib import resources
-from pathlib import Path
 from typing import ClassVar
 
 import yaml
@@ -57,6 +55,7 @@ from csql_sim.core.state.world import (
     check_n,
     preconditions,
 )
+from csql_sim.infra.assets import asset_text
 from csql_sim.infra.errors import CsqlError
 
 ASSET = "blocks3.yaml"
@@ -371,16 +370,8 @@ def load_paper_rules() -> list[RClassifier]:
 
 
 def _asset_text(name: str) -> str:
-    """A rule asset's text: the installed ``csql_sim.assets``, else the checkout's ``assets/``.
-
-    The second case is a source checkout that shadows the installed package (``python -m``
-    run inside it puts the checkout first on ``sys.path``), where ``csql_sim.assets`` exists
-    only as the top-level folder.
-    """
-    try:
-        return resources.files("csql_sim.assets").joinpath("rules", name).read_text(encoding="utf-8")
-    except ModuleNotFoundError:
-        return (Path(__file__).resolve().parents[3] / "assets" / "rules" / name).read_text(encoding="utf-8")
+    """A rule asset's text (``assets/rules``)."""
+    return asset_text("rules", name)
 
 
 @functools.cache

@@ -182,6 +182,11 @@ def _parse_text(text: str, kind: str, source: str):  # noqa: ANN202 - a pddl Dom
         raise PddlImportError(f"{source}: not a PDDL {kind} the pddl package can read ({first})") from None
 
 
+def parse_domain_text(text: str, source: str = "domain"):  # noqa: ANN201 - a pddl Domain
+    """A domain's text parsed by the ``pddl`` package (lower-cased); PddlImportError if it cannot be read."""
+    return _parse_text(text, "domain", source)
+
+
 def domain_actions(domain, source: str) -> frozenset[str]:  # noqa: ANN001 - a pddl Domain
     """The domain's action names, checked to be one of the blocks-world styles."""
     actions = {a.name: len(a.parameters) for a in domain.actions}

@@ -79,8 +79,8 @@ class LiftedQClassifier:
     experience: int = 0
 
     def __post_init__(self) -> None:
-        if len(self.condition) != len(ATOMS) or set(self.condition) - set("01#"):
-            raise LiftedPolicyError(f"condition {self.condition!r}: expected {len(ATOMS)} characters of 0, 1, #")
+        if not self.condition or set(self.condition) - set("01#"):
+            raise LiftedPolicyError(f"condition {self.condition!r}: expected characters 0, 1, # (one per atom)")
         if self.kind not in KINDS:
             raise LiftedPolicyError(f"move kind {self.kind!r}: expected one of {', '.join(KINDS)}")
 
@@ -98,9 +98,9 @@ class LiftedQClassifier:
         return (f"Q {self.condition} move(?x,?d)->{self.kind}  advantage={self.advantage:.3f} "
                 f"error={self.error:.3f} experience={self.experience}")
 
-    def words(self) -> str:
+    def words(self, atoms: tuple[str, ...] = ATOMS) -> str:
         """The condition in words: the atoms that must hold (and, with ``not``, must not)."""
-        parts = [atom if c == "1" else f"not {atom}" for atom, c in zip(ATOMS, self.condition, strict=True) if c != "#"]
+        parts = [atom if c == "1" else f"not {atom}" for atom, c in zip(atoms, self.condition, strict=True) if c != "#"]
         return f"move ?x to {'the table' if self.kind == 'table' else 'block ?d'} if {' and '.join(parts) or 'always'}"
 
 
@@ -227,6 +227,9 @@ def dumps_lifted_policy(classifiers: Iterable[LiftedQClassifier], meta: dict) ->
 def loads_lifted_policy(text: str, source: str = "lifted Q-classifier file") -> LiftedPolicy:
     """The policy of a file's text; raises LiftedPolicyError naming the source and what is wrong."""
     doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, LIFTED_Q_VERSION, LiftedPolicyError)
+    if "domain" in doc:
+        raise LiftedPolicyError(f"{source} holds classifiers over generated features: read it with "
+                                "csql_sim.core.policies.loader.load_policy")
     atoms = doc.get("atoms")
     if not isinstance(atoms, list) or atoms != list(ATOMS[:len(atoms)]) or len(atoms) < len(ATOMS) - 1:
         raise LiftedPolicyError(f"{source} names other atoms than this csql-sim's {', '.join(ATOMS)}")
@@ -236,10 +239,25 @@ def loads_lifted_policy(text: str, source: str = "lifted Q-classifier file") -> 
         raise LiftedPolicyError(f"{source}: 'classifiers' must be a list of lines and 'meta' an object")
     if not 0 < len(lines) <= MAX_CLASSIFIERS:
         raise LiftedPolicyError(f"{source} holds {len(lines)} classifiers; expected 1..{MAX_CLASSIFIERS}")
+    classifiers = classifier_lines(lines, source, len(ATOMS), pad)
+    return LiftedPolicy(classifiers, meta)
+
+
+def classifier_lines(lines: object, source: str, width: int, pad: str = "") -> list[LiftedQClassifier]:
+    """The classifiers of a file's ``classifiers`` list, each condition ``width`` atoms long."""
+    if not isinstance(lines, list) or not all(isinstance(x, str) for x in lines):
+        raise LiftedPolicyError(f"{source}: 'classifiers' must be a list of lines")
+    if not 0 < len(lines) <= MAX_CLASSIFIERS:
+        raise LiftedPolicyError(f"{source} holds {len(lines)} classifiers; expected 1..{MAX_CLASSIFIERS}")
     try:
-        return LiftedPolicy([_padded(parse_lifted_q, x, pad) for x in lines], meta)
+        out = [_padded(parse_lifted_q, x, pad) for x in lines]
     except LiftedPolicyError as exc:
         raise LiftedPolicyError(f"{source}: {exc}") from None
+    wrong = next((c for c in out if len(c.condition) != width), None)
+    if wrong is not None:
+        raise LiftedPolicyError(f"{source}: condition {wrong.condition!r} has {len(wrong.condition)} atoms, "
+                                f"the file names {width}")
+    return out
 
 
 def _padded(parse, line: str, pad: str) -> LiftedQClassifier:

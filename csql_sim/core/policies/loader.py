@@ -7,7 +7,8 @@ which also tells its kind) and hands what it read to the loader of that kind:
 * a goal-form rule base, YAML or npz: its default hierarchy (:class:`DefaultHierarchy`) as a
   greedy table;
 * a sharded rule base's directory: read lazily, shard by shard (:class:`ShardedPolicy`);
-* lifted Q-classifiers: a :class:`LiftedPolicy`, for any number of blocks.
+* lifted Q-classifiers: a :class:`LiftedPolicy`, for any number of blocks (over generated
+  features, a :class:`~csql_sim.core.policies.feature_policy.FeaturePolicy`).
 
 Without a file, the policy is BFS (:class:`~csql_sim.core.model.search.BfsPolicy`). Every
 one of them implements the policy contract (:class:`csql_sim.core.policies.contract.Policy`).
@@ -27,8 +28,8 @@ from csql_sim.core.files.rulebase_yaml import RuleBaseError, loads
 from csql_sim.core.model.search import BfsPolicy
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
+from csql_sim.core.policies.feature_policy import loads_lifted_file
 from csql_sim.core.policies.greedy_table import GreedyTable
-from csql_sim.core.policies.lifted_policy import loads_lifted_policy
 from csql_sim.core.policies.sharded_policy import ShardedPolicy
 from csql_sim.core.state.state_count import state_count
 from csql_sim.core.state.world import MAX_BLOCKS
@@ -82,8 +83,8 @@ def _sharded(found: RuleFile, n: int | None, progress: bool) -> Policy:
 
 
 def _lifted(found: RuleFile, n: int | None, progress: bool) -> Policy:
-    """Lifted Q-classifiers: any number of blocks."""
-    return loads_lifted_policy(found.text(), f"lifted Q-classifier file {found.source!r}")
+    """Lifted Q-classifiers, over the given atoms or over generated features: any number of blocks."""
+    return loads_lifted_file(found.text(), f"lifted Q-classifier file {found.source!r}")
 
 
 LOADERS: dict[str, Loader] = {

@@ -52,8 +52,13 @@ def default_cap(n: int) -> int:
 
 
 def rollout_relational(policy: RelationalPolicy, start: State, goal: State, cap: int | None = None,
-                       model: LiftedWorldModel | None = None) -> RelationalRollout:
-    """Follow ``policy`` from ``start`` until ``goal``, a revisited state, an illegal action or ``cap`` steps."""
+                       model: LiftedWorldModel | None = None, hand: bool = True) -> RelationalRollout:
+    """Follow ``policy`` from ``start`` until ``goal``, a revisited state, an illegal action or ``cap`` steps.
+
+    With ``hand`` False (a policy of the hand-less move domain, whose moves are executed as a pick
+    and a put) only hand-empty states count as revisited: a held state lies between a move's two
+    actions and is not a state of that domain, so moving one block twice in a row is no loop.
+    """
     if start.n != goal.n:
         raise WorldError(f"start has {start.n} blocks but goal has {goal.n}")
     model = model or LiftedWorldModel(BLOCKS_WORLD)
@@ -69,7 +74,7 @@ def rollout_relational(policy: RelationalPolicy, start: State, goal: State, cap:
             return RelationalRollout(tuple(taken), False, f"illegal action in {state.notation()}")
         taken.append(action)
         state = model.successor(state, action)
-        if state in seen:
+        if state in seen and (hand or state.held is None):
             return RelationalRollout(tuple(taken), False, f"loop at {state.notation()}")
         seen.add(state)
     return RelationalRollout(tuple(taken), True)

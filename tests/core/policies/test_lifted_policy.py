@@ -71,7 +71,7 @@ def _doc(**change):
     (_doc(version=2), "has version 2"),
     (_doc(atoms=["misplaced(?x)"]), "names other atoms"),
     (_doc(classifiers=[]), "holds 0 classifiers"),
-    (_doc(classifiers=["Q 1111 move(?x,?d)->table  advantage=0 error=0 experience=1"]), "expected 8 characters"),
+    (_doc(classifiers=["Q 1111 move(?x,?d)->table  advantage=0 error=0 experience=1"]), "has 4 atoms, the file names 8"),
     (_doc(classifiers=["Q 1####### move(?x,?d)->sky  advantage=0 error=0 experience=1"]), "expected 'Q <condition>"),
     (_doc(classifiers=["Q 1####### move(?x,?d)->table  advantage=nan error=0 experience=1"]),
      "expected 'Q <condition>"),

@@ -1,0 +1,1 @@
+"""Features the learner builds from a domain's predicates: a description-logic grammar over them."""

@@ -1,0 +1,150 @@
+"""Lifted Q-classifiers over generated features: the greedy policy, and their file.
+
+A classifier learned over generated features (:mod:`csql_sim.core.features`) has the lines
+of :mod:`~csql_sim.core.policies.lifted_policy`, one condition character per **literal** the
+file names (``x:all(star(on),eq(on,on_g))`` reads "?x ∈ ∀on*.(on = on_g)"; see
+:mod:`~csql_sim.core.features.move_features`). The file keeps only the literals some
+classifier tests, and the PDDL domain whose predicates they read, so it plans on its own.
+
+:class:`FeaturePolicy` binds ``?x`` and ``?d`` to every legal move, evaluates the literals on
+the state and on the state after each move (one move of lookahead) and takes the move of
+least advantage of its most specific matching classifier (ties: the first in move order),
+as :class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy` does. In a domain with a hand
+it picks the block up, then chooses the put again holding it. In the move domain a move is
+one action: it is executed as a pick and the put of the move chosen (the one step between
+them is not a state of that domain, so nothing is chosen there).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable
+
+import numpy as np
+
+from csql_sim.core.classifiers.lifted_rule import read_versioned_json
+from csql_sim.core.features.formulation import Formulation, parse_formulation
+from csql_sim.core.features.move_features import Literal, literal_values, parse_literal, parsed
+from csql_sim.core.policies.contract import Policy
+from csql_sim.core.policies.lifted_policy import (
+    LIFTED_Q_FORMAT,
+    LIFTED_Q_VERSION,
+    LiftedPolicyError,
+    LiftedQClassifier,
+    classifier_lines,
+    loads_lifted_policy,
+    most_specific,
+)
+from csql_sim.core.state.move_relations import Move, pick_action, put_action, target_goal
+from csql_sim.core.state.world import Action, State, successor
+from csql_sim.infra.errors import CsqlError
+
+MAX_LITERALS = 512
+"""The most literals a file may name."""
+
+
+class FeaturePolicy(Policy):
+    """Greedy policy over lifted Q-classifiers on generated features (module docstring)."""
+
+    name = "rules"
+    blocks: int | None = None
+
+    def __init__(self, classifiers: Iterable[LiftedQClassifier], literals: tuple[Literal, ...],
+                 form: Formulation, domain: str, meta: dict | None = None) -> None:
+        self.classifiers = tuple(classifiers)
+        self.literals, self.form, self.domain = literals, form, domain
+        self.meta = dict(meta or {})
+        self._match: dict[tuple[bytes, str], LiftedQClassifier | None] = {}
+        self._chosen: tuple[State, Move] | None = None
+
+    def classifier_for(self, bits: np.ndarray, kind: str) -> LiftedQClassifier | None:
+        """The most specific classifier matching a move's literal values (remembered)."""
+        key = (bits.tobytes(), kind)
+        if key not in self._match:
+            self._match[key] = most_specific(self.classifiers, tuple(int(b) for b in bits), kind)
+        return self._match[key]
+
+    def choose(self, state: State, target: State) -> Move | None:
+        """The move of least advantage (ties: move order), or None when no classifier matches any."""
+        options, values = literal_values(self.literals, self.form, state, target)
+        best, best_value = None, 0.0
+        for move, bits in zip(options, values, strict=True):
+            c = self.classifier_for(bits, move.kind)
+            if c is not None and (best is None or c.advantage < best_value):
+                best, best_value = move, c.advantage
+        return best
+
+    def act(self, state: State, goal: State) -> Action | None:
+        """The next action towards ``goal``: None at the goal or when no classifier matches."""
+        if state == goal:
+            return None
+        target = target_goal(state, goal)
+        if state == target:
+            return pick_action(state, goal.held)
+        chosen, self._chosen = self._chosen, None
+        if state.held is not None and not self.form.hand and chosen is not None and chosen[0] == state:
+            return put_action(chosen[1])
+        move = self.choose(state, target)
+        if move is None:
+            return None
+        if state.held is not None:
+            return put_action(move)
+        action = pick_action(state, move.block)
+        if not self.form.hand:
+            self._chosen = (successor(state, action), move)
+        return action
+
+    def text(self) -> list[str]:
+        """The classifiers' lines."""
+        return [c.text() for c in self.classifiers]
+
+
+def used_literals(classifiers: Iterable[LiftedQClassifier], literals: tuple[Literal, ...]
+                  ) -> tuple[list[LiftedQClassifier], tuple[Literal, ...]]:
+    """The classifiers with their conditions cut down to the literals some classifier tests, and those literals."""
+    classifiers = list(classifiers)
+    keep = [j for j in range(len(literals)) if any(c.condition[j] != "#" for c in classifiers)]
+    cut = [LiftedQClassifier("".join(c.condition[j] for j in keep) or "#", c.kind, c.advantage, c.error,
+                             c.experience) for c in classifiers]
+    if not keep:  # a condition needs one character: keep the first literal, untested
+        keep = [0]
+    return cut, tuple(literals[j] for j in keep)
+
+
+def dumps_feature_policy(classifiers: Iterable[LiftedQClassifier], literals: tuple[Literal, ...],
+                         domain: str, formulation: str, meta: dict) -> str:
+    """The file's text: the lifted Q-classifier format with the literals as its atoms and the domain's PDDL."""
+    cut, kept = used_literals(classifiers, literals)
+    doc = {"format": LIFTED_Q_FORMAT, "version": LIFTED_Q_VERSION, "formulation": formulation, "domain": domain,
+           "atoms": [lit.text() for lit in kept], "meta": meta, "classifiers": [c.text() for c in cut]}
+    return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
+
+
+def feature_policy_from_doc(doc: dict, source: str) -> FeaturePolicy:
+    """The policy of a generated-features file already read as JSON; LiftedPolicyError naming what is wrong."""
+    domain, atoms, meta = doc.get("domain"), doc.get("atoms"), doc.get("meta", {})
+    if not isinstance(domain, str) or not isinstance(atoms, list) or not isinstance(meta, dict):
+        raise LiftedPolicyError(f"{source}: 'domain' must be PDDL text, 'atoms' a list and 'meta' an object")
+    if not 0 < len(atoms) <= MAX_LITERALS or not all(isinstance(a, str) for a in atoms):
+        raise LiftedPolicyError(f"{source}: 'atoms' must name 1..{MAX_LITERALS} literals")
+    try:
+        form = parse_formulation(domain, f"{source} (its domain)", str(doc.get("formulation") or "domain"))
+        literals = tuple(parse_literal(a) for a in atoms)
+    except (CsqlError, ValueError) as exc:
+        raise LiftedPolicyError(f"{source}: {exc}") from None
+    known = {(p.name, p.arity) for p in form.predicates} | {(c, None) for c in form.constants}
+    for lit in literals:
+        uses = {(lit.feature, 0)} if lit.slot == "holds" else parsed(lit.feature).uses()
+        if uses - known:
+            wrong = ", ".join(sorted(f"{name}/{'constant' if k is None else k}" for name, k in uses - known))
+            raise LiftedPolicyError(f"{source}: literal {lit.text()!r} reads {wrong}, not in the domain")
+    return FeaturePolicy(classifier_lines(doc.get("classifiers"), source, len(literals)), literals, form, domain, meta)
+
+
+def loads_lifted_file(text: str, source: str) -> Policy:
+    """A lifted Q-classifier file's policy: over generated features when it names a domain, else the given atoms."""
+    doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, LIFTED_Q_VERSION, LiftedPolicyError)
+    return feature_policy_from_doc(doc, source) if "domain" in doc else loads_lifted_policy(text, source)
+
+
+__all__ = ["FeaturePolicy", "loads_lifted_file", "dumps_feature_policy", "feature_policy_from_doc", "used_literals"]

@@ -1,0 +1,170 @@
+"""LQ-CS over given atoms and over generated features, both formulations, beside GN1 and the hand ordering.
+
+    python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-4op,generated-move]
+                                    [--use 100] [--sizes 7,10,20,26] [--tall 25,50,100] [--tall-tasks 3]
+                                    [--out feature_table.jsonl] [--report]
+
+Pairs: the benchmark's (``scripts/lifted_benchmark.py --pairs 1000``: one generator seeded 0
+draws 1,000 pairs for n = 6, 7, 8, 10, 15, 20, 26 in turn), of which the first ``--use`` of
+each size of ``--sizes`` are planned, against their exact optimum (a yardstick). Tall towers:
+``--tall-tasks`` tasks per size of ``--tall`` from the tall-tower generator of ``csql-sim
+problems`` (seed 0), against the optimum of the deadlock characterization, solved by CP-SAT
+(the ``bench`` extra) or else by branch and bound within 10 s; where it is not proven, against
+its lower bound (flagged).
+
+Every learned variant trains with its defaults from ``np.random.default_rng(seed)``: ``given``
+the eight hand-written atoms, ``generated-4op`` and ``generated-move`` features generated from
+the predicates of the shipped PDDL domains. A policy of the move domain is run with its moves
+executed as a pick and a put, and only its own (hand-empty) states count as revisited.
+Figures come from trials and the learner's sweeps through its world model; none from search.
+
+Each (variant, seed) is one JSON line of ``--out``, written when done: a run that is stopped
+resumes where it was. ``--report`` prints the tables (min / median / max over seeds).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from lifted_seeds import hand_ordering  # the script beside this one
+
+from csql_sim.core.measure.bounds import bounded_optimum, cpsat_optimum
+from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.model.task_draws import draw_task
+from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.state_count import sample_pairs
+from csql_sim.learners.gn1 import Gn1Policy
+from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
+
+BENCH_SIZES = (6, 7, 8, 10, 15, 20, 26)
+VARIANTS = {"given": {}, "generated-4op": {"features": "generated", "domain": "4op"},
+            "generated-move": {"features": "generated", "domain": "move"}}
+
+
+def tasks(args: argparse.Namespace) -> dict[str, list[tuple]]:
+    """Every task measured, by label (``n=7`` ..., ``tall-25`` ...), with its optimum (or bound) and flag."""
+    rng = np.random.default_rng(0)
+    out: dict[str, list[tuple]] = {}
+    for n in BENCH_SIZES:
+        pairs = sample_pairs(n, 1000, rng)
+        if n in args.sizes:
+            out[f"n={n}"] = [(s, g, optimal_length(s, g), True) for s, g in pairs[:args.use]]
+    rng = np.random.default_rng(0)
+    for n in args.tall:
+        rows = []
+        for _ in range(args.tall_tasks):
+            s, g = draw_task("tall-towers", n, rng)
+            bound = exact(s, g)
+            rows.append((s, g, bound.lower, bound.proven))
+        out[f"tall-{n}"] = rows
+    return out
+
+
+def exact(start, goal):  # noqa: ANN001, ANN201 - states in, a Bound out
+    """The optimum by CP-SAT (the bench extra) within 10 s, else by branch and bound; a lower bound if unproven."""
+    try:
+        return cpsat_optimum(start, goal, 10.0)
+    except ImportError:
+        return bounded_optimum(start, goal, 10.0)
+
+
+def measure(policy, data: dict[str, list[tuple]], hand: bool = True) -> dict[str, dict]:
+    """Per label: solved %, optimal %, total length / total optimum (or bound) over the solved tasks, seconds."""
+    out = {}
+    for label, rows in data.items():
+        t0 = time.perf_counter()
+        runs = [rollout_relational(policy, s, g, hand=hand) for s, g, _, _ in rows]
+        solved = [(r.length, o) for r, (_, _, o, _) in zip(runs, rows, strict=True) if r.reached]
+        out[label] = {"solved": 100 * len(solved) / len(rows),
+                      "optimal": 100 * sum(length == o for length, o in solved) / len(rows),
+                      "ratio": sum(length for length, _ in solved) / max(1, sum(o for _, o in solved)),
+                      "proven": all(p for _, _, _, p in rows), "seconds": time.perf_counter() - t0}
+        print(f"  {label}: {out[label]['solved']:.1f} solved, {out[label]['optimal']:.1f} optimal, "
+              f"x{out[label]['ratio']:.3f}", file=sys.stderr, flush=True)
+    return out
+
+
+def run_all(args: argparse.Namespace) -> None:
+    """Measure the fixed policies once and every (variant, seed) not yet in ``--out``."""
+    done = set()
+    if Path(args.out).exists():
+        done = {(r["variant"], r["seed"]) for r in map(json.loads, Path(args.out).read_text().splitlines())}
+    data = tasks(args)
+    jobs = [(name, None) for name in ("gn1", "hand ordering")] + \
+        [(v, seed) for v in args.variants for seed in args.seeds]
+    for variant, seed in jobs:
+        if (variant, seed) in done:
+            continue
+        print(f"{variant} seed {seed}", file=sys.stderr, flush=True)
+        row: dict = {"variant": variant, "seed": seed}
+        if seed is None:
+            policy, hand = (Gn1Policy() if variant == "gn1" else hand_ordering()), True
+        else:
+            run = train_lifted(LiftedParams(**VARIANTS[variant]), np.random.default_rng(seed))
+            policy = run.policy()
+            hand = getattr(getattr(policy, "form", None), "hand", True)
+            row.update(training_seconds=run.seconds, classifiers=len(policy.classifiers),
+                       literals=[lit.words() for lit in getattr(policy, "literals", ())], features=run.features)
+        row["results"] = measure(policy, data, hand)
+        with open(args.out, "a") as f:
+            f.write(json.dumps(row) + "\n")
+
+
+def spread(values: list[float], fmt: str = "{:.1f}") -> str:
+    """min / median / max (one value when all are equal)."""
+    parts = [min(values), statistics.median(values), max(values)]
+    return fmt.format(parts[0]) if len(set(parts)) == 1 else " / ".join(fmt.format(v) for v in parts)
+
+
+def report(args: argparse.Namespace) -> None:
+    """The tables: per label and variant, solved, optimal, length / optimum (min / median / max over seeds)."""
+    rows = [json.loads(x) for x in Path(args.out).read_text().splitlines()]
+    labels = list(rows[0]["results"])
+    print("| tasks | policy | seeds | solved % | optimal % | length / optimum |")
+    print("|---|---|---|---|---|---|")
+    for label in labels:
+        for variant in ["gn1", "hand ordering", *VARIANTS]:
+            mine = [r for r in rows if r["variant"] == variant and label in r["results"]]
+            if not mine:
+                continue
+            res = [r["results"][label] for r in mine]
+            seeds = "-" if mine[0]["seed"] is None else f"{len(mine)}"
+            bound = "" if all(x["proven"] for x in res) else " (bound)"
+            print(f"| {label} | {variant} | {seeds} | {spread([x['solved'] for x in res])} | "
+                  f"{spread([x['optimal'] for x in res])} | {spread([x['ratio'] for x in res], '{:.3f}')}{bound} |")
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run, or report."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ints = lambda t: [int(x) for x in t.split(",") if x]  # noqa: E731
+    parser.add_argument("--seeds", default="0-9", help="seeds, a range a-b or a comma list (default 0-9)")
+    parser.add_argument("--variants", default=",".join(VARIANTS), help="learned variants (default: all three)")
+    parser.add_argument("--use", type=int, default=100, help="benchmark pairs planned per n (default 100)")
+    parser.add_argument("--sizes", type=ints, default=[7, 10, 20, 26], help="benchmark sizes (default 7,10,20,26)")
+    parser.add_argument("--tall", type=ints, default=[25, 50, 100], help="tall-tower sizes (default 25,50,100)")
+    parser.add_argument("--tall-tasks", type=int, default=3, help="tall-tower tasks per size (default 3)")
+    parser.add_argument("--out", default="feature_table.jsonl", help="results, one JSON line per run")
+    parser.add_argument("--report", action="store_true", help="print the tables of --out and stop")
+    args = parser.parse_args(argv)
+    if args.report:
+        report(args)
+        return 0
+    a, _, b = args.seeds.partition("-")
+    args.seeds = list(range(int(a), int(b) + 1)) if b else [int(x) for x in args.seeds.split(",")]
+    args.variants = [v for v in args.variants.split(",") if v]
+    unknown = set(args.variants) - set(VARIANTS)
+    if unknown:
+        parser.error(f"unknown variants {', '.join(sorted(unknown))}; known: {', '.join(VARIANTS)}")
+    run_all(args)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

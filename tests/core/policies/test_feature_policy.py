@@ -1,0 +1,84 @@
+"""Lifted Q-classifiers over generated features: the file read back, bad files refused, the greedy choice."""
+
+import json
+
+import pytest
+
+from csql_sim.core.features.formulation import load_formulation
+from csql_sim.core.features.move_features import Literal, literal_values
+from csql_sim.core.policies.feature_policy import FeaturePolicy, dumps_feature_policy, loads_lifted_file
+from csql_sim.core.policies.lifted_policy import LiftedPolicyError, LiftedQClassifier
+from csql_sim.core.policies.loader import load_policy
+from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.state_count import sample_pairs
+from csql_sim.infra.assets import asset_text
+from csql_sim.learners.gn1 import Gn1Policy
+
+WELL_PLACED = "all(star(on),eq(on,on_g))"
+
+
+def gn1_like(domain: str) -> tuple[list[LiftedQClassifier], tuple[Literal, ...]]:
+    """Hand-written classifiers over generated literals: the constructive move, else a misplaced block down.
+
+    With a hand, a held block whose goal is the table has ``on = on_g`` (both empty): the third
+    literal, ?x held, keeps it from counting as placed.
+    """
+    literals = (Literal(WELL_PLACED, "x'"), Literal(WELL_PLACED, "x"), Literal("clear", "x"))
+    classifiers = [LiftedQClassifier("1##", "block", 0.0), LiftedQClassifier("0##", "block", 3.0),
+                   LiftedQClassifier("1##", "table", 0.0), LiftedQClassifier("00#", "table", 1.0),
+                   LiftedQClassifier("010", "table", 1.0), LiftedQClassifier("011", "table", 4.0)]
+    return classifiers, literals
+
+
+@pytest.mark.parametrize("name", ["4op", "move"])
+def test_a_file_reads_back_and_plans_every_pair(tmp_path, name):
+    classifiers, literals = gn1_like(name)
+    domain = asset_text("domains", f"blocks-{name}.pddl")
+    path = tmp_path / "f.json"
+    path.write_text(dumps_feature_policy(classifiers, literals, domain, name, {"seed": 1}))
+    policy = load_policy(path)
+    assert isinstance(policy, FeaturePolicy) and policy.literals == literals
+    assert [c.text() for c in policy.classifiers] == [c.text() for c in classifiers]
+    assert json.loads(path.read_text())["atoms"] == [f"x':{WELL_PLACED}", f"x:{WELL_PLACED}", "x:clear"]
+    import numpy as np
+
+    for start, goal in sample_pairs(8, 30, np.random.default_rng(2)):
+        run = rollout_relational(policy, start, goal, hand=load_formulation(name).hand)
+        gn1 = rollout_relational(Gn1Policy(), start, goal)
+        assert run.reached and run.length <= gn1.length + 2 * 8
+
+
+def test_only_the_literals_some_classifier_tests_are_kept(tmp_path):
+    classifiers, literals = gn1_like("4op")
+    extra = (*literals, Literal("clear", "d"))
+    widened = [LiftedQClassifier(c.condition + "#", c.kind, c.advantage) for c in classifiers]
+    doc = json.loads(dumps_feature_policy(widened, extra, asset_text("domains", "blocks-4op.pddl"), "4op", {}))
+    assert len(doc["atoms"]) == 3 and all(len(line.split()[1]) == 3 for line in doc["classifiers"])
+
+
+def test_literal_values_read_well_placed_after_the_move():
+    form = load_formulation("4op")
+    state, goal = parse_config("A,B,C"), parse_config("ABC")
+    options, values = literal_values((Literal(WELL_PLACED, "x'"),), form, state, goal)
+    constructive = {(m.block, m.onto) for m, v in zip(options, values[:, 0], strict=True) if v}
+    assert constructive == {(1, 0)}  # B onto A: the only move after which the moved block is well placed
+
+
+@pytest.mark.parametrize(("change", "named"), [
+    (lambda d: d.update(atoms=["x:some(clear,top)", "x:clear", "x:clear"]), "clear"),
+    (lambda d: d.update(atoms=["q:clear", "x:clear", "x:clear"]), "SLOT"),
+    (lambda d: d.update(atoms=["x:and(clear", "x:clear", "x:clear"]), "expected"),
+    (lambda d: d.update(atoms=["holds:nothere", "x:clear", "x:clear"]), "nothere"),
+    (lambda d: d.update(domain="(define (domain x))"), "domain"),
+    (lambda d: d.update(classifiers=["Q 1#### move(?x,?d)->block  advantage=0.000 error=0.000 experience=0"]),
+     "atoms"),
+    (lambda d: d.update(atoms=[f"x:{WELL_PLACED}"] * 600), "literals"),
+])
+def test_a_bad_file_is_one_error_naming_what_is_wrong(change, named):
+    classifiers, literals = gn1_like("4op")
+    doc = json.loads(dumps_feature_policy(classifiers, literals, asset_text("domains", "blocks-4op.pddl"), "4op", {}))
+    change(doc)
+    with pytest.raises(LiftedPolicyError, match=named) as info:
+        loads_lifted_file(json.dumps(doc), "f.json")
+    assert "\n" not in str(info.value) and "f.json" in str(info.value)
