@@ -1,5 +1,6 @@
 """LQ-CS over given atoms and over generated features, both formulations, beside GN1 and the hand ordering.
 
+    python scripts/feature_table.py --explain FILE
     python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-4op,generated-move]
                                     [--use 100] [--sizes 7,10,20,26] [--tall 25,50,100] [--tall-tasks 3]
                                     [--out feature_table.jsonl] [--report]
@@ -34,10 +35,13 @@ from pathlib import Path
 import numpy as np
 from lifted_seeds import hand_ordering  # the script beside this one
 
+from csql_sim.core.features.move_features import literal_values
 from csql_sim.core.measure.bounds import bounded_optimum, cpsat_optimum
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.task_draws import draw_task
+from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.move_relations import ATOMS, MoveRelations, target_goal
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.learners.gn1 import Gn1Policy
 from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
@@ -116,6 +120,36 @@ def run_all(args: argparse.Namespace) -> None:
             f.write(json.dumps(row) + "\n")
 
 
+def explain(path: str, pairs: int = 300) -> list[str]:
+    """Each literal of a generated-features file in words, and the given atom it equals on sampled moves, if any.
+
+    The sample: ``pairs`` (state, goal) pairs of 5, 7 and 10 blocks (seed 0; hand-empty only for a
+    domain without a hand), every legal move of each. A literal equals an atom (or its negation)
+    when the two take the same value on every sampled move.
+    """
+    policy = load_policy(path)
+    rng = np.random.default_rng(0)
+    cols: list[np.ndarray] = []
+    atoms: list[np.ndarray] = []
+    for n in (5, 7, 10):
+        for s, g in sample_pairs(n, pairs, rng):
+            if not policy.form.hand and (s.held is not None or g.held is not None):
+                continue
+            t = target_goal(s, g)
+            rel = MoveRelations(s, t)
+            options, values = literal_values(policy.literals, policy.form, s, t, rel.moves)
+            cols.append(values)
+            atoms.append(np.array([rel.bits(m) for m in options], np.uint8).reshape(len(options), len(ATOMS)))
+    lit, atom = np.concatenate(cols), np.concatenate(atoms)
+    lines = []
+    for j, literal in enumerate(policy.literals):
+        same = [a for k, a in enumerate(ATOMS) if (lit[:, j] == atom[:, k]).all()]
+        negated = [f"not {a}" for k, a in enumerate(ATOMS) if (lit[:, j] != atom[:, k]).all()]
+        equal = ", ".join(same + negated) or "no given atom"
+        lines.append(f"{j + 1}. `{literal.words()}` ({equal})")
+    return lines
+
+
 def spread(values: list[float], fmt: str = "{:.1f}") -> str:
     """min / median / max (one value when all are equal)."""
     parts = [min(values), statistics.median(values), max(values)]
@@ -152,7 +186,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tall-tasks", type=int, default=3, help="tall-tower tasks per size (default 3)")
     parser.add_argument("--out", default="feature_table.jsonl", help="results, one JSON line per run")
     parser.add_argument("--report", action="store_true", help="print the tables of --out and stop")
+    parser.add_argument("--explain", metavar="FILE", help="print the literals of a generated-features file in words")
     args = parser.parse_args(argv)
+    if args.explain:
+        print("\n".join(explain(args.explain)))
+        return 0
     if args.report:
         report(args)
         return 0
