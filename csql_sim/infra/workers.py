@@ -7,8 +7,10 @@ episodes, video frames). Its workers
   process only, which then terminates them (the pool's own shutdown would wait for every
   queued task);
 * exit when the main process dies, even by SIGKILL: on Linux the kernel sends them
-  SIGKILL (``prctl(PR_SET_PDEATHSIG)``); elsewhere, and as a fallback, a watchdog thread
-  polls the parent's pid twice a second.
+  SIGKILL (``prctl(PR_SET_PDEATHSIG)``) when they are its children; in every case a
+  watchdog thread waits on the main process's pid (a pidfd, or polling twice a second);
+* are never forked from a process that runs other threads (a Ray session, a progress
+  bar's monitor): they are spawned instead (:func:`pool_context`).
 
 :func:`worker_count` caps the number of processes at the number of cores and of tasks.
 
@@ -21,6 +23,7 @@ SIGKILL) or the block ends, terminates those still running (Linux; elsewhere a n
 from __future__ import annotations
 
 import ctypes
+import multiprocessing
 import os
 import select
 import signal
@@ -49,30 +52,92 @@ def worker_count(requested: int | None, tasks: int) -> int:
     return max(1, min(requested or cores, cores, tasks))
 
 
-def _watch_parent(parent: int) -> None:
-    while True:
+def _gone(parent: int) -> bool:
+    """Whether process ``parent`` no longer exists (``os.kill(pid, 0)``: signals nothing)."""
+    try:
+        os.kill(parent, 0)
+    except ProcessLookupError:
+        return True
+    except PermissionError:  # it exists, as another user's process
+        return False
+    return False
+
+
+def _watch_parent(parent: int, pidfd: int | None, ppid: int) -> None:
+    """Exit this process once ``parent`` is gone: wait on its pidfd, or poll every half second.
+
+    Polling also ends the process once it is orphaned (its own parent, ``ppid`` at its start,
+    changed): a parent that died but is not reaped yet is a zombie, which ``os.kill`` still finds.
+    """
+    if pidfd is not None:
+        select.select([pidfd], [], [])  # readable once the process has exited
+        os._exit(1)
+    while os.getppid() == ppid and not _gone(parent):
         time.sleep(WATCHDOG_SECONDS)
-        if os.getppid() != parent:
-            os._exit(1)
+    os._exit(1)
+
+
+def _open_pidfd(parent: int) -> int | None:
+    """A pidfd of process ``parent`` (Linux 5.3+; else None); exit now if it is already gone."""
+    try:
+        return os.pidfd_open(parent)
+    except ProcessLookupError:
+        os._exit(1)
+    except (AttributeError, OSError):  # no pidfd_open in this Python or kernel
+        return None
 
 
 def die_with_parent(parent: int) -> None:
-    """In a worker: ignore SIGINT and exit as soon as process ``parent`` is gone."""
+    """In a worker: ignore SIGINT and exit as soon as process ``parent`` is gone.
+
+    ``parent`` is the process that started the pool, the worker's parent when it was forked
+    or spawned from it, not when a forkserver started it: the kernel's death signal
+    (``PR_SET_PDEATHSIG``) comes when the worker's own parent dies, so it is asked for
+    only when that parent is ``parent``. A watchdog thread waits for ``parent`` by pid in
+    every case.
+    """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    if sys.platform.startswith("linux"):
+    ppid = os.getppid()
+    if ppid == parent and sys.platform.startswith("linux"):
         try:
             ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
         except (OSError, AttributeError):
             pass
-    if os.getppid() != parent:  # the parent died before the line above
-        os._exit(1)
-    threading.Thread(target=_watch_parent, args=(parent,), name="csql-sim-watchdog", daemon=True).start()
+        if os.getppid() != parent:  # the parent died before the line above
+            os._exit(1)
+    pidfd = _open_pidfd(parent)
+    threading.Thread(target=_watch_parent, args=(parent, pidfd, ppid), name="csql-sim-watchdog",
+                     daemon=True).start()
 
 
 def _initialize(parent: int, initializer: Callable[..., object] | None, initargs: tuple) -> None:
     die_with_parent(parent)
     if initializer is not None:
         initializer(*initargs)
+
+
+def other_threads_alive() -> bool:
+    """Whether this process runs threads besides the main one (Python's, or a Ray session's own)."""
+    if threading.active_count() > 1:
+        return True
+    ray = sys.modules.get("ray")
+    is_initialized = getattr(ray, "is_initialized", None)
+    return bool(is_initialized is not None and is_initialized())
+
+
+def pool_context(mp_context: BaseContext | None = None) -> BaseContext:
+    """How a pool's workers start: ``mp_context`` if given, else the default, but never by fork with threads alive.
+
+    A fork copies a lock held by another thread, held for ever in the child: a worker
+    forked beside a Ray session's threads (or any thread) may hang. Such a process
+    spawns its workers instead (a fresh interpreter: the same results, tasks carry their seeds).
+    """
+    if mp_context is not None:
+        return mp_context
+    method = multiprocessing.get_start_method(allow_none=True) or multiprocessing.get_all_start_methods()[0]
+    if method == "fork" and other_threads_alive():
+        method = "spawn"
+    return multiprocessing.get_context(method)
 
 
 def stop_pool(pool: ProcessPoolExecutor) -> None:
@@ -146,11 +211,11 @@ def worker_pool(workers: int, initializer: Callable[..., object] | None = None,
 
     On normal exit the pool is shut down waiting for its tasks; on any exception, a
     KeyboardInterrupt included, queued tasks are cancelled and the workers terminated.
-    ``mp_context`` chooses how workers start (default: the platform's; the EGL renderer
-    needs ``spawn``).
+    ``mp_context`` chooses how workers start (default: :func:`pool_context`, the platform's
+    unless other threads run; the EGL renderer needs ``spawn``).
     """
     pool = _WorkerPool(max_workers=workers, initializer=_initialize,
-                       initargs=(os.getpid(), initializer, initargs), mp_context=mp_context)
+                       initargs=(os.getpid(), initializer, initargs), mp_context=pool_context(mp_context))
     try:
         yield pool
     except BaseException:

@@ -147,9 +147,11 @@ def train_shard(job: ShardJob) -> ShardOutcome:
     arrays = canonical(learner, lo, hi)
     optimal, steps_ok = count_optimal(arrays, model, job.n, lo, hi)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * (1 if sys.platform == "darwin" else 1024)
-    return ShardOutcome(arrays, learner.t, len(arrays.q), optimal, (hi - lo) * (count - 1),
-                        time.perf_counter() - began, time.process_time() - cpu, peak, trial_steps, trials_optimal,
-                        steps_ok, learner.experience_report()["experienced_pairs"], learner.backups - backups)
+    return ShardOutcome(arrays, steps=learner.t, q_classifiers=len(arrays.q), optimal=optimal,
+                        pairs=(hi - lo) * (count - 1), trial_steps=trial_steps, trials_optimal=trials_optimal,
+                        optimal_steps=steps_ok, experienced_pairs=learner.experience_report()["experienced_pairs"],
+                        sweep_backups=learner.backups - backups, seconds=time.perf_counter() - began,
+                        cpu_seconds=time.process_time() - cpu, peak_rss=peak)
 
 
 def canonical(learner: FastCSQL, lo: int, hi: int) -> rs.ShardArrays:

@@ -7,9 +7,11 @@ guard only stops a hung test; the assertions are on what ran and what is left.
 
 import contextlib
 import os
+import select
 import signal
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
@@ -76,9 +78,9 @@ def start(tmp_path):
         proc.wait()
 
 
-def wait_gone(pids: set[int]) -> set[int]:
-    """The pids of ``pids`` still alive once all are gone or :data:`HANG_GUARD` has passed."""
-    deadline = time.monotonic() + HANG_GUARD
+def wait_gone(pids: set[int], within: float = HANG_GUARD) -> set[int]:
+    """The pids of ``pids`` still alive once all are gone or ``within`` seconds have passed."""
+    deadline = time.monotonic() + within
     while alive(pids) and time.monotonic() < deadline:
         time.sleep(0.05)
     return alive(pids)
@@ -94,7 +96,9 @@ def test_ctrl_c_stops_experiment_in_the_middle_of_its_cycles(tmp_path, start):
     out, err = proc.communicate(timeout=HANG_GUARD)  # waiting for a running cycle would trip this guard
     assert proc.returncode == 130
     assert err == "csql-sim: interrupted\n"  # no worker traceback, no banner
-    assert not alive(workers)  # already gone when the command exited: ended mid-cycle, not after it
+    # Gone by then, or a moment later (a spawned pool's resource tracker ends once the command has
+    # closed its pipe): ended mid-cycle, not after it
+    assert wait_gone(workers, within=2.0) == set()
     assert not (tmp_path / "fig").exists()  # nothing written
 
 
@@ -117,3 +121,75 @@ def test_render_workers_and_encoder_die_with_their_parent(start):
     os.kill(proc.pid, signal.SIGKILL)
     proc.communicate(timeout=HANG_GUARD)
     assert wait_gone(workers) == set(), "orphans left"
+
+
+# A pool started beside another thread: that thread holds LOCK while the pool starts. A worker
+# forked then would find LOCK held for ever (the hang a fork beside Ray's threads risked).
+PROBE = '''
+import multiprocessing, os, sys, threading, time
+from csql_sim.infra.workers import worker_pool
+
+LOCK = threading.Lock()
+
+def report_and_block(_):
+    got = LOCK.acquire(timeout=5)
+    print(os.getpid(), got, flush=True)
+    time.sleep(3600)
+
+def main(method):
+    release = threading.Event()
+    held = threading.Event()
+    def hold():
+        with LOCK:
+            held.set()
+            release.wait()
+    threading.Thread(target=hold).start()
+    held.wait()
+    with worker_pool(2, mp_context=multiprocessing.get_context(method) if method else None) as pool:
+        futures = [pool.submit(report_and_block, k) for k in range(2)]
+        release.set()
+        for future in futures:
+            future.result()
+'''
+
+
+@pytest.mark.parametrize("method", ["", "forkserver"])  # the default (chosen), or a forkserver named
+def test_a_pool_beside_another_thread_is_not_forked_and_its_workers_die_with_it(tmp_path, method):
+    (tmp_path / "probe.py").write_text(PROBE)
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(tmp_path), root])}
+    proc = subprocess.Popen([sys.executable, "-c", f"import probe; probe.main({method!r})"], env=env, cwd=tmp_path,
+                            start_new_session=True, stdout=subprocess.PIPE, text=True)
+    try:
+        lines = []
+        deadline = time.monotonic() + HANG_GUARD
+        while len(lines) < 2 and time.monotonic() < deadline:
+            if select.select([proc.stdout], [], [], 0.1)[0]:
+                lines.append(proc.stdout.readline().split())
+        assert [got for _, got in lines] == ["True", "True"], lines  # LOCK free: a fresh process, not a fork
+        workers = {int(pid) for pid, _ in lines}
+        assert len(workers) == 2 and proc.poll() is None
+        os.kill(proc.pid, signal.SIGKILL)  # the main process only
+        proc.wait()
+        assert wait_gone(workers) == set(), "orphans left"
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
+        proc.stdout.close()
+
+
+def test_an_experiment_gives_the_same_csv_whether_its_workers_are_forked_or_spawned():
+    from csql_sim.jobs.experiment import csv_text, run_experiment
+
+    kwargs = {"methods": ("cs-bb-bz", "lt-ql"), "cycles": 3, "trials": 150, "seed": 4, "workers": 2}
+    forked = csv_text(run_experiment(**kwargs))
+    release = threading.Event()
+    beside = threading.Thread(target=release.wait)  # the pool spawns its workers while this runs
+    beside.start()
+    try:
+        spawned = csv_text(run_experiment(**kwargs))
+    finally:
+        release.set()
+        beside.join()
+    assert spawned == forked and len(forked.splitlines()) == 1 + 2 * 4

@@ -53,6 +53,18 @@ def test_every_pair_optimal_and_the_count_is_the_tools_own(one_worker):
     assert true_distances(N, g)[nxt] == true_distances(N, g)[s] - 1
 
 
+def test_the_run_report_puts_each_measure_in_its_field(one_worker):
+    """Counts are counts of pairs or steps, times are seconds of this run, the peak is a process's memory."""
+    _, report = one_worker
+    pairs, trials = report["pairs"], report["phases"]["trials"]
+    assert isinstance(trials["optimal_pairs"], int) and 0 <= trials["optimal_pairs"] <= pairs
+    assert report["optimal_pairs"] <= report["optimal_steps"] <= pairs  # every first step of an optimal pair is
+    assert isinstance(trials["steps"], int) and 0 < trials["steps"] <= report["steps"]
+    assert 0 < trials["experienced_pairs_max"] <= pairs
+    assert all(0 < s <= report["wall_seconds"] for s in report["shard_seconds"].values())  # one worker: in turn
+    assert report["peak_rss_bytes"]["worker_max"] >= 1 << 20  # an interpreter's resident memory, in bytes
+
+
 def test_two_workers_write_the_same_bytes(one_worker, tmp_path):
     out, _ = one_worker
     other = tmp_path / "two"
