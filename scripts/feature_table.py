@@ -1,6 +1,7 @@
 """LQ-CS over given atoms and over generated features, both formulations, beside GN1 and the hand ordering.
 
     python scripts/feature_table.py --explain FILE
+    python scripts/feature_table.py --policy-file FILE --variants generated-4op --seeds 0
     python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-4op,generated-move]
                                     [--use 100] [--sizes 7,10,20,26] [--tall 25,50,100] [--tall-tasks 3]
                                     [--out feature_table.jsonl] [--report]
@@ -102,12 +103,18 @@ def run_all(args: argparse.Namespace) -> None:
     data = tasks(args)
     jobs = [(name, None) for name in ("gn1", "hand ordering")] + \
         [(v, seed) for v in args.variants for seed in args.seeds]
+    if args.policy_file:  # one trained file, measured as the run of its variant and seed
+        jobs = [(args.variants[0], args.seeds[0])]
     for variant, seed in jobs:
         if (variant, seed) in done:
             continue
         print(f"{variant} seed {seed}", file=sys.stderr, flush=True)
         row: dict = {"variant": variant, "seed": seed}
-        if seed is None:
+        if args.policy_file:
+            policy = load_policy(args.policy_file)
+            hand = getattr(getattr(policy, "form", None), "hand", True)
+            row.update(file=args.policy_file, classifiers=len(policy.classifiers))
+        elif seed is None:
             policy, hand = (Gn1Policy() if variant == "gn1" else hand_ordering()), True
         else:
             run = train_lifted(LiftedParams(**VARIANTS[variant]), np.random.default_rng(seed))
@@ -170,8 +177,10 @@ def report(args: argparse.Namespace) -> None:
             res = [r["results"][label] for r in mine]
             seeds = "-" if mine[0]["seed"] is None else f"{len(mine)}"
             bound = "" if all(x["proven"] for x in res) else " (bound)"
+            ratios = [x["ratio"] for x in res if x["solved"]]  # over the solved tasks: none solved, no ratio
+            ratio = spread(ratios, "{:.3f}") + bound if ratios else "-"
             print(f"| {label} | {variant} | {seeds} | {spread([x['solved'] for x in res])} | "
-                  f"{spread([x['optimal'] for x in res])} | {spread([x['ratio'] for x in res], '{:.3f}')}{bound} |")
+                  f"{spread([x['optimal'] for x in res])} | {ratio} |")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -186,6 +195,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tall-tasks", type=int, default=3, help="tall-tower tasks per size (default 3)")
     parser.add_argument("--out", default="feature_table.jsonl", help="results, one JSON line per run")
     parser.add_argument("--report", action="store_true", help="print the tables of --out and stop")
+    parser.add_argument("--policy-file", help="measure this trained file as the run of the first variant and seed "
+                        "(made by csql-sim train-lifted with that variant's options and seed)")
     parser.add_argument("--explain", metavar="FILE", help="print the literals of a generated-features file in words")
     args = parser.parse_args(argv)
     if args.explain:

@@ -83,9 +83,10 @@ class LiftedParams:
         sizes: world sizes drawn uniformly per trial. Each of 3, 4, 5; default (5,): the
             largest small world has the situations (deadlocks between towers) that large
             worlds are made of.
-        goals: training goals per size, drawn once when the size is first met. Range >= 1; default 40
-            with the given atoms, 200 with generated features (thousands of features need more
-            situations to tell the general ones from the accidents of a few goals).
+        goals: training goals per size, drawn once when the size is first met. Range >= 1; default 40,
+            and 200 with generated features in the move domain (thousands of features need more
+            situations to tell the general ones from the accidents of a few goals; in a domain
+            with a hand, six times more literals make the feature table of 200 goals about 5 GB).
         beta: learning rate of the lifted advantages and errors. Range (0, 1]; default 0.02.
         epsilon: probability of a random legal move (wide exploration spreads the updates
             over the states). Range [0, 1); default 0.5.
@@ -130,7 +131,7 @@ class LiftedParams:
     def __post_init__(self) -> None:
         generated = self.features == "generated"
         if self.goals is None:
-            object.__setattr__(self, "goals", 200 if generated else 40)
+            object.__setattr__(self, "goals", 200 if generated and self.domain == "move" else 40)
         if self.min_experience is None:
             object.__setattr__(self, "min_experience", 100 if generated else 30)
         checks = {

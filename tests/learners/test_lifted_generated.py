@@ -37,9 +37,10 @@ def test_out_of_range_feature_parameters_are_refused_by_name(change):
 
 
 def test_the_defaults_differ_only_where_generated_features_need_more():
-    given, generated = LiftedParams(), LiftedParams(features="generated")
+    given, generated = LiftedParams(), LiftedParams(features="generated", domain="move")
     assert (given.goals, given.min_experience) == (40, 30)
     assert (generated.goals, generated.min_experience) == (200, 100)
+    assert LiftedParams(features="generated").goals == 40  # with a hand: the feature table's memory
     assert "features" not in given.as_dict() and generated.as_dict()["complexity"] == 8
 
 
