@@ -8,7 +8,7 @@ import pytest
 from csql_sim.core.features.denotation import Denotations, closure
 from csql_sim.core.features.formulation import load_formulation, primitive_arrays
 from csql_sim.core.features.generate import generate_concepts
-from csql_sim.core.features.grammar import GrammarError, Node, parse
+from csql_sim.core.features.grammar import GrammarError, parse
 from csql_sim.core.state.goal_relations import well_placed
 from csql_sim.core.state.world import all_states
 
