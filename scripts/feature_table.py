@@ -10,7 +10,9 @@ Pairs: the benchmark's (``scripts/lifted_benchmark.py --pairs 1000``: one genera
 draws 1,000 pairs for n = 6, 7, 8, 10, 15, 20, 26 in turn), of which the first ``--use`` of
 each size of ``--sizes`` are planned, against their exact optimum (a yardstick). Tall towers:
 ``--tall-tasks`` tasks per size of ``--tall`` from the tall-tower generator of ``csql-sim
-problems`` (seed 0), against the optimum of the deadlock characterization, solved by CP-SAT
+problems``, drawn in turn by one generator seeded 0 (so a size's tasks depend on the sizes
+listed before it: keep ``--tall 25,50,100`` to compare with the docs), against the optimum
+of the deadlock characterization, solved by CP-SAT
 (the ``bench`` extra) or else by branch and bound within 10 s; where it is not proven, against
 its lower bound (flagged).
 
