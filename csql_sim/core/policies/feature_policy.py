@@ -35,7 +35,7 @@ from csql_sim.core.policies.lifted_policy import (
     loads_lifted_policy,
     most_specific,
 )
-from csql_sim.core.state.move_relations import Move, pick_action, put_action, target_goal
+from csql_sim.core.state.move_relations import Move, pick_action, put_action, towards
 from csql_sim.core.state.world import Action, State, successor
 from csql_sim.infra.errors import CsqlError
 
@@ -76,11 +76,9 @@ class FeaturePolicy(Policy):
 
     def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``: None at the goal or when no classifier matches."""
-        if state == goal:
-            return None
-        target = target_goal(state, goal)
-        if state == target:
-            return pick_action(state, goal.held)
+        target, last = towards(state, goal)
+        if target is None:
+            return last
         chosen, self._chosen = self._chosen, None
         if state.held is not None and not self.form.hand and chosen is not None and chosen[0] == state:
             return put_action(chosen[1])

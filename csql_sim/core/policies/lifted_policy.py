@@ -42,7 +42,7 @@ from dataclasses import dataclass
 from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.files.kinds import MAX_LIFTED_Q_BYTES
 from csql_sim.core.policies.contract import Policy
-from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, target_goal
+from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, towards
 from csql_sim.core.state.relation_tracker import RelationTracker
 from csql_sim.core.state.world import Action, State, WorldError
 from csql_sim.infra import formats
@@ -180,11 +180,9 @@ class LiftedPolicy(Policy):
 
     def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``: None at the goal or when no classifier matches."""
-        if state == goal:
-            return None
-        target = target_goal(state, goal)
-        if state == target:
-            return pick_action(state, goal.held)
+        target, last = towards(state, goal)
+        if target is None:
+            return last
         move = self.choose(self.relations(state, target))
         if move is None:
             return None

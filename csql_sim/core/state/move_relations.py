@@ -81,6 +81,19 @@ def target_goal(state: State, goal: State) -> State:
     return State(tuple(support))
 
 
+def towards(state: State, goal: State) -> tuple[State | None, Action | None]:
+    """What a lifted policy plans towards: ``(target, None)``; or ``(None, last action)`` when it is done.
+
+    At the goal the last action is None; at the target of a goal that holds a block, it is that block's pick.
+    """
+    if state == goal:
+        return None, None
+    target = target_goal(state, goal)
+    if state == target:
+        return None, pick_action(state, goal.held)
+    return target, None
+
+
 def after(state: State, move: Move) -> State:
     """The hand-empty state after ``move`` (the pick, if any, and the put)."""
     support = list(state.support)
