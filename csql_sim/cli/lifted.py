@@ -98,7 +98,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--goals", type=int_type(1, 10**6), help="training goals per size (default 40; 200 with "
                    "--features generated)")
     p.add_argument("--features", choices=("given", "generated"), default="given",
-                   help="what the classifiers read: the eight hand-written atoms (given, the default) or features "
+                   help="what the classifiers read: the nine hand-written atoms (given, the default) or features "
                         "generated from the domain's predicates")
     p.add_argument("--domain", type=_domain, default="4op",
                    help="with --features generated: the formulation, 4op (default), move, or a PDDL domain file")

@@ -1,7 +1,7 @@
 """The lifted classifiers LQ-CS learns, and its two sweeps over them: specialization and generalization.
 
 A rule's condition is a set of **literals**: (position, value) pairs over a move's feature
-vector (the eight given atoms, or the generated literals of
+vector (the nine given atoms, or the generated literals of
 :mod:`~csql_sim.learners.lifted_features`); a position it leaves out is ``#``. Each rule keeps,
 for every position, the sum and count of the advantages it learned while that position was
 0 and while it was 1: the statistics its specialization reads.

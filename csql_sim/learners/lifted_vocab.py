@@ -3,7 +3,7 @@
 A **vocabulary** gives the learner each move's feature vector, the condition a new classifier
 is covered with, and the classifiers' written form:
 
-* :class:`GivenAtoms` (``features="given"``): the eight relations written by hand
+* :class:`GivenAtoms` (``features="given"``): the nine relations written by hand
   (:data:`~csql_sim.core.state.move_relations.ATOMS`); a move no classifier matches is
   covered by its relations exactly;
 * :class:`GeneratedFeatures` (``features="generated"``): the literals of concepts the learner
@@ -63,7 +63,7 @@ class Vocabulary:
 
 
 class GivenAtoms(Vocabulary):
-    """The eight relations of a move written by hand (:data:`ATOMS`)."""
+    """The nine relations of a move written by hand (:data:`ATOMS`)."""
 
     name = "given"
     width = len(ATOMS)

@@ -170,7 +170,7 @@ def test_a_folder_gives_one_row_per_task_and_a_failed_row_for_a_broken_file(caps
 
 def test_an_unsolved_task_exits_1_and_is_a_failed_row(capsys, tmp_path):
     doc = json.loads(SHIPPED.read_text())
-    doc["classifiers"] = ["Q 01###### move(?x,?d)->block  advantage=1.000 error=0.000 experience=100"]  # never matches
+    doc["classifiers"] = ["Q 01####### move(?x,?d)->block  advantage=1.000 error=0.000 experience=100"]  # never matches
     (tmp_path / "rules").mkdir()
     (tmp_path / "rules" / "none.json").write_text(json.dumps(doc))
     _, (problem,) = generated(tmp_path, 12)

@@ -4,13 +4,13 @@ A lifted Q-classifier reads the relations of a move (:mod:`csql_sim.core.state.m
 instead of a state message, so one classifier speaks of every block at once. It is
 written, in the paper's style of ``#`` for don't care, as::
 
-    Q 1110#1## move(?x,?d)->table  advantage=0.007 error=0.015 experience=4743
+    Q 1110#1### move(?x,?d)->table  advantage=0.007 error=0.015 experience=4743
 
 * the condition, one character per atom of :data:`~csql_sim.core.state.move_relations.ATOMS`
   (``misplaced(?x)``, ``goal-on(?x,?d)``, ``ready(?d)``, ``deadlocked(?x)``,
-  ``above-needed(?x)``, ``least-stuck(?x)``, ``deadlock``, ``holding``): ``1`` holds, ``0``
-  does not, ``#`` either; a file written with the first seven atoms only is read with ``#``
-  for ``holding``;
+  ``above-needed(?x)``, ``least-stuck(?x)``, ``deadlock``, ``holding``, ``cover(?x)``): ``1``
+  holds, ``0`` does not, ``#`` either; a file written with the first seven or eight atoms only
+  is read with ``#`` for the atoms it predates;
 * the action: move ``?x`` to the table (``->table``) or onto a block ``?d`` (``->block``);
 * the learned **advantage**: how many moves more than the state's best move the
   classifier expects its move to cost (0: a best move), with the mean absolute error of
@@ -22,9 +22,10 @@ its most specific matching classifier (a default hierarchy: exceptions before th
 rule; ties, the smaller error) and takes the move of least advantage (ties, the first in
 move order): with the hand empty it picks that move's block up; holding a block, it puts
 it down. It is Markov: the same state and goal give the same action. The lookahead is the
-one move of ``least-stuck``; nothing searches further. The relations are kept up to date
-move by move (:class:`~csql_sim.core.state.relation_tracker.RelationTracker`), exactly the
-from-scratch ones, so a plan of hundreds of blocks takes seconds.
+one move of ``least-stuck``; nothing searches further (``cover`` is a relation of the state).
+The relations are kept up to date move by move
+(:class:`~csql_sim.core.state.relation_tracker.RelationTracker`), exactly the from-scratch
+ones, so a plan of hundreds of blocks takes seconds.
 
 The file (:func:`dumps_lifted_policy`) is JSON, format ``csql-sim lifted q-classifiers``,
 version 1, with the atoms named, the classifiers as lines and the run's provenance.
@@ -130,6 +131,18 @@ def most_specific(classifiers: Iterable[LiftedQClassifier], bits: tuple[int, ...
     return best
 
 
+OLDEST_ATOMS = 7
+"""The fewest atoms a readable file names: files written before ``holding`` and ``cover`` are read."""
+
+
+def _completions(bits: tuple[int, ...]) -> list[tuple[int, ...]]:
+    """Every way of filling the unknown (-1) relations of ``bits`` with 0 or 1."""
+    out = [()]
+    for v in bits:
+        out = [(*head, w) for head in out for w in ((0, 1) if v < 0 else (v,))]
+    return out
+
+
 class LiftedPolicy(Policy):
     """Greedy policy over lifted Q-classifiers, for relational states of any n (module docstring)."""
 
@@ -155,7 +168,7 @@ class LiftedPolicy(Policy):
 
         Only the first move of each class of equal block, kind and relations is looked at
         (:meth:`RelationTracker.candidates`): a later one has the same advantage, so it never wins a tie.
-        ``least-stuck`` is counted only when a move whose advantage depends on it could win.
+        ``least-stuck`` and ``cover`` are computed only when a move whose advantage depends on them could win.
         """
         if isinstance(relations, RelationTracker):
             best, unsure = self._best(relations.candidates(resolve=False))
@@ -164,12 +177,12 @@ class LiftedPolicy(Policy):
         return self._best(relations.candidates())[0]
 
     def _best(self, candidates: list[tuple[Move, tuple[int, ...]]]) -> tuple[Move | None, bool]:
-        """The first move of least advantage; and whether a move with ``least-stuck`` unknown (-1) could beat it."""
+        """The first move of least advantage; and whether a move with a relation unknown (-1) could beat it."""
         best, best_value, best_at, doubts = None, 0.0, -1, []
         for at, (move, bits) in enumerate(candidates):
-            if bits[5] < 0:
-                doubts.extend((at, c.advantage) for v in (0, 1)
-                              if (c := self.classifier_for((*bits[:5], v, *bits[6:]), move.kind)) is not None)
+            if -1 in bits:
+                doubts.extend((at, c.advantage) for known in _completions(bits)
+                              if (c := self.classifier_for(known, move.kind)) is not None)
                 continue
             c = self.classifier_for(bits, move.kind)
             if c is not None and (best is None or c.advantage < best_value):
@@ -229,9 +242,9 @@ def loads_lifted_policy(text: str, source: str = "lifted Q-classifier file") -> 
         raise LiftedPolicyError(f"{source} holds classifiers over generated features: read it with "
                                 "csql_sim.core.policies.loader.load_policy")
     atoms = doc.get("atoms")
-    if not isinstance(atoms, list) or atoms != list(ATOMS[:len(atoms)]) or len(atoms) < len(ATOMS) - 1:
+    if not isinstance(atoms, list) or atoms != list(ATOMS[:len(atoms)]) or len(atoms) < OLDEST_ATOMS:
         raise LiftedPolicyError(f"{source} names other atoms than this csql-sim's {', '.join(ATOMS)}")
-    pad = "#" * (len(ATOMS) - len(atoms))  # a file written before ``holding``: either value
+    pad = "#" * (len(ATOMS) - len(atoms))  # a file written before ``holding`` or ``cover``: either value
     lines, meta = doc.get("classifiers"), doc.get("meta", {})
     if not isinstance(lines, list) or not all(isinstance(x, str) for x in lines) or not isinstance(meta, dict):
         raise LiftedPolicyError(f"{source}: 'classifiers' must be a list of lines and 'meta' an object")

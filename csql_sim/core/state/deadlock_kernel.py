@@ -140,3 +140,95 @@ def deadlock_counts(support: np.ndarray, above: np.ndarray, goal: np.ndarray, pl
             above[s] = x
         placed[x] = was
     return counts
+
+
+@njit(cache=True)
+def _returns(b: int, n: int, first: np.ndarray, kinds: np.ndarray, ends: np.ndarray, visitors: np.ndarray,
+             seen: np.ndarray, queue: np.ndarray) -> bool:
+    """Whether the events' graph has a path from b's one event (b not a visitor) back to it.
+
+    Event v is v's final move (its only move when v is no visitor), event v + n a visitor's
+    table visit. Constraint i runs from ``ends[i, 0]`` to ``ends[i, 1]`` (``first[a]`` to
+    ``first[a + 1]`` are the constraints leaving block a); ``kinds[i]`` says which ends are
+    first moves (1: the source, 2: the target).
+    """
+    seen[:] = False
+    queue[0], head, tail = b, 0, 1
+    seen[b] = True
+    while head < tail:
+        e = queue[head]
+        head += 1
+        v = e % n
+        table = e >= n
+        if table:  # a table visit precedes its block's final move
+            if not seen[v]:
+                seen[v] = True
+                queue[tail] = v
+                tail += 1
+        for i in range(first[v], first[v + 1]):
+            if visitors[v] and ((kinds[i] & 1) != 0) != table:
+                continue  # this constraint leaves the visitor's other event
+            w = ends[i, 1]
+            f = w + n if (kinds[i] & 2) and visitors[w] else w
+            if f == b:
+                return True
+            if not seen[f]:
+                seen[f] = True
+                queue[tail] = f
+                tail += 1
+    return False
+
+
+@njit(cache=True)
+def deadlock_cover(support: np.ndarray, above: np.ndarray, goal: np.ndarray, placed: np.ndarray,
+                   stuck: np.ndarray, cover: np.ndarray) -> int:
+    """Mark the cover of :mod:`csql_sim.core.state.deadlock_cover` in ``cover``; return its size.
+
+    ``stuck`` marks the deadlocked blocks; only constraints between them can lie on a cycle.
+    Every deadlocked block starts as a visitor (enough: no cycle is left) and is dropped, lowest
+    in its tower first (ties: block order), unless that closes a cycle, which then runs through
+    the dropped block's one event (:func:`_returns`).
+    """
+    n = above.shape[0]
+    kinds = np.zeros(3 * n, np.int64)
+    ends = np.zeros((3 * n, 2), np.int64)
+    k = 0
+    for b in range(n):
+        if not stuck[b]:
+            continue
+        x = above[b]
+        if x >= 0 and stuck[x]:  # the block on b leaves first: first(x) -> first(b)
+            kinds[k], ends[k, 0], ends[k, 1], k = 3, x, b, k + 1
+        d = goal[b]
+        if d >= 0:
+            top = above[d]
+            if top >= 0 and stuck[top]:  # the block on b's goal support leaves first: first(top) -> final(b)
+                kinds[k], ends[k, 0], ends[k, 1], k = 1, top, b, k + 1
+            if stuck[d] and not placed[d]:  # b's goal support arrives first: final(d) -> final(b)
+                kinds[k], ends[k, 0], ends[k, 1], k = 0, d, b, k + 1
+    order = np.argsort(ends[:k, 0], kind="mergesort")
+    kinds, ends = kinds[:k][order], ends[:k][order]
+    first = np.zeros(n + 1, np.int64)
+    for i in range(k):
+        first[ends[i, 0] + 1] += 1
+    for a in range(n):
+        first[a + 1] += first[a]
+    heights = np.zeros(n, np.int64)
+    for b in range(n):
+        c = b
+        while support[c] >= 0:
+            c = support[c]
+            heights[b] += 1
+    cover[:] = stuck
+    seen = np.zeros(2 * n, np.bool_)
+    queue = np.zeros(2 * n, np.int64)
+    size = int(stuck.sum())
+    for b in np.argsort(heights * n + np.arange(n)):
+        if not cover[b]:
+            continue
+        cover[b] = False
+        if _returns(b, n, first, kinds, ends, cover, seen, queue):
+            cover[b] = True
+        else:
+            size -= 1
+    return size

@@ -23,6 +23,9 @@ The relations of a move, in this order, are the atoms a condition tests (``1`` h
 ``deadlock``          some block is deadlocked (a relation of the state, not the move:
                       it tells states that need a detour from those that do not)
 ``holding``           the move is the put of a held block (the decision after a pick)
+``cover(?x)``         ?x is in the deadlock cover: a minimal set of table visitors that
+                      removes every deadlock, chosen by a fixed greedy rule
+                      (:func:`~csql_sim.core.state.deadlock_cover.deadlock_cover`)
 ====================  ===================================================================
 
 The move's kind (``table`` or ``block``) is the classifier's action, not an atom. The
@@ -33,11 +36,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from csql_sim.core.state.deadlock_cover import deadlock_cover
 from csql_sim.core.state.goal_relations import deadlocked, well_placed
 from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 
 ATOMS = ("misplaced(?x)", "goal-on(?x,?d)", "ready(?d)", "deadlocked(?x)", "above-needed(?x)", "least-stuck(?x)",
-         "deadlock", "holding")
+         "deadlock", "holding", "cover(?x)")
 """The relations of a move, in condition order."""
 KINDS = ("table", "block")
 """A move's kind: to the table, or onto a block."""
@@ -145,6 +149,7 @@ class MoveRelations:
         stuck_after = {m: len(deadlocked(after(state, m), target)) for m in self.moves if m.onto == TABLE}
         self.least = min(stuck_after.values(), default=0)
         self.stuck_after = stuck_after
+        self.cover = deadlock_cover(state, target) if self.stuck else frozenset()
 
     def bits(self, move: Move) -> tuple[int, ...]:
         """The move's relations, 1 or 0 each, in :data:`ATOMS` order."""
@@ -158,6 +163,7 @@ class MoveRelations:
             int(d == TABLE and self.stuck_after[move] == self.least),
             int(bool(self.stuck)),
             int(s.held is not None),
+            int(x in self.cover),
         )
 
     def candidates(self) -> list[tuple[Move, tuple[int, ...]]]:

@@ -14,6 +14,8 @@ one mutable state towards one fixed target and updates only what an action chang
   move changes it, and only its own strongly connected component is searched again).
   These counts are computed when asked for (:meth:`RelationTracker.resolve`), so a
   caller that does not need ``least-stuck`` in a state does not pay for it.
+* ``cover`` (:func:`~csql_sim.core.state.deadlock_kernel.deadlock_cover`) is computed at the
+  same time, and only when some block is deadlocked: outside the cover's blocks it is 0.
 
 The relations are exact, the same as from scratch (tested move by move).
 :meth:`RelationTracker.candidates` gives, in move order, the first move of every class of
@@ -25,7 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from csql_sim.core.state.deadlock_kernel import deadlock_counts, deadlocked
+from csql_sim.core.state.deadlock_kernel import deadlock_counts, deadlock_cover, deadlocked
 from csql_sim.core.state.move_relations import Move
 from csql_sim.core.state.state import State
 from csql_sim.core.state.world import HAND, TABLE, Action, ActionKind, WorldError
@@ -132,20 +134,30 @@ class RelationTracker:
         mask = np.zeros(self.n, np.bool_)
         deadlocked(self._above_a, self._goal_a, self._graph_placed(), mask)
         self._stuck = frozenset(np.flatnonzero(mask).tolist())
+        self._stuck_mask = mask
         self._movers = self._table_movers()
         self._stuck_after: dict[Move, int] | None = None
-        if not any(x in self._stuck for x in self._movers):  # no move changes the count
+        self._cover: frozenset[int] | None = None if self._stuck else frozenset()
+        if not any(x in self._stuck for x in self._movers):  # no move changes the count, no mover is in the cover
             self._stuck_after = {Move(x, TABLE): len(self._stuck) for x in self._movers}
+            self._cover = frozenset()
         self._fresh = True
 
     def resolve(self) -> None:
-        """Count the deadlocked blocks after every move to the table (``least-stuck``)."""
+        """Count the deadlocked blocks after every move to the table (``least-stuck``); find the ``cover``."""
         self._refresh()
         if self._stuck_after is None:
             mask = np.zeros(self.n, np.bool_)
             counts = deadlock_counts(self._sup_a, self._above_a, self._goal_a, self._graph_placed(),
                                      np.array(self._movers, np.int64), mask)
             self._stuck_after = {Move(x, TABLE): c for x, c in zip(self._movers, counts.tolist(), strict=True)}
+        if self._cover is None:
+            cover = np.zeros(self.n, np.bool_)
+            support = self._sup_a.copy()
+            if self.held is not None:
+                support[self.held] = TABLE
+            deadlock_cover(support, self._above_a, self._goal_a, self._graph_placed(), self._stuck_mask, cover)
+            self._cover = frozenset(np.flatnonzero(cover).tolist())
 
     @property
     def stuck(self) -> frozenset[int]:
@@ -201,16 +213,16 @@ class RelationTracker:
 
     def bits(self, move: Move) -> Bits:
         """The move's relations, as :meth:`MoveRelations.bits` gives them."""
-        self._refresh()
+        self.resolve()
         x, d = move.block, move.onto
         return (int(not self.placed[x]), int(self.goal[x] == d), int(self._ready(d, x)), int(x in self._stuck),
                 int(self.above_needed(x)), int(d == TABLE and self._stuck_after[move] == self.least),
-                int(bool(self._stuck)), int(self.held is not None))
+                int(bool(self._stuck)), int(self.held is not None), int(x in self._cover))
 
     def candidates(self, resolve: bool = True) -> list[tuple[Move, Bits]]:
         """The first move of every (block, kind, relations) class, in move order (module docstring).
 
-        With ``resolve`` False, ``least-stuck`` is -1 (unknown) where the counts were not yet needed.
+        With ``resolve`` False, ``least-stuck`` and ``cover`` are -1 (unknown) where they were not yet needed.
         """
         self._refresh()
         if resolve:
@@ -223,10 +235,11 @@ class RelationTracker:
         out = []
         for x in ([self.held] if self.held is not None else clear):
             mis, stuck, needed = int(not self.placed[x]), int(x in self._stuck), int(self.above_needed(x))
+            cover = 0 if not stuck else -1 if self._cover is None else int(x in self._cover)
             g, s = self.goal[x], self.sup[x]
             if s != TABLE:
                 fewest = -1 if after is None else int(after[Move(x, TABLE)] == least)
-                out.append((Move(x, TABLE), (mis, int(g == TABLE), 1, stuck, needed, fewest, deadlock, holding)))
+                out.append((Move(x, TABLE), (mis, int(g == TABLE), 1, stuck, needed, fewest, deadlock, holding, cover)))
             found = []
             if g >= 0 and g != x and g != s and g in self.clear:
                 found.append(g)
@@ -237,7 +250,7 @@ class RelationTracker:
                         break
             for y in sorted(found):
                 out.append((Move(x, y), (mis, int(g == y), int(self._ready(y, x)), stuck, needed, 0, deadlock,
-                                         holding)))
+                                         holding, cover)))
         return out
 
     def misplaced(self) -> int:

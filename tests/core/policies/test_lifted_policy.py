@@ -27,23 +27,23 @@ SHIPPED = Path(__file__).resolve().parents[3] / "assets" / "rules" / "lifted.jso
 
 
 def test_a_classifier_line_reads_back_and_says_itself_in_words():
-    c = LiftedQClassifier("1110#1#0", "table", 0.007, 0.015, 4743)
+    c = LiftedQClassifier("1110#1#0#", "table", 0.007, 0.015, 4743)
     assert parse_lifted_q(c.text()) == c
     assert c.words() == ("move ?x to the table if misplaced(?x) and goal-on(?x,?d) and ready(?d) and "
                          "not deadlocked(?x) and least-stuck(?x) and not holding")
-    assert c.matches((1, 1, 1, 0, 0, 1, 1, 0), "table") and not c.matches((1, 1, 1, 0, 0, 1, 1, 0), "block")
+    assert c.matches((1, 1, 1, 0, 0, 1, 1, 0, 0), "table") and not c.matches((1, 1, 1, 0, 0, 1, 1, 0, 0), "block")
 
 
 def test_the_most_specific_matching_classifier_decides():
-    general = LiftedQClassifier("1#######", "table", 1.0)
-    exception = LiftedQClassifier("1#####1#", "table", 0.0)
-    assert most_specific([general, exception], (1, 0, 0, 0, 0, 0, 1, 0), "table") is exception
-    assert most_specific([general, exception], (1, 0, 0, 0, 0, 0, 0, 1), "table") is general
-    assert most_specific([general, exception], (0, 0, 0, 0, 0, 0, 0, 0), "table") is None
+    general = LiftedQClassifier("1########", "table", 1.0)
+    exception = LiftedQClassifier("1#####1##", "table", 0.0)
+    assert most_specific([general, exception], (1, 0, 0, 0, 0, 0, 1, 0, 1), "table") is exception
+    assert most_specific([general, exception], (1, 0, 0, 0, 0, 0, 0, 1, 0), "table") is general
+    assert most_specific([general, exception], (0, 0, 0, 0, 0, 0, 0, 0, 0), "table") is None
 
 
 def test_the_file_round_trips_and_is_recognised(tmp_path):
-    classifiers = [LiftedQClassifier("1110####", "block"), LiftedQClassifier("1#######", "table", 1.0, 0.5, 3)]
+    classifiers = [LiftedQClassifier("1110#####", "block"), LiftedQClassifier("1########", "table", 1.0, 0.5, 3)]
     path = tmp_path / "l.json"
     path.write_text(dumps_lifted_policy(classifiers, {"seed": 4}))
     policy = load_lifted_policy(path)
@@ -51,16 +51,24 @@ def test_the_file_round_trips_and_is_recognised(tmp_path):
     assert read_rule_file(path).kind == LIFTED and isinstance(load_policy(path, 12), LiftedPolicy)
 
 
-def test_a_file_of_the_first_seven_atoms_reads_with_either_value_of_holding():
+def test_a_file_of_the_first_seven_atoms_reads_with_either_value_of_holding_and_cover():
     old = json.loads(_doc(atoms=list(ATOMS[:7]),
                           classifiers=["Q 1110#1# move(?x,?d)->table  advantage=0.250 error=0.000 experience=9"]))
     policy = loads_lifted_policy(json.dumps(old), "old.json")
-    assert policy.classifiers == (LiftedQClassifier("1110#1##", "table", 0.25, 0.0, 9),)
-    assert all(policy.classifiers[0].matches((1, 1, 1, 0, 1, 1, 0, held), "table") for held in (0, 1))
+    assert policy.classifiers == (LiftedQClassifier("1110#1###", "table", 0.25, 0.0, 9),)
+    assert all(policy.classifiers[0].matches((1, 1, 1, 0, 1, 1, 0, held, cover), "table")
+               for held in (0, 1) for cover in (0, 1))
+
+
+def test_a_file_of_the_first_eight_atoms_reads_with_either_value_of_cover():
+    old = json.loads(_doc(atoms=list(ATOMS[:8]),
+                          classifiers=["Q 1011##10 move(?x,?d)->table  advantage=0.500 error=0.000 experience=9"]))
+    policy = loads_lifted_policy(json.dumps(old), "old.json")
+    assert policy.classifiers == (LiftedQClassifier("1011##10#", "table", 0.5, 0.0, 9),)
 
 
 def _doc(**change):
-    doc = json.loads(dumps_lifted_policy([LiftedQClassifier("1#######", "table")], {}))
+    doc = json.loads(dumps_lifted_policy([LiftedQClassifier("1########", "table")], {}))
     doc.update(change)
     return json.dumps(doc)
 
@@ -72,9 +80,9 @@ def _doc(**change):
     (_doc(atoms=["misplaced(?x)"]), "names other atoms"),
     (_doc(classifiers=[]), "holds 0 classifiers"),
     (_doc(classifiers=["Q 1111 move(?x,?d)->table  advantage=0 error=0 experience=1"]),
-     "has 4 atoms, the file names 8"),
-    (_doc(classifiers=["Q 1####### move(?x,?d)->sky  advantage=0 error=0 experience=1"]), "expected 'Q <condition>"),
-    (_doc(classifiers=["Q 1####### move(?x,?d)->table  advantage=nan error=0 experience=1"]),
+     "has 4 atoms, the file names 9"),
+    (_doc(classifiers=["Q 1######## move(?x,?d)->sky  advantage=0 error=0 experience=1"]), "expected 'Q <condition>"),
+    (_doc(classifiers=["Q 1######## move(?x,?d)->table  advantage=nan error=0 experience=1"]),
      "expected 'Q <condition>"),
     (_doc(atoms=list(ATOMS[:6])), "names other atoms"),
     (_doc(meta=[1]), "'meta' an object"),

@@ -40,7 +40,7 @@ def test_moves_are_exactly_the_legal_pick_and_put_pairs_at_four_blocks():
 def test_relations_follow_their_definitions():
     state, goal = parse_config("CAB,ED"), parse_config("ABC,DE")
     rel = MoveRelations(state, goal)
-    assert len(ATOMS) == 8
+    assert len(ATOMS) == 9
     placed = well_placed(state, goal)
     stuck = deadlocked(state, goal)
     for m in rel.moves:
