@@ -153,6 +153,7 @@ class LiftedPolicy(Policy):
         self.classifiers = tuple(classifiers)
         self.meta = dict(meta or {})
         self._match: dict[tuple[tuple[int, ...], str], LiftedQClassifier | None] = {}
+        self._least: dict[tuple[tuple[int, ...], str], float | None] = {}
         self._tracker: RelationTracker | None = None
         self._pending: Action | None = None
 
@@ -163,6 +164,15 @@ class LiftedPolicy(Policy):
             self._match[key] = most_specific(self.classifiers, bits, kind)
         return self._match[key]
 
+    def least_completed(self, bits: tuple[int, ...], kind: str) -> float | None:
+        """The least advantage of any matching classifier over every completion of the unknown (-1) relations."""
+        key = (bits, kind)
+        if key not in self._least:
+            matched = (self.classifier_for(known, kind) for known in _completions(bits))
+            values = [c.advantage for c in matched if c is not None]
+            self._least[key] = min(values, default=None)
+        return self._least[key]
+
     def choose(self, relations: MoveRelations | RelationTracker) -> Move | None:
         """The move of least predicted advantage (ties: move order), or None if no classifier matches any.
 
@@ -171,9 +181,12 @@ class LiftedPolicy(Policy):
         ``least-stuck`` and ``cover`` are computed only when a move whose advantage depends on them could win.
         """
         if isinstance(relations, RelationTracker):
-            best, unsure = self._best(relations.candidates(resolve=False))
-            if not unsure:
-                return best
+            for find in (relations.resolve_cover, None):  # the cover first: it is often enough to decide
+                best, unsure = self._best(relations.candidates(resolve=False))
+                if not unsure:
+                    return best
+                if find is not None:
+                    find()
         return self._best(relations.candidates())[0]
 
     def _best(self, candidates: list[tuple[Move, tuple[int, ...]]]) -> tuple[Move | None, bool]:
@@ -181,8 +194,9 @@ class LiftedPolicy(Policy):
         best, best_value, best_at, doubts = None, 0.0, -1, []
         for at, (move, bits) in enumerate(candidates):
             if -1 in bits:
-                doubts.extend((at, c.advantage) for known in _completions(bits)
-                              if (c := self.classifier_for(known, move.kind)) is not None)
+                least = self.least_completed(bits, move.kind)
+                if least is not None:
+                    doubts.append((at, least))
                 continue
             c = self.classifier_for(bits, move.kind)
             if c is not None and (best is None or c.advantage < best_value):

@@ -145,12 +145,16 @@ class RelationTracker:
 
     def resolve(self) -> None:
         """Count the deadlocked blocks after every move to the table (``least-stuck``); find the ``cover``."""
-        self._refresh()
+        self.resolve_cover()
         if self._stuck_after is None:
             mask = np.zeros(self.n, np.bool_)
             counts = deadlock_counts(self._sup_a, self._above_a, self._goal_a, self._graph_placed(),
                                      np.array(self._movers, np.int64), mask)
             self._stuck_after = {Move(x, TABLE): c for x, c in zip(self._movers, counts.tolist(), strict=True)}
+
+    def resolve_cover(self) -> None:
+        """Find the ``cover`` (the counts of ``least-stuck`` may stay unknown)."""
+        self._refresh()
         if self._cover is None:
             cover = np.zeros(self.n, np.bool_)
             support = self._sup_a.copy()
@@ -222,7 +226,8 @@ class RelationTracker:
     def candidates(self, resolve: bool = True) -> list[tuple[Move, Bits]]:
         """The first move of every (block, kind, relations) class, in move order (module docstring).
 
-        With ``resolve`` False, ``least-stuck`` and ``cover`` are -1 (unknown) where they were not yet needed.
+        With ``resolve`` False, ``least-stuck`` and ``cover`` are -1 (unknown) where they were not yet
+        found (:meth:`resolve`, :meth:`resolve_cover`).
         """
         self._refresh()
         if resolve:
