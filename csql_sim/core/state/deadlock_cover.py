@@ -67,23 +67,15 @@ def acyclic(graph: dict[Event, list[Event]]) -> bool:
     return seen == len(graph)
 
 
-def height(state: State, b: int) -> int:
-    """The number of blocks under b (0 on the table or in the hand)."""
-    h = 0
-    while state.support[b] >= 0:
-        b = state.support[b]
-        h += 1
-    return h
-
-
 def deadlock_cover(state: State, goal: State) -> frozenset[int]:
     """The cover (module docstring): every deadlocked block, then dropped lowest first while the rest are enough."""
     if state.held is not None:
         support = list(state.support)
         support[state.held] = TABLE
         state = State(tuple(support))
+    height = {b: h for tower in state.towers() for h, b in enumerate(tower)}  # blocks under b
     visitors = set(deadlocked(state, goal))
-    for b in sorted(visitors, key=lambda v: (height(state, v), v)):
+    for b in sorted(visitors, key=lambda v: (height[v], v)):
         visitors.discard(b)
         if not acyclic(events(state, goal, frozenset(visitors))):
             visitors.add(b)
