@@ -9,6 +9,7 @@ from collections.abc import Callable
 
 from csql_sim.cli.args import add_json, add_quiet, add_seed, command_parser, int_type, path_arg, show_progress
 from csql_sim.cli.output import emit
+from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 
 
@@ -48,8 +49,11 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import provenance
     from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
 
+    if args.atoms is not None and args.features == "generated":
+        raise CsqlError("--atoms chooses among the given atoms; do not give it with --features generated")
+    read = {} if args.atoms is None else {"atoms": args.atoms}
     params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
-                          domain=args.domain, complexity=args.complexity)
+                          domain=args.domain, complexity=args.complexity, **read)
     run = train_lifted(params, np.random.default_rng(args.seed), progress=_progress(args))
     training = {"trials": run.trials, "steps": run.steps, "seconds": round(run.seconds, 1), "reached": run.reached,
                 "ground_q_classifiers": run.ground, "covered": run.covered, "specializations": run.splits,
@@ -78,6 +82,21 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
     return 0
 
 
+def _atoms(text: str) -> tuple[str, ...]:
+    """A comma list of given atoms by name, with or without their arguments, or ``all``."""
+    from csql_sim.core.state.move_relations import ATOMS
+
+    short = {a.split("(")[0]: a for a in ATOMS}
+    names = [w.strip() for w in text.split(",")]
+    if names == ["all"]:
+        return ATOMS
+    bad = [w for w in names if w not in short and w not in ATOMS]
+    if bad or not names:
+        raise argparse.ArgumentTypeError(f"unknown atom {bad[0] if bad else text!r}; expected a comma list "
+                                         f"among {','.join(short)}, or all")
+    return tuple(a for a in ATOMS if a in names or a.split("(")[0] in names)
+
+
 def _domain(text: str) -> str:
     """A shipped formulation's name or a readable PDDL domain file."""
     from csql_sim.core.features.formulation import BUILTIN
@@ -100,6 +119,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--features", choices=("given", "generated"), default="given",
                    help="what the classifiers read: the nine hand-written atoms (given, the default) or features "
                         "generated from the domain's predicates")
+    p.add_argument("--atoms", type=_atoms,
+                   help="with the given atoms: the ones the classifiers read, a comma list among misplaced,goal-on,"
+                        "ready,deadlocked,above-needed,least-stuck,deadlock,holding,cover, or all (default: all but "
+                        "least-stuck)")
     p.add_argument("--domain", type=_domain, default="4op",
                    help="with --features generated: the formulation, 4op (default), move, or a PDDL domain file")
     p.add_argument("--complexity", type=int_type(1, 10), default=8,

@@ -63,17 +63,26 @@ class Vocabulary:
 
 
 class GivenAtoms(Vocabulary):
-    """The nine relations of a move written by hand (:data:`ATOMS`)."""
+    """The nine relations of a move written by hand (:data:`ATOMS`), of which the classifiers read ``read``.
+
+    An atom not read is 0 in every feature vector and left out of every cover, so it is ``#`` in
+    every condition and no split can choose it.
+    """
 
     name = "given"
     width = len(ATOMS)
 
+    def __init__(self, read: tuple[str, ...] = ATOMS) -> None:
+        self.unread = [i for i, a in enumerate(ATOMS) if a not in read]
+
     def relations(self, state: State, target: State) -> tuple[tuple[Move, ...], np.ndarray]:
         rel = MoveRelations(state, target)
-        return rel.moves, np.array([rel.bits(m) for m in rel.moves], np.uint8).reshape(len(rel.moves), self.width)
+        bits = np.array([rel.bits(m) for m in rel.moves], np.uint8).reshape(len(rel.moves), self.width)
+        bits[:, self.unread] = 0
+        return rel.moves, bits
 
     def cover(self, bits: np.ndarray) -> Literals:
-        return tuple((i, int(b)) for i, b in enumerate(bits))
+        return tuple((i, int(b)) for i, b in enumerate(bits) if i not in self.unread)
 
 
 class GeneratedFeatures(Vocabulary):

@@ -25,6 +25,7 @@ def test_train_lifted_writes_a_file_plan_can_use(tmp_path, capsys):
     (["--sizes", "6"], "--sizes"),
     (["--sizes", "x"], "--sizes"),
     (["--trials", "0"], "--trials"),
+    (["--atoms", "misplaced,stuck"], "--atoms"),
 ])
 def test_bad_options_are_refused_in_one_line(tmp_path, capsys, argv, names):
     out = tmp_path / "l.json"
@@ -34,6 +35,25 @@ def test_bad_options_are_refused_in_one_line(tmp_path, capsys, argv, names):
     captured = capsys.readouterr()
     assert captured.err.count("\n") == 1 and names in captured.err and "Traceback" not in captured.err
     assert not out.exists()
+
+
+def test_the_atoms_read_are_chosen_by_name_and_recorded(tmp_path, capsys):
+    out = tmp_path / "l.json"
+    argv = ["train-lifted", "--trials", "100", "--atoms", "misplaced,goal-on,ready,least-stuck(?x)", "--out", str(out),
+            "--quiet", "--json"]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["params"]["atoms"] == ["misplaced(?x)", "goal-on(?x,?d)", "ready(?d)", "least-stuck(?x)"]
+    conditions = [c.condition for c in load_lifted_policy(out).classifiers]
+    assert conditions and all(set(c[3:5] + c[6:]) == {"#"} for c in conditions)
+    assert any(c[5] != "#" for c in conditions)  # least-stuck read when asked for
+
+
+def test_atoms_with_generated_features_is_refused_before_training(tmp_path, capsys):
+    out = tmp_path / "l.json"
+    assert main(["train-lifted", "--features", "generated", "--atoms", "all", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--atoms" in err and not out.exists()
 
 
 def test_an_existing_file_of_someone_else_is_kept(tmp_path, capsys):
