@@ -153,7 +153,7 @@ class LiftedPolicy(Policy):
         self.classifiers = tuple(classifiers)
         self.meta = dict(meta or {})
         self._match: dict[tuple[tuple[int, ...], str], LiftedQClassifier | None] = {}
-        self._least: dict[tuple[tuple[int, ...], str], float | None] = {}
+        self._least: dict[tuple[tuple[int, ...], str], tuple[float | None, bool]] = {}
         self._tracker: RelationTracker | None = None
         self._pending: Action | None = None
 
@@ -164,13 +164,18 @@ class LiftedPolicy(Policy):
             self._match[key] = most_specific(self.classifiers, bits, kind)
         return self._match[key]
 
-    def least_completed(self, bits: tuple[int, ...], kind: str) -> float | None:
-        """The least advantage of any matching classifier over every completion of the unknown (-1) relations."""
+    def least_completed(self, bits: tuple[int, ...], kind: str) -> tuple[float | None, bool]:
+        """The least advantage of any matching classifier over every completion of the unknown (-1) relations.
+
+        And whether that advantage is settled: every completion matches a classifier of that advantage,
+        so the unknown relations cannot change the move's rank (no classifier that could match reads them).
+        """
         key = (bits, kind)
         if key not in self._least:
-            matched = (self.classifier_for(known, kind) for known in _completions(bits))
+            matched = [self.classifier_for(known, kind) for known in _completions(bits)]
             values = [c.advantage for c in matched if c is not None]
-            self._least[key] = min(values, default=None)
+            least = min(values, default=None)
+            self._least[key] = (least, len(values) == len(matched) and all(v == least for v in values))
         return self._least[key]
 
     def choose(self, relations: MoveRelations | RelationTracker) -> Move | None:
@@ -194,13 +199,16 @@ class LiftedPolicy(Policy):
         best, best_value, best_at, doubts = None, 0.0, -1, []
         for at, (move, bits) in enumerate(candidates):
             if -1 in bits:
-                least = self.least_completed(bits, move.kind)
-                if least is not None:
+                least, settled = self.least_completed(bits, move.kind)
+                if least is not None and not settled:
                     doubts.append((at, least))
-                continue
-            c = self.classifier_for(bits, move.kind)
-            if c is not None and (best is None or c.advantage < best_value):
-                best, best_value, best_at = move, c.advantage, at
+                    continue
+                value = least
+            else:
+                c = self.classifier_for(bits, move.kind)
+                value = None if c is None else c.advantage
+            if value is not None and (best is None or value < best_value):
+                best, best_value, best_at = move, value, at
         unsure = any(best is None or value < best_value or (value == best_value and at < best_at)
                      for at, value in doubts)
         return best, unsure
