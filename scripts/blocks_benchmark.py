@@ -15,7 +15,8 @@ written to DIR/problems. Stages (each resumes: finished rows in its JSON-lines f
   unsolved) runs once on the first ``--fd-tasks`` tasks of each size; its time is wall
   seconds including unified-planning's parsing. The ``--time-sizes`` tasks are timed only.
 * ``optimum`` (DIR/optimum.jsonl): per task the lower bound 2 x misplaced and the optimum
-  by the deadlock characterization (CP-SAT when OR-Tools is installed, else the branch and
+  by the deadlock characterization (implicit hitting sets with CP-SAT when OR-Tools is
+  installed, :func:`~csql_sim.core.measure.bounds.hitting_set_optimum`, else the branch and
   bound), within ``--optimum-budget`` s, proven or bounded; the shortest plan found
   narrows a bounded optimum from above.
 * ``report`` (DIR/table.md, DIR/time_per_task.png): the table and the plot of time per
@@ -41,7 +42,7 @@ from pathlib import Path
 import numpy as np
 from pddl import parse_problem
 
-from csql_sim.core.measure.bounds import bounded_optimum, cpsat_available, cpsat_optimum, lower_bound
+from csql_sim.core.measure.bounds import bounded_optimum, cpsat_available, hitting_set_optimum, lower_bound
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state import State
@@ -185,7 +186,7 @@ def stage_optimum(args: argparse.Namespace, tasks: dict[int, list[Path]], timing
             row = json.loads(line)
             if row["solved"]:
                 best[row["task"]] = min(best.get(row["task"], row["cost"]), row["cost"])
-    solver = cpsat_optimum if cpsat_available() else bounded_optimum
+    solver = hitting_set_optimum if cpsat_available() else bounded_optimum
     for n in sorted(tasks):
         if n in timing_only:
             continue

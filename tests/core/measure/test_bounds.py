@@ -3,7 +3,14 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.measure.bounds import Bound, bounded_optimum, cpsat_available, cpsat_optimum, lower_bound
+from csql_sim.core.measure.bounds import (
+    Bound,
+    bounded_optimum,
+    cpsat_available,
+    cpsat_optimum,
+    hitting_set_optimum,
+    lower_bound,
+)
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.task_draws import draw_task, tall_towers
 from csql_sim.core.state.notation import parse_config as parse_large
@@ -45,3 +52,18 @@ def test_cpsat_gives_the_same_optimum_as_the_search():
     for _ in range(10):
         start, goal = tall_towers(16, rng), tall_towers(16, rng)
         assert cpsat_optimum(start, goal, 30).lower == bounded_optimum(start, goal, 60).lower
+
+
+@pytest.mark.skipif(not cpsat_available(), reason="OR-Tools is a bench extra: pip install '.[bench]'")
+def test_hitting_sets_give_the_same_optimum_as_the_search():
+    rng = np.random.default_rng(5)
+    pairs = [(tall_towers(n, rng), tall_towers(n, rng)) for n in (8, 10, 12, 16) for _ in range(6)]
+    pairs += [(sample_hand_empty(n, rng), sample_hand_empty(n, rng)) for n in (8, 12) for _ in range(6)]
+    deadlocked = 0
+    for start, goal in pairs:
+        bound, exact = hitting_set_optimum(start, goal, 30), bounded_optimum(start, goal, 60)
+        assert exact.proven and bound.proven and bound.lower == exact.lower and bound.method == "hitting set"
+        deadlocked += exact.lower > lower_bound(start, goal)
+    assert deadlocked >= len(pairs) // 2  # the table visits are what is being checked
+    hurried = hitting_set_optimum(*pairs[0], budget_s=0.0)
+    assert hurried.lower <= bounded_optimum(*pairs[0], 60).lower <= hurried.upper
