@@ -117,7 +117,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--goals", type=int_type(1, 10**6), help="training goals per size (default 40; 200 with "
                    "--features generated)")
     p.add_argument("--features", choices=("given", "generated"), default="given",
-                   help="what the classifiers read: the nine hand-written atoms (given, the default) or features "
+                   help="what the classifiers read: hand-written atoms (given, the default; see --atoms) or features "
                         "generated from the domain's predicates")
     p.add_argument("--atoms", type=_atoms,
                    help="with the given atoms: the ones the classifiers read, a comma list among misplaced,goal-on,"

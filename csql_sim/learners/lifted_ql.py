@@ -105,7 +105,7 @@ class LiftedParams:
             default 0.02: too small to trade a move for it at five blocks, it makes the learner
             prefer, among plans of one length, the one that places blocks sooner (a constructive
             move before a table move that five blocks cannot tell apart from it).
-        features: what the classifiers read: ``given`` (the nine hand-written atoms) or
+        features: what the classifiers read: ``given`` (hand-written atoms, those of ``atoms``) or
             ``generated`` (features built from the domain's predicates,
             :mod:`~csql_sim.learners.lifted_vocab`). Default ``given``.
         domain: the formulation of ``generated`` features: ``4op``, ``move`` or a PDDL domain
