@@ -150,19 +150,6 @@ def cpsat_optimum(start: State, goal: State, budget_s: float = 10.0, upper: int 
     return Bound(2 * low, 2 * high, "CP-SAT").narrowed(upper)
 
 
-def _event_arcs(comp: Component) -> dict[int, list[int]]:
-    """The precedences between events, every block split: ``b`` its final move, ``b + n`` its first move."""
-    n = comp.n
-    arcs: dict[int, list[int]] = {e: [] for b in comp.members for e in (b, b + n)}
-    for x, b in comp.on_top:
-        arcs[x + n].append(b + n)
-    for x, b in comp.blocking:
-        arcs[x + n].append(b)
-    for d, b in comp.below:
-        arcs[d].append(b)
-    return arcs
-
-
 def _cycle_clause(comp: Component, arcs: dict[int, list[int]], b: int,
                   visitors: frozenset[int]) -> frozenset[int] | None:
     """The blocks that must include a visitor to cut a cycle through non-visitor b, or None if there is none.
@@ -171,7 +158,8 @@ def _cycle_clause(comp: Component, arcs: dict[int, list[int]], b: int,
     every block has, and the back arc final(c) -> first(c), which a visit removes. A cycle
     is cut only by a visitor among the blocks whose back arcs it uses, whatever the other
     visitors: a valid clause. A 0-1 breadth-first search (back arcs weigh 1) from first(b)
-    to final(b), the direct arc left out, finds one with the fewest such blocks.
+    to final(b), the direct arc left out, finds one with the fewest such blocks. ``arcs`` is the
+    event graph with every block split (:meth:`Component.events` of all the members).
     """
     n = comp.n
     source, target = b + n, b
@@ -182,10 +170,8 @@ def _cycle_clause(comp: Component, arcs: dict[int, list[int]], b: int,
         if v in done:
             continue
         done.add(v)
-        steps = [(w, 0) for w in arcs[v]]
-        if v >= n and v != source:
-            steps.append((v - n, 0))
-        elif v < n and v not in visitors:
+        steps = [(w, 0) for w in arcs[v] if v != source or w != target]
+        if v < n and v not in visitors:
             steps.append((v + n, 1))
         for w, weight in steps:
             if w not in dist or dist[v] + weight < dist[w]:
@@ -268,7 +254,7 @@ def _hitting_set(members: list[int], pool: set[frozenset[int]], hint: frozenset[
 
 def _hitting_set_component(comp: Component, deadline: float) -> tuple[int, int]:
     """Lower and upper bounds on one component's fewest visitors by implicit hitting sets (module docstring)."""
-    arcs = _event_arcs(comp)
+    arcs = comp.events(frozenset(comp.members))  # every block split: b its final move, b + n its first
     pool: set[frozenset[int]] = set()
     best = _repair(comp, arcs, frozenset(), pool, deadline)
     low, hint = 0, best
