@@ -339,7 +339,7 @@ class _Learner:
             self.replay()
         self.sweeps += 1
         if self.sweeps > self.vocab.warmup:
-            self.rules, splits = specialize(self.rules, p.tau, p.min_experience, self.vocab.band)
+            self.rules, splits = specialize(self.rules, p.tau, p.min_experience)
             self.splits += splits
         if self.vocab.fresh_stats:
             for r in self.rules:

@@ -80,14 +80,14 @@ class Rule:
             s[3] += one
 
 
-def split_position(rule: Rule, tau: float, min_experience: int, band: float | None = None) -> int | None:
-    """The free position to split on, or None.
+def split_position(rule: Rule, tau: float, min_experience: int) -> int | None:
+    """The free position to split on, or None: the one whose two values' mean advantages differ most.
 
-    Without ``band`` (the given atoms): the position whose two values' mean advantages differ
-    most, by more than tau (the first of equal gaps). With ``band`` (generated features, ordered
-    simplest first): among the positions whose means differ by more than tau, the first whose
-    split explains at least ``band`` times the most any explains of the advantages' spread (the
-    weighted gain ``c0 c1 / (c0 + c1) (m0 - m1)^2``): the simplest of the near-best features.
+    Both values need ``min_experience`` updates and the gap must exceed tau; of equal gaps the
+    first (with generated features, ordered simplest first, the simplest). The largest gap, not
+    the split that explains the most of the advantages' spread: a feature that isolates a
+    decisive situation (a block already in place, a move that uncovers a needed block) beats
+    one that halves the moves by an accident of five-block worlds (``docs/features.md``).
     """
     if rule.stats is None or rule.experience < min_experience:
         return None
@@ -99,22 +99,15 @@ def split_position(rule: Rule, tau: float, min_experience: int, band: float | No
         return None
     gap = np.full(rule.width, -np.inf)
     gap[valid] = np.abs(s0[valid] / c0[valid] - s1[valid] / c1[valid])
-    if band is None:
-        best = int(np.argmax(gap))
-        return best if gap[best] > tau else None
-    ok = gap > tau
-    if not ok.any():
-        return None
-    gain = np.where(ok, c0 * c1 / np.maximum(c0 + c1, 1) * np.where(ok, gap, 0) ** 2, -np.inf)
-    return int(np.argmax(gain >= band * gain.max()))
+    best = int(np.argmax(gap))
+    return best if gap[best] > tau else None
 
 
-def specialize(rules: list[Rule], tau: float, min_experience: int, band: float | None = None
-               ) -> tuple[list[Rule], int]:
+def specialize(rules: list[Rule], tau: float, min_experience: int) -> tuple[list[Rule], int]:
     """Split every rule that hides a difference (:func:`split_position`); the new list and the number of splits."""
     out, splits = [], 0
     for r in rules:
-        best = split_position(r, tau, min_experience, band)
+        best = split_position(r, tau, min_experience)
         if best is None:
             out.append(r)
             continue

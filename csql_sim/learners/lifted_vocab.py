@@ -33,8 +33,6 @@ class Vocabulary:
     name = "vocabulary"
     width = 0
     cache_relations = True
-    band: float | None = None
-    """How specialization chooses its feature (:func:`~csql_sim.learners.lifted_rules.split_position`)."""
     warmup = 0
     """Sweeps before the first specialization."""
     fresh_stats = False
@@ -90,7 +88,6 @@ class GeneratedFeatures(Vocabulary):
 
     name = "generated"
     cache_relations = False
-    band = 0.9
     warmup = 3
     fresh_stats = True
 
