@@ -115,7 +115,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sizes", type=_sizes, default=(5,),
                    help="numbers of blocks of the worlds trained on, a comma list among 3,4,5 (default 5)")
     p.add_argument("--goals", type=int_type(1, 10**6), help="training goals per size (default 40; 200 with "
-                   "--features generated)")
+                   "--features generated --domain move)")
     p.add_argument("--features", choices=("given", "generated"), default="given",
                    help="what the classifiers read: hand-written atoms (given, the default; see --atoms) or features "
                         "generated from the domain's predicates")
