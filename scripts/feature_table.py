@@ -23,7 +23,7 @@ executed as a pick and a put, and only its own (hand-empty) states count as revi
 Figures come from trials and the learner's sweeps through its world model; none from search.
 
 Each (variant, seed) is one JSON line of ``--out``, written when done: a run that is stopped
-resumes where it was. ``--report`` prints the tables (min / median / max over seeds).
+resumes where it was. ``--report`` prints the tables (min / median / max over seeds) of every variant in the file.
 """
 
 from __future__ import annotations
@@ -172,7 +172,7 @@ def report(args: argparse.Namespace) -> None:
     print("| tasks | policy | seeds | solved % | optimal % | length / optimum |")
     print("|---|---|---|---|---|---|")
     for label in labels:
-        for variant in ["gn1", "hand ordering", *VARIANTS]:
+        for variant in dict.fromkeys(["gn1", "hand ordering", *VARIANTS, *(r["variant"] for r in rows)]):
             mine = [r for r in rows if r["variant"] == variant and label in r["results"]]
             if not mine:
                 continue
