@@ -22,15 +22,16 @@ through the world model of lifted rules (:data:`csql_sim.core.classifiers.lifted
   that matches each move learns the move's advantage, its Q minus the least, with rate
   ``beta``; it also keeps, for each of its ``#`` atoms, the mean target when that atom held
   and when it did not;
-* every ``sweep`` trials, **specialization**: a classifier whose targets differ by more
-  than ``tau`` between the two values of one of its ``#`` atoms is split on the atom that
-  separates them most; **generalization**: two classifiers of one kind whose conditions
-  differ in one atom only, both with ``min_experience`` updates and excesses within
-  ``tau / 2``, are merged into one with ``#`` there; with ``replay``, before these, a
-  **sweep through the model**: every remembered hand-empty state is backed up once more and
-  its successors join the memory (value iteration over the training goals' worlds), so the
-  ground values stop resting on the misplaced-blocks lower bound, under which a put onto a
-  block that must move again ties with the table put.
+* every ``sweep`` trials, **specialization**: a classifier whose targets differ by more than
+  ``tau`` between the two values of one of its ``#`` atoms is split on the atom that separates
+  them most (or, with ``rare_experience`` below ``min_experience``, on an atom whose rarer
+  value was met seldom but costs more than ``rare_gap``); **generalization**: two classifiers
+  of one kind whose conditions differ in one atom only, both with ``min_experience`` updates
+  and excesses within ``tau / 2``, are merged into one with ``#`` there; with ``replay``,
+  before these, a **sweep through the model**: every remembered hand-empty state is backed up
+  once more and its successors join the memory (value iteration over the training goals'
+  worlds), so the ground values stop resting on the misplaced-blocks lower bound, under which
+  a put onto a block that must move again ties with the table put.
 
 The learned classifiers plan greedily (:class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy`)
 for any number of blocks up to 26: no atom names a block, so nothing is specific to the
@@ -101,10 +102,17 @@ class LiftedParams:
         sweep: trials between specialization and generalization sweeps. Range >= 1; default 100 with the
             given atoms, 300 with generated features: their split statistics start afresh every sweep
             (the sweep's replay changes the values under them), so a sweep must give both values of a
-            decisive literal ``min_experience`` updates. In sweeps of 100 trials, seed 0 of the move
-            formulation ended with 12 rules of error above 0.3 that met 65-181 moves a sweep: some
-            literal split each with a gap of 0.8-2.1 moves, but never with 100 updates on both sides,
-            and four seeds of ten looped on one or two of 400 benchmark pairs (``docs/features.md``).
+            decisive literal ``min_experience`` updates; in sweeps of 100 trials four seeds of ten
+            looped on one or two of 400 benchmark pairs (``docs/features.md``).
+        rare_experience: updates on the rarer value of a literal for a **rare split**, one whose gap
+            exceeds ``rare_gap`` (:func:`~csql_sim.learners.lifted_rules.split_position`). Range
+            1..``min_experience``; default 20 with generated features in a domain with a hand (``4op`` or a
+            PDDL file), else ``min_experience`` (no rare split). In the 4-operator formulation the
+            training seldom meets a well-placed block moved onto another block under the classifiers
+            that hold for it, so that move was never split off: the policy picked the block, put it
+            back, and looped (seed 1 on 28 of 100 pairs at n = 26; none with rare splits,
+            ``docs/features.md``).
+        rare_gap: moves of advantage a rare split needs. Range > ``tau``; default 1.0 (a wasted move).
         replay: whether every sweep also backs up the remembered ground values through the
             world model (:meth:`_Learner.replay`). True or False; default True.
         early: the cost of a move per block still misplaced after it, in moves. Range [0, 1);
@@ -135,6 +143,8 @@ class LiftedParams:
     tau: float = 0.05
     min_experience: int | None = None
     sweep: int | None = None
+    rare_experience: int | None = None
+    rare_gap: float = 1.0
     replay: bool = True
     early: float = 0.02
     features: str = "given"
@@ -151,6 +161,9 @@ class LiftedParams:
             object.__setattr__(self, "sweep", 300 if generated else 100)
         if self.min_experience is None:
             object.__setattr__(self, "min_experience", 100 if generated else 30)
+        if self.rare_experience is None:
+            rare = generated and self.domain != "move" and isinstance(self.min_experience, int)
+            object.__setattr__(self, "rare_experience", min(20, self.min_experience) if rare else self.min_experience)
         checks = {
             "trials": isinstance(self.trials, int) and self.trials >= 1,
             "sizes": bool(self.sizes) and all(isinstance(n, int) and n in TRAIN_SIZES for n in self.sizes),
@@ -160,6 +173,9 @@ class LiftedParams:
             "tau": 0 < self.tau < math.inf,
             "min_experience": isinstance(self.min_experience, int) and self.min_experience >= 1,
             "sweep": isinstance(self.sweep, int) and self.sweep >= 1,
+            "rare_experience": isinstance(self.rare_experience, int) and isinstance(self.min_experience, int)
+            and 1 <= self.rare_experience <= self.min_experience,
+            "rare_gap": isinstance(self.rare_gap, (int, float)) and self.tau < self.rare_gap < math.inf,
             "replay": isinstance(self.replay, bool),
             "early": 0 <= self.early < 1,
             "features": self.features in FEATURES,
@@ -347,7 +363,7 @@ class _Learner:
             self.replay()
         self.sweeps += 1
         if self.sweeps > self.vocab.warmup:
-            self.rules, splits = specialize(self.rules, p.tau, p.min_experience)
+            self.rules, splits = specialize(self.rules, p.tau, p.min_experience, p.rare_experience, p.rare_gap)
             self.splits += splits
         if self.vocab.fresh_stats:
             for r in self.rules:

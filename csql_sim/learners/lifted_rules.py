@@ -8,7 +8,8 @@ for every position, the sum and count of the advantages it learned while that po
 
 * :func:`specialize`: a rule whose advantages differ by more than ``tau`` between the two
   values of one of its free positions (both with ``min_experience`` updates) is split on the
-  position that separates them most (the first of equal gaps);
+  position that separates them most (the first of equal gaps), or on a position whose rarer
+  value has only ``rare_experience`` updates but a gap above ``rare_gap`` (a rare split);
 * :func:`generalize_once`: two rules of one kind whose conditions differ in one position
   only, as 0 and 1, both with ``min_experience`` updates and advantages within ``tau / 2``,
   are merged into one that leaves the position free.
@@ -16,6 +17,7 @@ for every position, the sum and count of the advantages it learned while that po
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -80,7 +82,8 @@ class Rule:
             s[3] += one
 
 
-def split_position(rule: Rule, tau: float, min_experience: int) -> int | None:
+def split_position(rule: Rule, tau: float, min_experience: int, rare_experience: int | None = None,
+                   rare_gap: float = math.inf) -> int | None:
     """The free position to split on, or None: the one whose two values' mean advantages differ most.
 
     Both values need ``min_experience`` updates and the gap must exceed tau; of equal gaps the
@@ -88,26 +91,34 @@ def split_position(rule: Rule, tau: float, min_experience: int) -> int | None:
     the split that explains the most of the advantages' spread: a feature that isolates a
     decisive situation (a block already in place, a move that uncovers a needed block) beats
     one that halves the moves by an accident of five-block worlds (``docs/features.md``).
+
+    A **rare split**: a position whose rarer value has fewer than ``min_experience`` updates but
+    at least ``rare_experience`` may split too, when its gap exceeds ``rare_gap`` (moves, far
+    above tau): a situation the training meets seldom, such as a well-placed block taken off
+    onto another block, that costs a move or more.
     """
     if rule.stats is None or rule.experience < min_experience:
         return None
     s0, c0, s1, c1 = rule.stats
-    valid = np.minimum(c0, c1) >= min_experience
+    low = np.minimum(c0, c1)
+    valid = low >= (min_experience if rare_experience is None else min(rare_experience, min_experience))
     for i, _ in rule.literals:
         valid[i] = False
     if not valid.any():
         return None
     gap = np.full(rule.width, -np.inf)
     gap[valid] = np.abs(s0[valid] / c0[valid] - s1[valid] / c1[valid])
+    gap[gap <= np.where(low >= min_experience, tau, rare_gap)] = -np.inf
     best = int(np.argmax(gap))
-    return best if gap[best] > tau else None
+    return best if np.isfinite(gap[best]) else None
 
 
-def specialize(rules: list[Rule], tau: float, min_experience: int) -> tuple[list[Rule], int]:
+def specialize(rules: list[Rule], tau: float, min_experience: int, rare_experience: int | None = None,
+               rare_gap: float = math.inf) -> tuple[list[Rule], int]:
     """Split every rule that hides a difference (:func:`split_position`); the new list and the number of splits."""
     out, splits = [], 0
     for r in rules:
-        best = split_position(r, tau, min_experience)
+        best = split_position(r, tau, min_experience, rare_experience, rare_gap)
         if best is None:
             out.append(r)
             continue

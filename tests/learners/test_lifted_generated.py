@@ -29,7 +29,8 @@ def test_a_short_run_is_deterministic_and_starts_from_an_empty_population(domain
 
 
 @pytest.mark.parametrize("change", [{"features": "learned"}, {"complexity": 0}, {"complexity": 11},
-                                    {"sample": 5}, {"domain": ""}])
+                                    {"sample": 5}, {"domain": ""}, {"rare_experience": 0},
+                                    {"rare_experience": 101}, {"rare_gap": 0.05}, {"rare_gap": float("inf")}])
 def test_out_of_range_feature_parameters_are_refused_by_name(change):
     with pytest.raises(ParamsError) as exc:
         LiftedParams(**{"features": "generated", **change})
@@ -41,6 +42,9 @@ def test_the_defaults_differ_only_where_generated_features_need_more():
     assert (given.goals, given.min_experience, given.sweep) == (40, 30, 100)
     assert (generated.goals, generated.min_experience, generated.sweep) == (200, 100, 300)
     assert LiftedParams(features="generated").goals == 40  # with a hand: the feature table's memory
+    # rare splits only with generated features in a domain with a hand (screened there: docs/features.md)
+    assert (given.rare_experience, generated.rare_experience) == (30, 100)
+    assert LiftedParams(features="generated").rare_experience == 20
     assert "features" not in given.as_dict() and generated.as_dict()["complexity"] == 8
 
 

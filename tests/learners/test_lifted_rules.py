@@ -26,6 +26,19 @@ def test_the_split_takes_the_largest_gap_not_the_broadest_explanation():
     assert split_position(rule, 0.05, 11) == 0  # feature 1 lacks 11 updates on its rare side
 
 
+def test_a_rare_split_needs_its_own_floor_and_a_gap_above_rare_gap():
+    # feature 0 is 1 on 25 of 300 moves, which cost 2 more (a well-placed block taken off); feature 1 on
+    # 25 others, which cost 0.5 more
+    rows = [[int(i < 25), int(25 <= i < 50)] for i in range(300)]
+    rule = rule_with(rows, [2.0 * r[0] + 0.5 * r[1] for r in rows])
+    assert split_position(rule, 0.05, 100) is None  # neither rare side has 100 updates
+    assert split_position(rule, 0.05, 100, rare_experience=20, rare_gap=1.0) == 0
+    assert split_position(rule, 0.05, 100, rare_experience=30, rare_gap=1.0) is None  # 25 < 30
+    assert split_position(rule, 0.05, 100, rare_experience=20, rare_gap=2.5) is None  # a gap of 2 is not enough
+    only_small = rule_with(rows, [0.5 * r[1] for r in rows])
+    assert split_position(only_small, 0.05, 100, rare_experience=20, rare_gap=1.0) is None  # 0.5 < rare_gap
+
+
 def test_no_split_within_tau_or_on_a_fixed_position():
     rows = [[i % 2, i % 3 == 0] for i in range(120)]
     assert split_position(rule_with(rows, [0.01 * r[0] for r in rows]), 0.05, 10) is None
