@@ -24,8 +24,8 @@ through the world model of lifted rules (:data:`csql_sim.core.classifiers.lifted
   and when it did not;
 * every ``sweep`` trials, **specialization**: a classifier whose targets differ by more than
   ``tau`` between the two values of one of its ``#`` atoms is split on the atom that separates
-  them most (or, with ``rare_experience`` below ``min_experience``, on an atom whose rarer
-  value was met seldom but costs more than ``rare_gap``); **generalization**: two classifiers
+  them most (or, with ``rare_experience`` set below ``min_experience``, on an atom whose
+  rarer value was met seldom but costs more than ``rare_gap``); **generalization**: two classifiers
   of one kind whose conditions differ in one atom only, both with ``min_experience`` updates
   and excesses within ``tau / 2``, are merged into one with ``#`` there; with ``replay``,
   before these, a **sweep through the model**: every remembered hand-empty state is backed up
@@ -106,12 +106,10 @@ class LiftedParams:
             looped on one or two of 400 benchmark pairs (``docs/features.md``).
         rare_experience: updates on the rarer value of a literal for a **rare split**, one whose gap
             exceeds ``rare_gap`` (:func:`~csql_sim.learners.lifted_rules.split_position`). Range
-            1..``min_experience``; default 20 with generated features in a domain with a hand (``4op`` or a
-            PDDL file), else ``min_experience`` (no rare split). In the 4-operator formulation the
-            training seldom meets a well-placed block moved onto another block under the classifiers
-            that hold for it, so that move was never split off: the policy picked the block, put it
-            back, and looped (seed 1 on 28 of 100 pairs at n = 26; none with rare splits,
-            ``docs/features.md``).
+            1..``min_experience``; default ``min_experience`` (no rare split). Screened with 20 in the
+            4-operator formulation: it ended seed 1's loops (a well-placed block taken off and put
+            back) but seeds 0, 2 and 4 then failed on 5-31% of the pairs at n = 20 or 26
+            (``docs/features.md``).
         rare_gap: moves of advantage a rare split needs. Range > ``tau``; default 1.0 (a wasted move).
         replay: whether every sweep also backs up the remembered ground values through the
             world model (:meth:`_Learner.replay`). True or False; default True.
@@ -162,8 +160,7 @@ class LiftedParams:
         if self.min_experience is None:
             object.__setattr__(self, "min_experience", 100 if generated else 30)
         if self.rare_experience is None:
-            rare = generated and self.domain != "move" and isinstance(self.min_experience, int)
-            object.__setattr__(self, "rare_experience", min(20, self.min_experience) if rare else self.min_experience)
+            object.__setattr__(self, "rare_experience", self.min_experience)
         checks = {
             "trials": isinstance(self.trials, int) and self.trials >= 1,
             "sizes": bool(self.sizes) and all(isinstance(n, int) and n in TRAIN_SIZES for n in self.sizes),
