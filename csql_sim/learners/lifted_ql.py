@@ -24,14 +24,14 @@ through the world model of lifted rules (:data:`csql_sim.core.classifiers.lifted
   and when it did not;
 * every ``sweep`` trials, **specialization**: a classifier whose targets differ by more than
   ``tau`` between the two values of one of its ``#`` atoms is split on the atom that separates
-  them most (or, with ``rare_experience`` set below ``min_experience``, on an atom whose
-  rarer value was met seldom but costs more than ``rare_gap``); **generalization**: two classifiers
-  of one kind whose conditions differ in one atom only, both with ``min_experience`` updates
-  and excesses within ``tau / 2``, are merged into one with ``#`` there; with ``replay``,
-  before these, a **sweep through the model**: every remembered hand-empty state is backed up
-  once more and its successors join the memory (value iteration over the training goals'
-  worlds), so the ground values stop resting on the misplaced-blocks lower bound, under which
-  a put onto a block that must move again ties with the table put.
+  them most (or on a seldom-met one costing more than ``rare_gap``, with ``rare_experience``
+  below ``min_experience``); **generalization**: two classifiers of one kind whose conditions
+  differ in one atom only, both with ``min_experience`` updates and excesses within ``tau / 2``,
+  are merged into one with ``#`` there; with ``replay``, before these, a **sweep through the
+  model**: every remembered hand-empty state is backed up once more and its successors join the
+  memory (value iteration over the training goals' worlds), so the ground values stop resting on
+  the misplaced-blocks lower bound, under which a put onto a block that must move again ties
+  with the table put.
 
 The learned classifiers plan greedily (:class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy`)
 for any number of blocks up to 26: no atom names a block, so nothing is specific to the
@@ -83,40 +83,31 @@ class LiftedParams:
 
     Attributes:
         trials: training trials (one start/goal pair each). Range >= 1; default 3000.
-        sizes: world sizes drawn uniformly per trial. Each of 3, 4, 5; default (5,): the
-            largest small world has the situations (deadlocks between towers) that large
-            worlds are made of.
+        sizes: world sizes drawn uniformly per trial. Each of 3, 4, 5; default (5,): the largest
+            small world has the deadlocks between towers that large worlds are made of.
         goals: training goals per size, drawn once when the size is first met. Range >= 1; default 40,
             and 200 with generated features in the move domain (thousands of features need more
             situations to tell the general ones from the accidents of a few goals; in a domain
             with a hand, six times more literals make the feature table of 200 goals about 5 GB).
         beta: learning rate of the lifted advantages and errors. Range (0, 1]; default 0.02.
-        epsilon: probability of a random legal move (wide exploration spreads the updates
-            over the states). Range [0, 1); default 0.5.
-        tau: moves of advantage that tell two conditions apart. Range > 0; default 0.05
-            (near-ties decide the detours of large worlds, so only conditions that agree
-            closely are merged).
+        epsilon: probability of a random legal move. Range [0, 1); default 0.5 (spreads the updates).
+        tau: moves of advantage that tell two conditions apart. Range > 0; default 0.05 (near-ties
+            decide the detours of large worlds, so only conditions that agree closely are merged).
         min_experience: updates before a classifier is split or merged. Range >= 1; default 30
             with the given atoms, 100 with generated features (a split chosen among thousands
             needs more evidence).
         sweep: trials between specialization and generalization sweeps. Range >= 1; default 100 with the
-            given atoms, 300 with generated features: their split statistics start afresh every sweep
-            (the sweep's replay changes the values under them), so a sweep must give both values of a
-            decisive literal ``min_experience`` updates; in sweeps of 100 trials four seeds of ten
-            looped on one or two of 400 benchmark pairs (``docs/features.md``).
-        rare_experience: updates on the rarer value of a literal for a **rare split**, one whose gap
-            exceeds ``rare_gap`` (:func:`~csql_sim.learners.lifted_rules.split_position`). Range
-            1..``min_experience``; default ``min_experience`` (no rare split). Screened with 20 in the
-            4-operator formulation: it ended seed 1's loops (a well-placed block taken off and put
-            back) but seeds 0, 2 and 4 then failed on 5-31% of the pairs at n = 20 or 26
-            (``docs/features.md``).
+            given atoms, 300 with generated features: their split statistics restart every sweep, so a
+            sweep must give both values of a decisive literal ``min_experience`` updates.
+        rare_experience: updates on a literal's rarer value for a rare split (gap above ``rare_gap``,
+            :func:`~csql_sim.learners.lifted_rules.split_position`). Range 1..``min_experience``; default
+            ``min_experience``, none (20 fixed one 4-operator seed and broke two: ``docs/features.md``).
         rare_gap: moves of advantage a rare split needs. Range > ``tau``; default 1.0 (a wasted move).
         replay: whether every sweep also backs up the remembered ground values through the
             world model (:meth:`_Learner.replay`). True or False; default True.
         early: the cost of a move per block still misplaced after it, in moves. Range [0, 1);
-            default 0.02: too small to trade a move for it at five blocks, it makes the learner
-            prefer, among plans of one length, the one that places blocks sooner (a constructive
-            move before a table move that five blocks cannot tell apart from it).
+            default 0.02: too small to trade a move for at five blocks, it prefers, among plans of
+            one length, the one that places blocks sooner.
         features: what the classifiers read: ``given`` (hand-written atoms, those of ``atoms``) or
             ``generated`` (features built from the domain's predicates,
             :mod:`~csql_sim.learners.lifted_vocab`). Default ``given``.
@@ -127,10 +118,9 @@ class LiftedParams:
             each). Range 10..5000; default 200.
         atoms: with ``given``, the atoms the classifiers may read; an atom left out is ``#`` in
             every condition. A non-empty subset of :data:`ATOMS`; default :data:`READ_ATOMS`, all
-            but ``least-stuck(?x)``: in five-block worlds a table move that is least-stuck but
-            not in the ``cover`` is as short as a cover move (136 of 136 such moves in 20,000
-            uniform pairs; 44% of them are a wasted move at twelve blocks), so with both atoms
-            the seeds ranked them differently; without it every seed prefers the cover.
+            but ``least-stuck(?x)``: at five blocks a least-stuck table move outside the ``cover`` is
+            as short as a cover move (44% of them waste a move at twelve blocks), so with both
+            atoms the seeds ranked them differently; without it every seed prefers the cover.
     """
 
     trials: int = 3000
