@@ -68,10 +68,10 @@ def apply(op: str, args: list[np.ndarray]) -> np.ndarray:
         return ~args[0]
     if op == "and":
         return args[0] & args[1]
-    if op == "some":  # some y with R(x, y) and C(y): a batched matrix-vector product
-        return np.matmul(args[0].astype(np.float32), args[1][:, :, None].astype(np.float32))[:, :, 0] > 0
+    if op == "some":  # some y with R(x, y) and C(y)
+        return (args[0] & args[1][:, None, :]).any(axis=2)
     if op == "all":  # no y with R(x, y) outside C
-        return ~(np.matmul(args[0].astype(np.float32), (~args[1])[:, :, None].astype(np.float32))[:, :, 0] > 0)
+        return ~(args[0] & ~args[1][:, None, :]).any(axis=2)
     if op == "eq":
         return (args[0] == args[1]).all(axis=2)
     if op == "inv":

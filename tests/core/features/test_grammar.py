@@ -79,6 +79,17 @@ def test_a_name_the_domain_lacks_is_named_when_evaluated(text, named):
         den.of(parse(text))
 
 
+def reachable(r: np.ndarray, x: int) -> set[int]:
+    """The objects reachable from x in one relation (n, n) by one link or more, by search."""
+    seen, frontier = set(), [y for y in range(len(r)) if r[x, y]]
+    while frontier:
+        y = frontier.pop()
+        if y not in seen:
+            seen.add(y)
+            frontier += [z for z in range(len(r)) if r[y, z]]
+    return seen
+
+
 def test_closure_agrees_with_reachability_on_random_relations():
     rng = np.random.default_rng(3)
     for density in (0.1, 0.3):
@@ -86,10 +97,20 @@ def test_closure_agrees_with_reachability_on_random_relations():
         got = closure(r)
         for b in range(20):
             for x in range(6):
-                seen, frontier = set(), [y for y in range(6) if r[b, x, y]]
-                while frontier:
-                    y = frontier.pop()
-                    if y not in seen:
-                        seen.add(y)
-                        frontier += [z for z in range(6) if r[b, y, z]]
-                assert {y for y in range(6) if got[b, x, y]} == seen
+                assert {y for y in range(6) if got[b, x, y]} == reachable(r[b], x)
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 40])
+def test_closure_of_functional_relations_agrees_with_reachability(n):
+    """Chains, cycles and objects without a successor; the relation and its inverse."""
+    rng = np.random.default_rng(n)
+    r = np.zeros((12, n, n), bool)
+    for b in range(12):
+        for x in range(n):
+            if rng.random() < 0.8:
+                r[b, x, int(rng.integers(n))] = True
+    for rel in (r, r.transpose(0, 2, 1)):
+        got = closure(rel)
+        for b in range(12):
+            for x in range(n):
+                assert {y for y in range(n) if got[b, x, y]} == reachable(rel[b], x)
