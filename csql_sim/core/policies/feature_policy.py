@@ -10,9 +10,13 @@ classifier tests, and the PDDL domain whose predicates they read, so it plans on
 the state and on the state after each move (one move of lookahead) and takes the move of
 least advantage of its most specific matching classifier (ties: the first in move order),
 as :class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy` does. In a domain with a hand
-it picks the block up, then chooses the put again holding it. In the move domain a move is
-one action: it is executed as a pick and the put of the move chosen (the one step between
-them is not a state of that domain, so nothing is chosen there).
+it picks the block up, then chooses the put again holding it; a pick whose put, so chosen,
+would set the block back where it stood is passed over for the next move in rank (one
+action of lookahead through the model: the pick). Such a pick leaves the state as it was, so
+the greedy policy would repeat it for ever; the rule changes nothing on a task it solves
+without it. In the move domain a move is one action: it is executed as a pick and the put of
+the move chosen (the one step between them is not a state of that domain, so nothing is
+chosen there).
 """
 
 from __future__ import annotations
@@ -55,7 +59,7 @@ class FeaturePolicy(Policy):
         self.literals, self.form, self.domain = literals, form, domain
         self.meta = dict(meta or {})
         self._match: dict[tuple[bytes, str], LiftedQClassifier | None] = {}
-        self._chosen: tuple[State, Move] | None = None
+        self._chosen: tuple[State, State, Move] | None = None
 
     def classifier_for(self, bits: np.ndarray, kind: str) -> LiftedQClassifier | None:
         """The most specific classifier matching a move's literal values (remembered)."""
@@ -64,15 +68,20 @@ class FeaturePolicy(Policy):
             self._match[key] = most_specific(self.classifiers, tuple(int(b) for b in bits), kind)
         return self._match[key]
 
+    def ranked(self, state: State, target: State) -> list[Move]:
+        """The legal moves some classifier matches, by least advantage (ties: move order)."""
+        options, values = literal_values(self.literals, self.form, state, target)
+        scored = []
+        for at, (move, bits) in enumerate(zip(options, values, strict=True)):
+            c = self.classifier_for(bits, move.kind)
+            if c is not None:
+                scored.append((c.advantage, at, move))
+        return [move for _, _, move in sorted(scored, key=lambda r: r[:2])]
+
     def choose(self, state: State, target: State) -> Move | None:
         """The move of least advantage (ties: move order), or None when no classifier matches any."""
-        options, values = literal_values(self.literals, self.form, state, target)
-        best, best_value = None, 0.0
-        for move, bits in zip(options, values, strict=True):
-            c = self.classifier_for(bits, move.kind)
-            if c is not None and (best is None or c.advantage < best_value):
-                best, best_value = move, c.advantage
-        return best
+        ranked = self.ranked(state, target)
+        return ranked[0] if ranked else None
 
     def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``: None at the goal or when no classifier matches."""
@@ -80,17 +89,40 @@ class FeaturePolicy(Policy):
         if target is None:
             return last
         chosen, self._chosen = self._chosen, None
-        if state.held is not None and not self.form.hand and chosen is not None and chosen[0] == state:
-            return put_action(chosen[1])
-        move = self.choose(state, target)
-        if move is None:
-            return None
+        if state.held is not None and chosen is not None and chosen[:2] == (state, goal):
+            return put_action(chosen[2])
         if state.held is not None:
-            return put_action(move)
+            move = self.choose(state, target)
+            return None if move is None else put_action(move)
+        ranked = self.ranked(state, target)
+        if not ranked:
+            return None
+        move, put = ranked[0], ranked[0]
+        if self.form.hand:
+            move, put = self._pick_that_moves(state, goal, ranked)
         action = pick_action(state, move.block)
-        if not self.form.hand:
-            self._chosen = (successor(state, action), move)
+        if put is not None:
+            self._chosen = (successor(state, action), goal, put)
         return action
+
+    def _pick_that_moves(self, state: State, goal: State, ranked: list[Move]) -> tuple[Move, Move | None]:
+        """The first ranked move whose put, chosen holding its block, does not set it back; and that put.
+
+        The put is None when the pick reaches the goal (a goal that holds the block). When every
+        pick would be undone, the first move and its put.
+        """
+        first, seen = None, set()
+        for move in ranked:
+            if move.block in seen:  # the put chosen holding a block does not depend on the move ranked
+                continue
+            seen.add(move.block)
+            held = successor(state, pick_action(state, move.block))
+            target, _ = towards(held, goal)
+            put = None if target is None else self.choose(held, target)
+            if put is None or put.onto != state.support[move.block]:
+                return move, put
+            first = first or (move, put)
+        return first
 
     def text(self) -> list[str]:
         """The classifiers' lines."""
