@@ -44,7 +44,7 @@ def test_the_defaults_differ_only_where_generated_features_need_more():
     assert LiftedParams(features="generated").goals == 40  # with a hand: the feature table's memory
     # rare splits are an option, off by default (screened in the 4-operator formulation: docs/features.md)
     assert (given.rare_experience, generated.rare_experience) == (30, 100)
-    assert LiftedParams(features="generated", rare_experience=20).rare_experience == 20
+    assert LiftedParams(features="generated", min_experience=50).rare_experience == 50  # follows min_experience
     assert "features" not in given.as_dict() and generated.as_dict()["complexity"] == 8
 
 

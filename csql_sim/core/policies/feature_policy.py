@@ -97,9 +97,10 @@ class FeaturePolicy(Policy):
         ranked = self.ranked(state, target)
         if not ranked:
             return None
-        move, put = ranked[0], ranked[0]
         if self.form.hand:
             move, put = self._pick_that_moves(state, goal, ranked)
+        else:  # a move of the move domain is one action: its pick, then its own put
+            move = put = ranked[0]
         action = pick_action(state, move.block)
         if put is not None:
             self._chosen = (successor(state, action), goal, put)
