@@ -1,6 +1,7 @@
 """How many moves a table move of a deadlocked block wastes, by its above-needed, least-stuck and cover atoms.
 
     python scripts/table_move_excess.py [--blocks 5] [--pairs 20000] [--draw uniform|tall-towers] [--seed 1]
+                                        [--by atoms|deadlocked]
 
 For every drawn (start, goal) pair with a deadlock and every move of a misplaced,
 deadlocked block to the table, the move's excess is 1 + optimum(after) - optimum(before),
@@ -8,6 +9,11 @@ in moves, by the exact optimum (:func:`csql_sim.core.measure.optimum.optimal_mov
 yardstick). Grouped by the atoms (above-needed, least-stuck, cover), it shows which table
 moves five-block worlds can tell apart: why the lifted learner leaves ``least-stuck`` unread
 by default ([lifted rules](docs/lifted.md)).
+
+With ``--by deadlocked``: in the states with a deadlock where no block can go to its goal place,
+every table move of a misplaced block not on the table whose goal support is a block, grouped
+by ``deadlocked(?x)`` (the table moves that the 4-operator seeds over generated features make
+at n = 20, ``docs/features.md``).
 """
 
 from __future__ import annotations
@@ -26,8 +32,9 @@ from csql_sim.core.state.world import TABLE
 GROUP = tuple(ATOMS.index(a) for a in ("above-needed(?x)", "least-stuck(?x)", "cover(?x)"))
 
 
-def excesses(n: int, pairs: int, draw: str, seed: int) -> tuple[int, dict[tuple[int, ...], list[int]]]:
-    """The deadlocked pairs drawn and every deadlocked table move's excess, by (above-needed, least-stuck, cover)."""
+def excesses(n: int, pairs: int, draw: str, seed: int, by: str = "atoms"
+             ) -> tuple[int, dict[tuple[int, ...], list[int]]]:
+    """The deadlocked pairs drawn and the table moves' excesses, by (above-needed, least-stuck, cover) or ``by``."""
     rng = np.random.default_rng(seed)
     sample = (lambda: tall_towers(n, rng)) if draw == "tall-towers" else (lambda: sample_hand_empty(n, rng))
     out: dict[tuple[int, ...], list[int]] = defaultdict(list)
@@ -38,10 +45,18 @@ def excesses(n: int, pairs: int, draw: str, seed: int) -> tuple[int, dict[tuple[
         if not rel.stuck:
             continue
         stuck += 1
+        candidates = list(rel.candidates())
+        if by == "deadlocked" and any(all(bits[:3]) for _, bits in candidates):  # misplaced, goal-on, ready
+            continue
         best = optimal_moves(start, goal)
-        for move, bits in rel.candidates():
-            if move.onto == TABLE and bits[ATOMS.index("deadlocked(?x)")]:
+        for move, bits in candidates:
+            x, dead = move.block, bits[ATOMS.index("deadlocked(?x)")]
+            if move.onto != TABLE:
+                continue
+            if by == "atoms" and dead:
                 out[tuple(bits[i] for i in GROUP)].append(1 + optimal_moves(after(start, move), goal) - best)
+            elif by == "deadlocked" and bits[0] and start.support[x] != TABLE and goal.support[x] != TABLE:
+                out[(dead,)].append(1 + optimal_moves(after(start, move), goal) - best)
     return stuck, out
 
 
@@ -52,11 +67,13 @@ def main() -> None:
     parser.add_argument("--pairs", type=int, default=20000)
     parser.add_argument("--draw", choices=("uniform", "tall-towers"), default="uniform")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--by", choices=("atoms", "deadlocked"), default="atoms")
     args = parser.parse_args()
-    stuck, out = excesses(args.blocks, args.pairs, args.draw, args.seed)
+    stuck, out = excesses(args.blocks, args.pairs, args.draw, args.seed, args.by)
     print(f"{args.pairs} {args.draw} pairs of {args.blocks} blocks, {stuck} with a deadlock")
-    print("| above-needed | least-stuck | cover | table moves | wasted (excess >= 1) | mean excess |")
-    print("|---|---|---|---|---|---|")
+    head = "above-needed | least-stuck | cover" if args.by == "atoms" else "deadlocked"
+    print(f"| {head} | table moves | wasted (excess >= 1) | mean excess |")
+    print("|" + "---|" * (head.count("|") + 4))
     for key in sorted(out):
         v = np.array(out[key])
         print(f"| {' | '.join(map(str, key))} | {len(v)} | {int((v > 0).sum())} ({100 * (v > 0).mean():.1f}%) | "
