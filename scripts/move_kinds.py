@@ -27,29 +27,23 @@ import argparse
 import sys
 from collections import Counter
 
-import numpy as np
-from lifted_seeds import hand_ordering  # the script beside this one
+from feature_table import BENCH_SIZES, tasks  # the scripts beside this one
+from lifted_seeds import hand_ordering
 
-from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.goal_relations import deadlocked, well_placed
 from csql_sim.core.state.move_relations import target_goal
-from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import TABLE, State, successor
 from csql_sim.learners.gn1 import Gn1Policy
 
-BENCH_SIZES = (6, 7, 8, 10, 15, 20, 26)
 
-
-def benchmark_pairs(n: int, use: int) -> list[tuple[State, State]]:
-    """The first ``use`` benchmark pairs of size ``n``."""
-    rng = np.random.default_rng(0)
-    for size in BENCH_SIZES:
-        pairs = sample_pairs(size, 1000, rng)
-        if size == n:
-            return pairs[:use]
-    raise SystemExit(f"move_kinds: --n must be one of {', '.join(map(str, BENCH_SIZES))}")
+def benchmark_tasks(n: int, use: int) -> list[tuple[State, State, int]]:
+    """The first ``use`` benchmark pairs of size ``n`` with their exact optima (``feature_table.tasks``)."""
+    if n not in BENCH_SIZES:
+        raise SystemExit(f"move_kinds: --n must be one of {', '.join(map(str, BENCH_SIZES))}")
+    rows = tasks(argparse.Namespace(sizes=[n], use=use, tall=[], tall_tasks=0))[f"n={n}"]
+    return [(start, goal, best) for start, goal, best, _ in rows]
 
 
 def kind(before: State, after: State, goal: State, block: int) -> str:
@@ -67,16 +61,15 @@ def kind(before: State, after: State, goal: State, block: int) -> str:
     return "table, deadlocked" if block in deadlocked(before, target) else "table, not deadlocked"
 
 
-def classify(policy, pairs: list[tuple[State, State]], hand: bool) -> tuple[int, int, Counter, int]:  # noqa: ANN001
+def classify(policy, pairs: list[tuple[State, State, int]], hand: bool) -> tuple[int, int, Counter, int]:  # noqa: ANN001
     """Optimal plans, actions over the optimum (solved plans), the moves by kind, and the unsolved."""
     kinds: Counter = Counter()
     optimal = over = unsolved = 0
-    for start, goal in pairs:
+    for start, goal, best in pairs:
         run = rollout_relational(policy, start, goal, hand=hand)
         if not run.reached:
             unsolved += 1
             continue
-        best = optimal_length(start, goal)
         optimal += run.length == best
         over += run.length - best
         state, before = start, start
@@ -98,7 +91,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--n", type=int, default=20, help="benchmark size (default 20)")
     parser.add_argument("--use", type=int, default=100, help="pairs planned (default 100)")
     args = parser.parse_args(argv)
-    pairs = benchmark_pairs(args.n, args.use)
+    pairs = benchmark_tasks(args.n, args.use)
     policies = [("GN1", Gn1Policy()), ("hand ordering", hand_ordering())]
     policies += [(path, load_policy(path)) for path in args.policy_file]
     for name, policy in policies:

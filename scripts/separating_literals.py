@@ -18,13 +18,12 @@ import argparse
 import sys
 
 import numpy as np
+from table_move_excess import stuck_table_moves  # the script beside this one
 
 from csql_sim.core.features.formulation import load_formulation
 from csql_sim.core.features.move_features import literal_values
-from csql_sim.core.state.goal_relations import deadlocked, well_placed
-from csql_sim.core.state.move_relations import moves
+from csql_sim.core.state.move_relations import MoveRelations
 from csql_sim.core.state.state_count import sample_hand_empty
-from csql_sim.core.state.world import TABLE
 from csql_sim.learners.lifted_features import build_space
 
 
@@ -33,16 +32,10 @@ def examples(n: int, states: int) -> list[tuple]:
     rng, out = np.random.default_rng(n), []
     while len(out) < states:
         s, g = sample_hand_empty(n, rng), sample_hand_empty(n, rng)
-        placed, dead = well_placed(s, g), deadlocked(s, g)
-        legal = moves(s)
-        if not dead or any(not placed[m.block] and m.onto == g.support[m.block] and (m.onto == TABLE or placed[m.onto])
-                           for m in legal):
-            continue
-        table = tuple(m for m in legal if m.onto == TABLE and s.support[m.block] != TABLE and not placed[m.block]
-                      and g.support[m.block] != TABLE)
-        labels = [m.block in dead for m in table]
-        if not all(labels):
-            out.append((s, g, table, labels))
+        rel = MoveRelations(s, g)
+        found = stuck_table_moves(rel, s, g) if rel.stuck else []
+        if found and not all(dead for _, dead in found):
+            out.append((s, g, tuple(m for m, _ in found), [bool(dead) for _, dead in found]))
     return out
 
 

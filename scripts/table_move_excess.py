@@ -25,11 +25,23 @@ import numpy as np
 
 from csql_sim.core.measure.optimum import optimal_moves
 from csql_sim.core.model.task_draws import tall_towers
-from csql_sim.core.state.move_relations import ATOMS, MoveRelations, after
+from csql_sim.core.state.move_relations import ATOMS, Move, MoveRelations, after
+from csql_sim.core.state.state import State
 from csql_sim.core.state.state_count import sample_hand_empty
 from csql_sim.core.state.world import TABLE
 
 GROUP = tuple(ATOMS.index(a) for a in ("above-needed(?x)", "least-stuck(?x)", "cover(?x)"))
+DEAD = ATOMS.index("deadlocked(?x)")
+
+
+def stuck_table_moves(rel: MoveRelations, start: State, goal: State) -> list[tuple[Move, int]]:
+    """With no move to a goal place: each table move of a misplaced block off the table whose goal
+    support is a block, with ``deadlocked(?x)``; none when some block can go to its goal place."""
+    candidates = rel.candidates()
+    if any(all(bits[:3]) for _, bits in candidates):  # misplaced, goal-on, ready: a goal move
+        return []
+    return [(m, bits[DEAD]) for m, bits in candidates
+            if m.onto == TABLE and bits[0] and start.support[m.block] != TABLE and goal.support[m.block] != TABLE]
 
 
 def excesses(n: int, pairs: int, draw: str, seed: int, by: str = "atoms"
@@ -45,18 +57,14 @@ def excesses(n: int, pairs: int, draw: str, seed: int, by: str = "atoms"
         if not rel.stuck:
             continue
         stuck += 1
-        candidates = list(rel.candidates())
-        if by == "deadlocked" and any(all(bits[:3]) for _, bits in candidates):  # misplaced, goal-on, ready
-            continue
-        best = optimal_moves(start, goal)
-        for move, bits in candidates:
-            x, dead = move.block, bits[ATOMS.index("deadlocked(?x)")]
-            if move.onto != TABLE:
-                continue
-            if by == "atoms" and dead:
-                out[tuple(bits[i] for i in GROUP)].append(1 + optimal_moves(after(start, move), goal) - best)
-            elif by == "deadlocked" and bits[0] and start.support[x] != TABLE and goal.support[x] != TABLE:
-                out[(dead,)].append(1 + optimal_moves(after(start, move), goal) - best)
+        if by == "deadlocked":
+            found = [((dead,), move) for move, dead in stuck_table_moves(rel, start, goal)]
+        else:
+            found = [(tuple(bits[i] for i in GROUP), move) for move, bits in rel.candidates()
+                     if move.onto == TABLE and bits[DEAD]]
+        best = optimal_moves(start, goal) if found else 0
+        for key, move in found:
+            out[key].append(1 + optimal_moves(after(start, move), goal) - best)
     return stuck, out
 
 

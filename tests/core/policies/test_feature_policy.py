@@ -2,6 +2,7 @@
 
 import json
 
+import numpy as np
 import pytest
 
 from csql_sim.core.features.formulation import load_formulation
@@ -10,8 +11,10 @@ from csql_sim.core.policies.feature_policy import FeaturePolicy, dumps_feature_p
 from csql_sim.core.policies.lifted_policy import LiftedPolicyError, LiftedQClassifier
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.move_relations import pick_action, towards
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs
+from csql_sim.core.state.world import all_states, successor
 from csql_sim.infra.assets import asset_text
 from csql_sim.learners.gn1 import Gn1Policy
 
@@ -90,11 +93,6 @@ def test_with_a_hand_a_pick_the_put_chosen_after_it_would_undo_is_passed_over():
     The classifiers rank a block move that places ?x first, then any block move (in move order,
     so often the one back where the block stood), then the table: many picks are undone.
     """
-    import numpy as np
-
-    from csql_sim.core.state.move_relations import pick_action, towards
-    from csql_sim.core.state.world import all_states, successor
-
     literals = (Literal(WELL_PLACED, "x'"),)
     classifiers = [LiftedQClassifier("1", "block", 0.0), LiftedQClassifier("0", "block", 0.5),
                    LiftedQClassifier("#", "table", 1.0)]
