@@ -8,7 +8,10 @@ be built, or running out of memory), or whose worker dies (the pool breaks, Ray 
 worker or its node), yields a :class:`TaskFailure` in its place instead of stopping the
 run. Any other exception is a bug in the task and propagates out of :func:`map_tasks`
 (the remaining tasks are cancelled). Ctrl-C cancels what is still running and re-raises
-:class:`KeyboardInterrupt`.
+:class:`KeyboardInterrupt`. In a Ray session that :func:`ray_session` opened, the
+session's shutdown ends the remaining tasks instead of ``ray.cancel``: a cancel that
+races a finishing task can abort the process in Ray's C++ core (Ray 2.60; found as a
+stack dump, exit status 1, after SIGTERM).
 
 With Ray (the optional extra ``pip install "csql-sim[ray]"``), the chunks are Ray tasks:
 on a local instance started for the call (``address=None``, ``workers`` CPUs) or on an
@@ -35,6 +38,7 @@ from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextlib import ExitStack, contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass
 from functools import cache
 from typing import Any, TypeVar
@@ -51,6 +55,8 @@ RAY_CLIENT_PORT = 10001  # the port of a ray:// address that names none
 TASK_ERRORS = (CsqlError, MemoryError)  # how a task (or a worker's setup) may fail without a bug
 T = TypeVar("T")
 R = TypeVar("R")
+# True inside a ray_session that opened Ray: its ray.shutdown ends the tasks still running
+_SHUTDOWN_ENDS_TASKS: ContextVar[bool] = ContextVar("csql_sim_ray_shutdown_ends_tasks", default=False)
 
 
 @dataclass(frozen=True)
@@ -238,7 +244,8 @@ def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
     Shuts Ray down on exit if this call started it; a session the caller opened stays.
     A local instance runs under :func:`csql_sim.infra.workers.reaper`: its processes
     end with this one, even after a SIGKILL. While a session this call started is open,
-    SIGTERM raises :class:`Terminated` (a KeyboardInterrupt) instead of Ray's stack dump.
+    SIGTERM raises :class:`Terminated` (a KeyboardInterrupt) instead of Ray's stack dump,
+    and :func:`map_tasks` leaves the ending of its remaining tasks to the shutdown.
     """
     try:
         import ray
@@ -259,6 +266,7 @@ def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
             stack.callback(signal.signal, signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
         _init_ray(ray, backend)
         stack.callback(ray.shutdown)
+        stack.callback(_SHUTDOWN_ENDS_TASKS.reset, _SHUTDOWN_ENDS_TASKS.set(True))
         if main_thread:  # after ray.init: it installs its own handler and a C++ one that dumps the stack
             signal.signal(signal.SIGTERM, _terminate)
         where = f"cluster at {backend.address}" if backend.address else "local instance"
@@ -392,7 +400,8 @@ def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_ar
                     results[k] = [TaskFailure(f"ray task failed: {reason}")] * len(chunks[k])
                 results[k] = sink.put(starts[k], results[k])
     except BaseException:
-        for ref in pending:
-            ray.cancel(ref, force=True)
+        if not _SHUTDOWN_ENDS_TASKS.get():  # else not cancelled: ray.cancel races a reply and aborts the process
+            for ref in pending:
+                ray.cancel(ref, force=True)
         raise
     return [r for chunk in results for r in chunk]  # type: ignore[union-attr]

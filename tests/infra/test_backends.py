@@ -1,5 +1,7 @@
 import math
 import os
+import subprocess
+import time
 
 import pytest
 
@@ -92,6 +94,16 @@ def test_a_bug_in_a_ray_task_propagates(ray_local):
     with pytest.raises(TypeError):
         map_tasks(math.sqrt, [4.0, "x", 9.0], Backend("ray"))
     assert ray_local.is_initialized()
+
+
+def test_a_bug_in_a_ray_task_cancels_the_rest_in_a_session_the_caller_opened(ray_local):
+    """Left alone, the first task would hold its CPU for 30 s after map_tasks raised."""
+    with pytest.raises(subprocess.CalledProcessError):  # no CsqlError: a bug
+        map_tasks(subprocess.check_call, [["sleep", "30"], ["sh", "-c", "sleep 2; exit 3"]], Backend("ray"))
+    deadline = time.monotonic() + 20.0  # only against a hang
+    while ray_local.available_resources().get("CPU", 0.0) < 2.0:
+        assert time.monotonic() < deadline, "the sleeping task was not cancelled"
+        time.sleep(0.2)
 
 
 def test_ray_says_where_it_runs_in_one_line_with_progress(ray_local, capsys):
