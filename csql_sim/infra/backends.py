@@ -8,10 +8,8 @@ be built, or running out of memory), or whose worker dies (the pool breaks, Ray 
 worker or its node), yields a :class:`TaskFailure` in its place instead of stopping the
 run. Any other exception is a bug in the task and propagates out of :func:`map_tasks`
 (the remaining tasks are cancelled). Ctrl-C cancels what is still running and re-raises
-:class:`KeyboardInterrupt`. In a Ray session that :func:`ray_session` opened, the
-session's shutdown ends the remaining tasks instead of ``ray.cancel``: a cancel that
-races a finishing task can abort the process in Ray's C++ core (Ray 2.60; found as a
-stack dump, exit status 1, after SIGTERM).
+:class:`KeyboardInterrupt`; in a Ray session :func:`ray_session` opened, its shutdown
+ends them (a ``ray.cancel`` racing a finishing task can abort the process in Ray's core).
 
 With Ray (the optional extra ``pip install "csql-sim[ray]"``), the chunks are Ray tasks:
 on a local instance started for the call (``address=None``, ``workers`` CPUs) or on an
@@ -20,17 +18,14 @@ Every node needs the same csql-sim and Python versions. A Ray session that this 
 started is shut down before :func:`map_tasks` returns; one the caller started with
 ``ray.init`` is used and left running. A local instance's processes end with this
 process even if it is killed (:func:`csql_sim.infra.workers.reaper`); an address that
-does not answer fails within :data:`CONNECT_TIMEOUT` seconds, in one line.
+does not answer fails within seconds, in one line (:mod:`csql_sim.infra.ray_address`).
 """
 
 from __future__ import annotations
 
-import importlib.util
 import logging
 import os
 import signal
-import socket
-import subprocess
 import sys
 import threading
 import time
@@ -46,12 +41,10 @@ from typing import Any, TypeVar
 from tqdm import tqdm
 
 from csql_sim.infra.errors import CsqlError, Terminated
-from csql_sim.infra.workers import python_command, reaper, worker_count, worker_pool
+from csql_sim.infra.ray_address import check_ray_address
+from csql_sim.infra.workers import reaper, worker_count, worker_pool
 
 BACKENDS = ("processes", "ray")
-CONNECT_TIMEOUT = 5.0  # seconds a Ray address has to accept a connection
-GCS_PROBE_SECONDS = 15.0  # seconds a cluster's GCS has to tell its id (a Python start and Ray's import included)
-RAY_CLIENT_PORT = 10001  # the port of a ray:// address that names none
 TASK_ERRORS = (CsqlError, MemoryError)  # how a task (or a worker's setup) may fail without a bug
 T = TypeVar("T")
 R = TypeVar("R")
@@ -292,82 +285,6 @@ def _init_ray(ray: Any, backend: Backend) -> None:
     except (ConnectionError, RuntimeError, ValueError) as exc:
         raise CsqlError(f"cannot start Ray at {backend.address or 'a local instance'}: "
                         f"{' '.join(str(exc).split())}") from None
-
-
-def check_ray_address(address: str) -> None:
-    """Fail fast, in one line, on a Ray address that cannot work.
-
-    A ``ray://`` address needs the Ray Client (``pip install "ray[client]"``). Any address
-    must accept a TCP connection within :data:`CONNECT_TIMEOUT` seconds, and a cluster
-    address's GCS must tell its cluster id within :data:`GCS_PROBE_SECONDS` (asked by a
-    child process, killed after that): ``ray.init`` itself waits minutes on an address
-    that accepts connections but is no Ray cluster, printing a warning a second.
-
-    Raises:
-        CsqlError: naming the address and the problem.
-    """
-    client = address.startswith("ray://")
-    if client and importlib.util.find_spec("grpc") is None:
-        raise CsqlError(f'--address {address}: a ray:// address needs the Ray Client: pip install "ray[client]"')
-    try:
-        endpoint = _endpoint(address)
-    except ConnectionError as exc:  # "auto" with no cluster to find
-        raise CsqlError(f"cannot start Ray at {address}: {' '.join(str(exc).split())}") from None
-    except ValueError as exc:
-        raise CsqlError(f"--address {address!r}: not a Ray address (auto, host:port or ray://host:port): "
-                        f"{' '.join(str(exc).split())}") from None
-    if endpoint is None:
-        return
-    where = f"[{endpoint[0]}]:{endpoint[1]}" if ":" in endpoint[0] else f"{endpoint[0]}:{endpoint[1]}"
-    try:
-        socket.create_connection(endpoint, timeout=CONNECT_TIMEOUT).close()
-    except OSError as exc:
-        reason = "no answer" if isinstance(exc, TimeoutError) else exc.strerror or type(exc).__name__
-        raise CsqlError(f"cannot reach Ray at {address} ({where}: {reason} within {CONNECT_TIMEOUT:g} s); "
-                        f"is the cluster running?") from None
-    if not client:
-        _probe_gcs(address, where)
-
-
-def _probe_gcs(address: str, where: str) -> None:
-    """Ask the GCS at ``where`` for its cluster id in a child process that dies with us; one line if it cannot."""
-    code = ("import sys; from csql_sim.infra.workers import die_with_parent; die_with_parent(int(sys.argv[2])); "
-            "from ray._raylet import GcsClient; GcsClient(address=sys.argv[1]).cluster_id")
-    argv, env = python_command(code, where, str(os.getpid()))
-    try:
-        probe = subprocess.run(argv, env=env, stdin=subprocess.DEVNULL, capture_output=True, text=True,
-                               timeout=GCS_PROBE_SECONDS)
-    except subprocess.TimeoutExpired:
-        raise CsqlError(f"cannot start Ray at {address}: {where} accepts connections, but no Ray cluster answered "
-                        f"within {GCS_PROBE_SECONDS:g} s; is it the right address?") from None
-    if probe.returncode != 0:
-        last = next((line for line in reversed(probe.stderr.splitlines()) if line.strip()), "no reason given")
-        raise CsqlError(f"cannot start Ray at {address}: {where} is no Ray cluster ({' '.join(last.split())[:200]})")
-
-
-def _endpoint(address: str) -> tuple[str, int] | None:
-    """The host and port a Ray address connects to first, resolved as ``ray.init`` does.
-
-    Raises:
-        ValueError: not an address.
-        ConnectionError: ``"auto"`` finds no cluster.
-    """
-    if address.startswith("ray://"):
-        where = address[len("ray://"):].split("/")[0]
-        _, colon, port = where.rpartition(":")
-        found: str | None = where if colon and "]" not in port else f"{where}:{RAY_CLIENT_PORT}"  # [::1] has no port
-    elif address.rpartition(":")[0].strip("[]") in ("localhost", "::1") or address.startswith("127."):
-        found = address  # loopback, probed where it is: Ray would put the node's own address in its place
-    else:
-        from ray._private.services import canonicalize_bootstrap_address  # what ray.init resolves
-
-        found = canonicalize_bootstrap_address(address)
-    if found is None:
-        return None
-    host, _, port = found.rpartition(":")
-    if not host or not port.isdigit():
-        raise ValueError(f"no port in {found!r}")
-    return host.strip("[]"), int(port)
 
 
 def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_args: tuple, sink: _Sink) -> list:
