@@ -1,7 +1,5 @@
 """``python -m csql_sim`` runs the command line."""
 
-import sys
+from csql_sim.cli import console
 
-from csql_sim.cli import main
-
-sys.exit(main())
+console()

@@ -18,6 +18,7 @@ input, which :func:`main` prints as one line before exiting with status 2.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import io
 import os
 import signal
@@ -25,7 +26,7 @@ import sys
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any
+from typing import Any, NoReturn
 
 from csql_sim import __version__
 from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, problems_cmd, rulefile, sim
@@ -140,6 +141,21 @@ def main(argv: list[str] | None = None) -> int:
             _close_progress_bars()
             print(f"csql-sim: interrupted{_note(exc)}", file=sys.stderr)
             return 130
+
+
+def console() -> NoReturn:
+    """The console script and ``python -m csql_sim``: :func:`main`'s status is the exit status.
+
+    After a Ray session the process ends without the interpreter's finalization, in which
+    Ray's C++ threads, still running after ``ray.shutdown``, crashed (SIGSEGV after Ctrl-C).
+    """
+    status = main()
+    if "ray" in sys.modules:
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):
+                stream.flush()
+        os._exit(status)
+    sys.exit(status)
 
 
 def _written(outputs: Outputs) -> list[str]:

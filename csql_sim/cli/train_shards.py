@@ -151,7 +151,6 @@ def check_directory(args: argparse.Namespace) -> Path | None:
 
 def run(args: argparse.Namespace, out: Path) -> int:
     """``train`` into the sharded rule base ``out`` (:func:`check_directory`): shards saved as they come back."""
-    from csql_sim.core.files.rulebase_shards import read_manifest
     from csql_sim.learners.params import default_trials, resolve_params
     from csql_sim.learners.shards import ShardRun, default_shards, read_reports, train_sharded
 
@@ -163,12 +162,7 @@ def run(args: argparse.Namespace, out: Path) -> int:
     try:
         report = train_sharded(run_, progress=show_progress(args))
     except KeyboardInterrupt as exc:  # Ctrl-C or SIGTERM: say what was kept and how to go on
-        try:
-            saved = len(read_manifest(out).get("files", []))
-        except CsqlError:
-            saved = 0
-        raise type(exc)(f"{saved} of {shards} shards saved in {out}; continue with: csql-sim train --resume "
-                        f"--out {out}") from None
+        raise type(exc)(_kept(out, shards)) from None
     if problem is not None:
         say(args, "warning", f"{problem}; this run's report replaced it")
     peak = report["peak_rss_bytes"]
@@ -179,6 +173,19 @@ def run(args: argparse.Namespace, out: Path) -> int:
           f"{report['pairs']:,} trained now (against BFS); peak memory: driver "
           f"{peak['driver'] / 2**30:.2f} GB, largest worker {peak['worker_max'] / 2**30:.2f} GB; written to {out}")
     return 0
+
+
+def _kept(out: Path, shards: int) -> str:
+    """After an interruption: the shards saved in ``out`` and how to go on (``--resume`` needs a manifest)."""
+    from csql_sim.core.files.rulebase_shards import is_sharded, read_manifest
+
+    if not is_sharded(out):
+        return f"no shard saved in {out}; start again with the same command"
+    try:
+        saved = len(read_manifest(out).get("files", []))
+    except CsqlError:
+        saved = 0
+    return f"{saved} of {shards} shards saved in {out}; continue with: csql-sim train --resume --out {out}"
 
 
 def train_blocks_arg(text: str) -> int:

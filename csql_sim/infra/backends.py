@@ -223,11 +223,36 @@ def _map_processes(fn: Callable, items: list, workers: int | None, setup: Setup 
 def _remote_run_chunk() -> Any:
     import ray
 
-    return ray.remote(max_retries=1)(_run_chunk)
+    return ray.remote(max_retries=1)(_run_chunk_on_ray)
 
 
-def _terminate(signum: int, frame: object) -> None:
-    raise Terminated("terminated (SIGTERM)")
+def _run_chunk_on_ray(fn: Callable[[T], R], chunk: Sequence[T], setup: Setup | None,
+                      setup_args: tuple) -> list[R | TaskFailure]:
+    """:func:`_run_chunk` in a Ray worker, which leaves Ctrl-C to the driver (as a pool's workers do).
+
+    A terminal's Ctrl-C reaches the whole process group, Ray's workers included; a task
+    it interrupted made Ray's core print an error line beside the driver's one.
+    """
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    return _run_chunk(fn, chunk, setup, setup_args)
+
+
+class _Sigterm:
+    """While a Ray session is open, SIGTERM raises :class:`Terminated` (main thread only) and is remembered.
+
+    Ray turns an exception a signal handler raises inside ``ray.get`` or ``ray.wait`` into
+    a plain KeyboardInterrupt, which the command line would report as Ctrl-C; the session
+    turns it back. A second SIGTERM while the first unwinds is ignored.
+    """
+
+    def __init__(self) -> None:
+        self.received = False
+
+    def __call__(self, signum: int, frame: object) -> None:
+        self.received = True
+        signal.signal(signum, signal.SIG_IGN)
+        raise Terminated
 
 
 @contextmanager
@@ -237,9 +262,12 @@ def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
     Shuts Ray down on exit if this call started it; a session the caller opened stays.
     A local instance runs under :func:`csql_sim.infra.workers.reaper`: its processes
     end with this one, even after a SIGKILL. While a session this call started is open,
-    SIGTERM raises :class:`Terminated` (a KeyboardInterrupt) instead of Ray's stack dump,
-    and :func:`map_tasks` leaves the ending of its remaining tasks to the shutdown.
+    SIGTERM raises :class:`Terminated` (:class:`_Sigterm`), not Ray's ``sys.exit(15)``
+    nor its C++ stack dump (``RAY_DISABLE_FAILURE_SIGNAL_HANDLER``, unless the caller set
+    it or imported Ray first), and :func:`map_tasks` leaves the ending of its remaining
+    tasks to the shutdown.
     """
+    os.environ.setdefault("RAY_DISABLE_FAILURE_SIGNAL_HANDLER", "1")  # read when Ray is imported
     try:
         import ray
     except ImportError:
@@ -253,17 +281,44 @@ def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
         else:
             check_ray_address(backend.address)
         began = time.perf_counter()
-        main_thread = threading.current_thread() is threading.main_thread()
-        if main_thread:
+        sigterm = _Sigterm() if threading.current_thread() is threading.main_thread() else None
+        if sigterm is not None:
             previous = signal.getsignal(signal.SIGTERM)
             stack.callback(signal.signal, signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
-        _init_ray(ray, backend)
-        stack.callback(ray.shutdown)
+        stack.push(_shutdown(ray))  # also after a ray.init that a signal cut short
+        _init_ray(ray, backend, sigterm)
         stack.callback(_SHUTDOWN_ENDS_TASKS.reset, _SHUTDOWN_ENDS_TASKS.set(True))
-        if main_thread:  # after ray.init: it installs its own handler and a C++ one that dumps the stack
-            signal.signal(signal.SIGTERM, _terminate)
         where = f"cluster at {backend.address}" if backend.address else "local instance"
-        yield _announce(ray, where, began, announce)
+        try:
+            yield _announce(ray, where, began, announce)
+        except KeyboardInterrupt as exc:
+            if sigterm is not None and sigterm.received and not isinstance(exc, Terminated):
+                raise Terminated(*exc.args) from None
+            raise
+
+
+def _shutdown(ray: Any) -> Callable[..., bool]:
+    """An exit callback: ``ray.shutdown()``, with file descriptor 2 on /dev/null when unwinding from Ctrl-C or SIGTERM.
+
+    Tasks still running when an interrupted session shuts down fail, and Ray's C++ core
+    may log that on stderr (``Failed to push error to driver``) beside the command's one line.
+    """
+    def exit_(exc_type: type[BaseException] | None, *_: object) -> bool:
+        if exc_type is None or not issubclass(exc_type, KeyboardInterrupt):
+            ray.shutdown()
+            return False
+        sys.stderr.flush()
+        saved, null = os.dup(2), os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, 2)
+            ray.shutdown()
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            os.close(null)
+        return False
+
+    return exit_
 
 
 def _announce(ray: Any, where: str, began: float, announce: bool) -> int:
@@ -274,14 +329,24 @@ def _announce(ray: Any, where: str, began: float, announce: bool) -> int:
     return cpus
 
 
-def _init_ray(ray: Any, backend: Backend) -> None:
-    """``ray.init`` for ``backend``, quiet; a local instance gets at most the cores (``backend.workers``)."""
+def _init_ray(ray: Any, backend: Backend, sigterm: _Sigterm | None) -> None:
+    """``ray.init`` for ``backend``, quiet, then ``sigterm`` as SIGTERM's handler (Ray installs its own).
+
+    A local instance gets at most the cores (``backend.workers``). Ray's handler, in force
+    until ours replaces it, ends the process by ``sys.exit(15)``: that becomes :class:`Terminated`.
+    """
     kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR, "log_to_driver": False}
     if backend.address is None:
         kwargs["num_cpus"] = worker_count(backend.workers, os.cpu_count() or 1)
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
     try:
         ray.init(address=backend.address, **kwargs)
+        if sigterm is not None:
+            signal.signal(signal.SIGTERM, sigterm)
+    except SystemExit as exc:
+        if exc.code != signal.SIGTERM:
+            raise
+        raise Terminated from None
     except (ConnectionError, RuntimeError, ValueError) as exc:
         raise CsqlError(f"cannot start Ray at {backend.address or 'a local instance'}: "
                         f"{' '.join(str(exc).split())}") from None

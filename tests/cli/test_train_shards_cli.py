@@ -124,3 +124,31 @@ def test_a_shard_whose_header_lies_is_refused_even_with_a_matching_checksum(tmp_
     capsys.readouterr()
     assert main(["plan", "--rules", str(out), "--pairs", "40", "--quiet"]) == 2
     assert "shard 0" in one_error_line(capsys)
+
+
+def _interrupted(*_args, **_kwargs):
+    raise KeyboardInterrupt
+
+
+def test_an_interrupted_run_says_how_to_go_on_and_resume_only_where_it_can(tmp_path, capsys, monkeypatch):
+    from csql_sim.learners import shards
+
+    real = shards.train_sharded
+    monkeypatch.setattr(shards, "train_sharded", _interrupted)
+    out = tmp_path / "rules4"
+    args = ["train", "--blocks", "4", "--shards", "3", "--trials", "400", "--out", str(out), "--quiet"]
+    assert main(args) == 130  # before any shard: there is nothing to resume
+    err = one_error_line(capsys)
+    assert "no shard saved" in err and "--resume" not in err
+    monkeypatch.setattr(shards, "train_sharded", real)
+    assert main(args) == 0  # "start again with the same command"
+    manifest = rs.read_manifest(out)
+    manifest["files"], manifest["complete"] = manifest["files"][:1], False
+    rs.write_manifest(out, manifest)
+    monkeypatch.setattr(shards, "train_sharded", _interrupted)
+    assert main(["train", "--resume", "--out", str(out), "--quiet"]) == 130
+    err = one_error_line(capsys)
+    assert "1 of 3 shards saved" in err and err.endswith(f"csql-sim train --resume --out {out}")
+    monkeypatch.setattr(shards, "train_sharded", real)
+    assert main(["train", "--resume", "--out", str(out), "--quiet"]) == 0
+    assert rs.read_manifest(out)["complete"] is True

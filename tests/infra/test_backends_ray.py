@@ -133,19 +133,31 @@ def test_what_a_killed_process_started_under_the_reaper_ends_with_it(started):
 
 
 # ------------------------------------------------------------------ a local instance (slow: a Ray start-up each)
-def _start_evaluate(started) -> subprocess.Popen:
-    """``evaluate --backend ray --pairs all`` in a session of its own, once its Ray tasks run."""
+def _start_evaluate(started, running: str = "ray::_run_chunk") -> subprocess.Popen:
+    """``evaluate --backend ray --pairs all`` in a session of its own, once a process named ``running`` runs in it.
+
+    ``ray::_run_chunk``: its Ray tasks run (and a second later, Ray's agents are up and the
+    reaper has seen them); ``gcs_server``: ``ray.init`` is under way.
+    """
     proc = subprocess.Popen([sys.executable, "-m", "csql_sim", "evaluate", "--backend", "ray", "--pairs", "all",
                              "--workers", "2", "--quiet"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)
     started.append(proc)
     deadline = time.monotonic() + HANG_GUARD
-    while not any("ray::_run_chunk" in cmd for cmd in session(proc.pid).values()):
+    while not any(running in cmd for cmd in session(proc.pid).values()):
         assert proc.poll() is None, proc.communicate()
-        assert time.monotonic() < deadline, "Ray tasks never started"
-        time.sleep(0.2)
-    time.sleep(1.0)  # Ray's agents are up by now; the reaper has seen them
+        assert time.monotonic() < deadline, f"{running} never started"
+        time.sleep(0.05)
+    if running == "ray::_run_chunk":
+        time.sleep(1.0)
     return proc
+
+
+def _ends_in_one_line(proc: subprocess.Popen, status: int, line: str) -> None:
+    """``proc`` exits with ``status`` and ``line`` alone on stderr, and leaves no process in its session."""
+    out, err = proc.communicate(timeout=HANG_GUARD)
+    assert (proc.returncode, err.strip(), out) == (status, line, ""), err
+    wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
 
 
 @linux
@@ -163,9 +175,27 @@ def test_sigkill_leaves_no_ray_process(started):
 @needs_ray
 @pytest.mark.slow
 def test_sigterm_is_one_line_and_leaves_no_ray_process(started):
+    """Ray reports a signal handler's exception in ray.wait as a KeyboardInterrupt: still "terminated", 143."""
     proc = _start_evaluate(started)
     proc.send_signal(signal.SIGTERM)
-    out, err = proc.communicate(timeout=HANG_GUARD)
-    assert proc.returncode in (130, 143), err  # unwound like Ctrl-C (143 if the CLI names SIGTERM apart)
-    assert len(err.splitlines()) == 1 and out == "", err
-    wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
+    _ends_in_one_line(proc, 143, "csql-sim: terminated")
+
+
+@linux
+@needs_ray
+@pytest.mark.slow
+def test_sigterm_while_ray_starts_is_one_line_and_leaves_no_ray_process(started):
+    """Ray's own SIGTERM handler, in force during ray.init, exited with status 15 and said nothing."""
+    proc = _start_evaluate(started, running="gcs_server")
+    proc.send_signal(signal.SIGTERM)
+    _ends_in_one_line(proc, 143, "csql-sim: terminated")
+
+
+@linux
+@needs_ray
+@pytest.mark.slow
+def test_ctrl_c_is_one_line_and_leaves_no_ray_process(started):
+    """A terminal's Ctrl-C reaches the process group; the process crashed (SIGSEGV) after its line."""
+    proc = _start_evaluate(started)
+    os.killpg(proc.pid, signal.SIGINT)
+    _ends_in_one_line(proc, 130, "csql-sim: interrupted")
