@@ -13,7 +13,8 @@ import argparse
 import os
 import time
 
-from csql_sim.infra.backends import Backend, ray_session
+from csql_sim.infra.backends import Backend
+from csql_sim.infra.ray_session import ray_session
 from csql_sim.jobs.evaluate import evaluate
 from csql_sim.jobs.experiment import csv_text, run_experiment
 
@@ -27,7 +28,7 @@ def timed(fn, *args, **kwargs):  # noqa: ANN001, ANN201
 def bare_ray(workers: int) -> tuple[float, float]:
     """Seconds to start a local Ray instance, and to shut it down."""
     t = time.perf_counter()
-    with ray_session(Backend("ray", workers), announce=False):
+    with ray_session(None, workers, announce=False):
         ready = time.perf_counter()
     return ready - t, time.perf_counter() - ready
 

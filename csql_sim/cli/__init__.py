@@ -24,6 +24,7 @@ import os
 import signal
 import sys
 import threading
+import traceback
 from collections.abc import Iterator
 from contextlib import contextmanager
 from typing import Any, NoReturn
@@ -147,15 +148,35 @@ def console() -> NoReturn:
     """The console script and ``python -m csql_sim``: :func:`main`'s status is the exit status.
 
     After a Ray session the process ends without the interpreter's finalization, in which
-    Ray's C++ threads, still running after ``ray.shutdown``, crashed (SIGSEGV after Ctrl-C).
+    Ray's C++ threads, still running after ``ray.shutdown``, crashed (SIGSEGV after Ctrl-C);
+    whatever ends :func:`main` then (``SystemExit``, a second Ctrl-C, a bug's traceback)
+    sets the status instead of reaching the finalization.
     """
-    status = main()
+    try:
+        status = main()
+    except BaseException as exc:
+        if "ray" not in sys.modules:
+            raise
+        status = _status_of(exc)
     if "ray" in sys.modules:
         for stream in (sys.stdout, sys.stderr):
             with contextlib.suppress(Exception):
                 stream.flush()
         os._exit(status)
     sys.exit(status)
+
+
+def _status_of(exc: BaseException) -> int:
+    """The exit status the interpreter would give for ``exc`` escaping; a bug's traceback is printed."""
+    if isinstance(exc, SystemExit):
+        if exc.code is None or isinstance(exc.code, int):
+            return exc.code or 0
+        print(exc.code, file=sys.stderr)
+        return 1
+    if isinstance(exc, KeyboardInterrupt):
+        return TERMINATED_STATUS if isinstance(exc, Terminated) else 130
+    traceback.print_exception(exc)
+    return 1
 
 
 def _written(outputs: Outputs) -> list[str]:
@@ -277,4 +298,4 @@ def _close_progress_bars() -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    console()

@@ -8,8 +8,9 @@ be built, or running out of memory), or whose worker dies (the pool breaks, Ray 
 worker or its node), yields a :class:`TaskFailure` in its place instead of stopping the
 run. Any other exception is a bug in the task and propagates out of :func:`map_tasks`
 (the remaining tasks are cancelled). Ctrl-C cancels what is still running and re-raises
-:class:`KeyboardInterrupt`; in a Ray session :func:`ray_session` opened, its shutdown
-ends them (a ``ray.cancel`` racing a finishing task can abort the process in Ray's core).
+:class:`KeyboardInterrupt`; in a Ray session that
+:func:`csql_sim.infra.ray_session.ray_session` opened, its shutdown ends them (a
+``ray.cancel`` racing a finishing task can abort the process in Ray's core).
 
 With Ray (the optional extra ``pip install "csql-sim[ray]"``), the chunks are Ray tasks:
 on a local instance started for the call (``address=None``, ``workers`` CPUs) or on an
@@ -23,33 +24,23 @@ does not answer fails within seconds, in one line (:mod:`csql_sim.infra.ray_addr
 
 from __future__ import annotations
 
-import logging
-import os
-import signal
-import sys
-import threading
-import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_COMPLETED, wait
 from concurrent.futures.process import BrokenProcessPool
-from contextlib import ExitStack, contextmanager
-from contextvars import ContextVar
 from dataclasses import dataclass
 from functools import cache
 from typing import Any, TypeVar
 
 from tqdm import tqdm
 
-from csql_sim.infra.errors import CsqlError, Terminated
-from csql_sim.infra.ray_address import check_ray_address
-from csql_sim.infra.workers import reaper, worker_count, worker_pool
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.ray_session import SHUTDOWN_ENDS_TASKS, ray_session
+from csql_sim.infra.workers import worker_count, worker_pool
 
 BACKENDS = ("processes", "ray")
 TASK_ERRORS = (CsqlError, MemoryError)  # how a task (or a worker's setup) may fail without a bug
 T = TypeVar("T")
 R = TypeVar("R")
-# True inside a ray_session that opened Ray: its ray.shutdown ends the tasks still running
-_SHUTDOWN_ENDS_TASKS: ContextVar[bool] = ContextVar("csql_sim_ray_shutdown_ends_tasks", default=False)
 
 
 @dataclass(frozen=True)
@@ -154,7 +145,7 @@ def map_tasks(fn: Callable[[T], R], items: Sequence[T], backend: Backend = Backe
     if not items:
         return []
     if backend.kind == "ray":
-        with ray_session(backend, announce=progress) as cpus, \
+        with ray_session(backend.address, backend.workers, announce=progress) as cpus, \
                 tqdm(total=len(items), desc=desc, unit=unit, disable=not progress) as bar:
             return _map_ray(fn, items, cpus, setup, setup_args, _Sink(bar, on_result))
     with tqdm(total=len(items), desc=desc, unit=unit, disable=not progress) as bar:
@@ -223,137 +214,11 @@ def _map_processes(fn: Callable, items: list, workers: int | None, setup: Setup 
 def _remote_run_chunk() -> Any:
     import ray
 
-    return ray.remote(max_retries=1)(_run_chunk_on_ray)
-
-
-def _run_chunk_on_ray(fn: Callable[[T], R], chunk: Sequence[T], setup: Setup | None,
-                      setup_args: tuple) -> list[R | TaskFailure]:
-    """:func:`_run_chunk` in a Ray worker, which leaves Ctrl-C to the driver (as a pool's workers do).
-
-    A terminal's Ctrl-C reaches the whole process group, Ray's workers included; a task
-    it interrupted made Ray's core print an error line beside the driver's one.
-    """
-    if threading.current_thread() is threading.main_thread():
-        signal.signal(signal.SIGINT, signal.SIG_IGN)
-    return _run_chunk(fn, chunk, setup, setup_args)
-
-
-class _Sigterm:
-    """While a Ray session is open, SIGTERM raises :class:`Terminated` (main thread only) and is remembered.
-
-    Ray turns an exception a signal handler raises inside ``ray.get`` or ``ray.wait`` into
-    a plain KeyboardInterrupt, which the command line would report as Ctrl-C; the session
-    turns it back. A second SIGTERM while the first unwinds is ignored.
-    """
-
-    def __init__(self) -> None:
-        self.received = False
-
-    def __call__(self, signum: int, frame: object) -> None:
-        self.received = True
-        signal.signal(signum, signal.SIG_IGN)
-        raise Terminated
-
-
-@contextmanager
-def ray_session(backend: Backend, announce: bool) -> Iterator[int]:
-    """Connect to (or start) Ray for ``backend``; yields the CPUs available.
-
-    Shuts Ray down on exit if this call started it; a session the caller opened stays.
-    A local instance runs under :func:`csql_sim.infra.workers.reaper`: its processes
-    end with this one, even after a SIGKILL. While a session this call started is open,
-    SIGTERM raises :class:`Terminated` (:class:`_Sigterm`), not Ray's ``sys.exit(15)``
-    nor its C++ stack dump (``RAY_DISABLE_FAILURE_SIGNAL_HANDLER``, unless the caller set
-    it or imported Ray first), and :func:`map_tasks` leaves the ending of its remaining
-    tasks to the shutdown.
-    """
-    os.environ.setdefault("RAY_DISABLE_FAILURE_SIGNAL_HANDLER", "1")  # read when Ray is imported
-    try:
-        import ray
-    except ImportError:
-        raise CsqlError('--backend ray needs Ray: pip install "csql-sim[ray]"') from None
-    if ray.is_initialized():
-        yield _announce(ray, "existing session", time.perf_counter(), announce)
-        return
-    with ExitStack() as stack:
-        if backend.address is None:
-            stack.enter_context(reaper())
-        else:
-            check_ray_address(backend.address)
-        began = time.perf_counter()
-        sigterm = _Sigterm() if threading.current_thread() is threading.main_thread() else None
-        if sigterm is not None:
-            previous = signal.getsignal(signal.SIGTERM)
-            stack.callback(signal.signal, signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
-        stack.push(_shutdown(ray))  # also after a ray.init that a signal cut short
-        _init_ray(ray, backend, sigterm)
-        stack.callback(_SHUTDOWN_ENDS_TASKS.reset, _SHUTDOWN_ENDS_TASKS.set(True))
-        where = f"cluster at {backend.address}" if backend.address else "local instance"
-        try:
-            yield _announce(ray, where, began, announce)
-        except KeyboardInterrupt as exc:
-            if sigterm is not None and sigterm.received and not isinstance(exc, Terminated):
-                raise Terminated(*exc.args) from None
-            raise
-
-
-def _shutdown(ray: Any) -> Callable[..., bool]:
-    """An exit callback: ``ray.shutdown()``, with file descriptor 2 on /dev/null when unwinding from Ctrl-C or SIGTERM.
-
-    Tasks still running when an interrupted session shuts down fail, and Ray's C++ core
-    may log that on stderr (``Failed to push error to driver``) beside the command's one line.
-    """
-    def exit_(exc_type: type[BaseException] | None, *_: object) -> bool:
-        if exc_type is None or not issubclass(exc_type, KeyboardInterrupt):
-            ray.shutdown()
-            return False
-        sys.stderr.flush()
-        saved, null = os.dup(2), os.open(os.devnull, os.O_WRONLY)
-        try:
-            os.dup2(null, 2)
-            ray.shutdown()
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            os.close(null)
-        return False
-
-    return exit_
-
-
-def _announce(ray: Any, where: str, began: float, announce: bool) -> int:
-    """The CPUs of the session; with ``announce``, one line on stderr saying where tasks run."""
-    cpus = max(1, int(ray.cluster_resources().get("CPU", 1)))
-    if announce:
-        print(f"ray: {where}, {cpus} CPUs (ready in {time.perf_counter() - began:.1f} s)", file=sys.stderr)
-    return cpus
-
-
-def _init_ray(ray: Any, backend: Backend, sigterm: _Sigterm | None) -> None:
-    """``ray.init`` for ``backend``, quiet, then ``sigterm`` as SIGTERM's handler (Ray installs its own).
-
-    A local instance gets at most the cores (``backend.workers``). Ray's handler, in force
-    until ours replaces it, ends the process by ``sys.exit(15)``: that becomes :class:`Terminated`.
-    """
-    kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR, "log_to_driver": False}
-    if backend.address is None:
-        kwargs["num_cpus"] = worker_count(backend.workers, os.cpu_count() or 1)
-    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
-    try:
-        ray.init(address=backend.address, **kwargs)
-        if sigterm is not None:
-            signal.signal(signal.SIGTERM, sigterm)
-    except SystemExit as exc:
-        if exc.code != signal.SIGTERM:
-            raise
-        raise Terminated from None
-    except (ConnectionError, RuntimeError, ValueError) as exc:
-        raise CsqlError(f"cannot start Ray at {backend.address or 'a local instance'}: "
-                        f"{' '.join(str(exc).split())}") from None
+    return ray.remote(max_retries=1)(_run_chunk)
 
 
 def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_args: tuple, sink: _Sink) -> list:
-    """Ray's side of :func:`map_tasks`, inside a :func:`ray_session` with ``cpus`` CPUs.
+    """Ray's side of :func:`map_tasks`, inside a Ray session with ``cpus`` CPUs.
 
     ``setup_args`` are put in the object store once; every chunk's task gets the reference
     (Ray resolves a reference passed as an argument before the task runs).
@@ -382,7 +247,7 @@ def _map_ray(fn: Callable, items: list, cpus: int, setup: Setup | None, setup_ar
                     results[k] = [TaskFailure(f"ray task failed: {reason}")] * len(chunks[k])
                 results[k] = sink.put(starts[k], results[k])
     except BaseException:
-        if not _SHUTDOWN_ENDS_TASKS.get():  # else not cancelled: ray.cancel races a reply and aborts the process
+        if not SHUTDOWN_ENDS_TASKS.get():  # else not cancelled: ray.cancel races a reply and aborts the process
             for ref in pending:
                 ray.cancel(ref, force=True)
         raise

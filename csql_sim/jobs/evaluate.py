@@ -21,10 +21,11 @@ from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.sharded_policy import GoalColumns, ShardedPolicy
-from csql_sim.infra.backends import Backend, TaskFailure, map_tasks, ray_session
+from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance, rules_source
+from csql_sim.infra.ray_session import ray_session
 from csql_sim.infra.workers import worker_count
 from csql_sim.jobs.episodes import Episodes, EpisodeSpec, batches, plan_episodes
 from csql_sim.jobs.episodes import make_specs as make_specs  # re-exported: the episodes of an evaluation
@@ -350,7 +351,7 @@ def run_episodes(episodes: Episodes, backend: Backend, setup_args: tuple, progre
     out: list[EpisodeSummary] = []
     with ExitStack() as stack:
         if backend.kind == "ray":
-            stack.enter_context(ray_session(backend, announce=progress))
+            stack.enter_context(ray_session(backend.address, backend.workers, announce=progress))
         bar = stack.enter_context(tqdm(total=episodes.count, desc="episodes", unit="ep", disable=not progress))
 
         def tick(_: int, result: object) -> object:
