@@ -171,31 +171,24 @@ def test_sigkill_leaves_no_ray_process(started):
     wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
 
 
-@linux
-@needs_ray
-@pytest.mark.slow
-def test_sigterm_is_one_line_and_leaves_no_ray_process(started):
-    """Ray reports a signal handler's exception in ray.wait as a KeyboardInterrupt: still "terminated", 143."""
-    proc = _start_evaluate(started)
-    proc.send_signal(signal.SIGTERM)
-    _ends_in_one_line(proc, 143, "csql-sim: terminated")
+SIGNALS = [  # what runs when the signal comes, whom it goes to, the exit status and the one line; before:
+    # Ray reported the SIGTERM as a KeyboardInterrupt ("interrupted", 130), or aborted with a stack dump
+    pytest.param("ray::_run_chunk", "pid", signal.SIGTERM, 143, "csql-sim: terminated", id="sigterm-while-tasks-run"),
+    # Ray's own handler, in force during ray.init, exited with status 15 and said nothing
+    pytest.param("gcs_server", "pid", signal.SIGTERM, 143, "csql-sim: terminated", id="sigterm-while-ray-starts"),
+    # a terminal's Ctrl-C reaches the process group; the process crashed (SIGSEGV) after its line
+    pytest.param("ray::_run_chunk", "group", signal.SIGINT, 130, "csql-sim: interrupted", id="ctrl-c-while-tasks-run"),
+]
 
 
 @linux
 @needs_ray
 @pytest.mark.slow
-def test_sigterm_while_ray_starts_is_one_line_and_leaves_no_ray_process(started):
-    """Ray's own SIGTERM handler, in force during ray.init, exited with status 15 and said nothing."""
-    proc = _start_evaluate(started, running="gcs_server")
-    proc.send_signal(signal.SIGTERM)
-    _ends_in_one_line(proc, 143, "csql-sim: terminated")
-
-
-@linux
-@needs_ray
-@pytest.mark.slow
-def test_ctrl_c_is_one_line_and_leaves_no_ray_process(started):
-    """A terminal's Ctrl-C reaches the process group; the process crashed (SIGSEGV) after its line."""
-    proc = _start_evaluate(started)
-    os.killpg(proc.pid, signal.SIGINT)
-    _ends_in_one_line(proc, 130, "csql-sim: interrupted")
+@pytest.mark.parametrize("running, to, sig, status, line", SIGNALS)
+def test_a_signal_is_one_line_and_leaves_no_ray_process(started, running, to, sig, status, line):
+    proc = _start_evaluate(started, running)
+    if to == "group":
+        os.killpg(proc.pid, sig)
+    else:
+        proc.send_signal(sig)
+    _ends_in_one_line(proc, status, line)
