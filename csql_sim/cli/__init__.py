@@ -115,7 +115,7 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script; returns the exit status."""
     closed = _reserve_standard_streams()
     args = build_parser().parse_args(argv)
-    with _on_sigterm_raise(), _guarded_stdout():
+    with _on_sigterm_raise() as sigterm, _guarded_stdout():
         outputs = None
         try:
             if closed is not None:  # refused before any work: nothing written, nothing lost
@@ -134,14 +134,11 @@ def main(argv: list[str] | None = None) -> int:
             # The reader (e.g. `| head`) closed the pipe: stop quietly, as Unix tools do.
             _silence_stdout()
             return 0
-        except Terminated as exc:  # before KeyboardInterrupt, which it is
+        except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (Terminated, or what Ray made of it)
             _close_progress_bars()
-            print(f"csql-sim: terminated{_note(exc)}", file=sys.stderr)
-            return TERMINATED_STATUS
-        except KeyboardInterrupt as exc:
-            _close_progress_bars()
-            print(f"csql-sim: interrupted{_note(exc)}", file=sys.stderr)
-            return 130
+            terminated = isinstance(exc, Terminated) or sigterm.received
+            print(f"csql-sim: {'terminated' if terminated else 'interrupted'}{_note(exc)}", file=sys.stderr)
+            return TERMINATED_STATUS if terminated else 130
 
 
 def console() -> NoReturn:
@@ -213,31 +210,42 @@ def _note(exc: KeyboardInterrupt) -> str:
     return f": {' '.join(note.split())}" if note else ""
 
 
-@contextmanager
-def _on_sigterm_raise() -> Iterator[None]:
-    """While the command runs, SIGTERM raises :class:`Terminated` in this process (main thread only).
+class _SigtermRaises:
+    """SIGTERM's handler while a command runs: raises :class:`Terminated` and remembers that it came.
 
     A forked worker inherits the handler; there it restores the default and dies by the
     signal, as it would have without the handler. A second SIGTERM while the first unwinds
     is ignored, so that it cannot cut the cleanup short (SIGKILL still ends the process).
+    Ray turns the exception, raised inside ``ray.wait``, into a plain KeyboardInterrupt:
+    :attr:`received` still tells :func:`main` that it was SIGTERM.
     """
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    me = os.getpid()
 
-    def handler(signum: int, _frame: object) -> None:
-        if os.getpid() != me:
+    csql_sim_terminate = True  # what _default_sigterm_in_child looks for
+
+    def __init__(self) -> None:
+        self.me = os.getpid()
+        self.received = False
+
+    def __call__(self, signum: int, _frame: object) -> None:
+        if os.getpid() != self.me:
             signal.signal(signum, signal.SIG_DFL)
             os.kill(os.getpid(), signum)
             return
+        self.received = True
         signal.signal(signum, signal.SIG_IGN)
         raise Terminated
 
-    handler.csql_sim_terminate = True  # type: ignore[attr-defined]
+
+@contextmanager
+def _on_sigterm_raise() -> Iterator[_SigtermRaises]:
+    """While the command runs, SIGTERM raises :class:`Terminated` in this process (main thread only)."""
+    handler = _SigtermRaises()
+    if threading.current_thread() is not threading.main_thread():
+        yield handler
+        return
     previous = signal.signal(signal.SIGTERM, handler)
     try:
-        yield
+        yield handler
     finally:
         signal.signal(signal.SIGTERM, previous)
 

@@ -2,10 +2,10 @@
 
 :func:`ray_session` connects to a running cluster or starts a local instance, and shuts
 down what it opened. Ray, left to itself, ends a SIGTERM'd driver by ``sys.exit(15)``
-(no line), by its C++ failure-signal handler's stack dump, or reports it as Ctrl-C; a
-cancel racing a finishing task aborts the process (Ray 2.60); its threads crash in the
-interpreter's finalization. Each is handled here or in :func:`csql_sim.cli.console`
-(``docs/reliability.md``, "Signals with Ray").
+(no line) or by its C++ failure-signal handler's stack dump; a cancel racing a finishing
+task aborts the process (Ray 2.60). Those are handled here; that Ray reports a handler's
+exception as a KeyboardInterrupt, and that its threads crash in the interpreter's
+finalization, in :mod:`csql_sim.cli` (``docs/reliability.md``, "Signals with Ray").
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import sys
 import threading
 import time
 from collections.abc import Callable, Iterator
-from contextlib import ExitStack, contextmanager
+from contextlib import ExitStack, contextmanager, nullcontext
 from contextvars import ContextVar
 from typing import Any
 
@@ -30,32 +30,15 @@ NO_FAILURE_HANDLER = "RAY_DISABLE_FAILURE_SIGNAL_HANDLER"  # read once, when Ray
 SHUTDOWN_ENDS_TASKS: ContextVar[bool] = ContextVar("csql_sim_ray_shutdown_ends_tasks", default=False)
 
 
-class _Sigterm:
-    """SIGTERM's handler while a session is open (main thread only): raises :class:`Terminated`, remembered.
-
-    Ray turns an exception a signal handler raises inside ``ray.get`` or ``ray.wait`` into
-    a plain KeyboardInterrupt, which the command line would report as Ctrl-C; the session
-    turns it back. A second SIGTERM while the first unwinds is ignored.
-    """
-
-    def __init__(self) -> None:
-        self.received = False
-
-    def __call__(self, signum: int = signal.SIGTERM, frame: object = None) -> None:
-        self.received = True
-        signal.signal(signal.SIGTERM, signal.SIG_IGN)
-        raise Terminated
-
-
 @contextmanager
 def ray_session(address: str | None, workers: int | None, announce: bool) -> Iterator[int]:
     """Connect to the cluster at ``address`` (None: start a local instance of ``workers`` CPUs); yields the CPUs.
 
     Shuts Ray down on exit if this call started it; a session the caller opened stays.
     A local instance runs under :func:`csql_sim.infra.workers.reaper`: its processes
-    end with this one, even after a SIGKILL. While a session this call opened is open,
-    SIGTERM raises :class:`Terminated`, and :func:`csql_sim.infra.backends.map_tasks`
-    leaves its remaining tasks to the shutdown (:data:`SHUTDOWN_ENDS_TASKS`).
+    end with this one, even after a SIGKILL. SIGTERM keeps the handler it had before
+    ``ray.init``, and :func:`csql_sim.infra.backends.map_tasks` leaves its remaining
+    tasks to the shutdown (:data:`SHUTDOWN_ENDS_TASKS`).
     """
     ray = _import_ray()
     if ray.is_initialized():
@@ -67,18 +50,10 @@ def ray_session(address: str | None, workers: int | None, announce: bool) -> Ite
         else:
             check_ray_address(address)
         began = time.perf_counter()
-        sigterm = _Sigterm() if threading.current_thread() is threading.main_thread() else None
-        if sigterm is not None:
-            stack.callback(_restore_sigterm, signal.getsignal(signal.SIGTERM), sigterm)
         stack.push(_shutdown(ray))  # also after a ray.init that a signal cut short
-        _init_ray(ray, address, workers, sigterm)
+        _init_ray(ray, address, workers)
         stack.callback(SHUTDOWN_ENDS_TASKS.reset, SHUTDOWN_ENDS_TASKS.set(True))
-        try:
-            yield _announce(ray, f"cluster at {address}" if address else "local instance", began, announce)
-        except KeyboardInterrupt as exc:
-            if sigterm is not None and sigterm.received and not isinstance(exc, Terminated):
-                raise Terminated(*exc.args) from None
-            raise
+        yield _announce(ray, f"cluster at {address}" if address else "local instance", began, announce)
 
 
 def _import_ray() -> Any:
@@ -87,53 +62,44 @@ def _import_ray() -> Any:
     The handler prints a stack dump for SIGTERM too. The variable is set only for the
     import (unless the caller set it), so Ray's own processes keep their crash reports.
     """
-    if NO_FAILURE_HANDLER in os.environ or "ray" in sys.modules:
-        return _import_or_refuse()
-    os.environ[NO_FAILURE_HANDLER] = "1"
-    try:
-        return _import_or_refuse()
-    finally:
-        del os.environ[NO_FAILURE_HANDLER]
-
-
-def _import_or_refuse() -> Any:
+    set_here = NO_FAILURE_HANDLER not in os.environ and "ray" not in sys.modules
+    if set_here:
+        os.environ[NO_FAILURE_HANDLER] = "1"
     try:
         import ray
     except ImportError:
         raise CsqlError('--backend ray needs Ray: pip install "csql-sim[ray]"') from None
+    finally:
+        if set_here:
+            del os.environ[NO_FAILURE_HANDLER]
     return ray
 
 
-def _init_ray(ray: Any, address: str | None, workers: int | None, sigterm: _Sigterm | None) -> None:
-    """``ray.init``, quiet; a local instance gets at most the cores. Then ``sigterm`` handles SIGTERM.
+def _init_ray(ray: Any, address: str | None, workers: int | None) -> None:
+    """``ray.init``, quiet; a local instance gets at most the cores.
 
-    Ray installs its own handler during ``ray.init``; it ends the process by
-    ``sys.exit(15)``, which becomes :class:`Terminated`, and it never outlives this call.
+    ``ray.init`` replaces SIGTERM's handler with one that ends the process by
+    ``sys.exit(15)``, without a word: that becomes :class:`Terminated`, and the handler
+    from before is back when this returns (in the main thread; ignored after a SIGTERM).
     """
     kwargs: dict[str, Any] = {"include_dashboard": False, "logging_level": logging.ERROR, "log_to_driver": False}
     if address is None:
         kwargs["num_cpus"] = worker_count(workers, os.cpu_count() or 1)
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.getsignal(signal.SIGTERM) if main_thread else None
     try:
         ray.init(address=address, **kwargs)
     except SystemExit as exc:
         if exc.code != signal.SIGTERM:
             raise
-        if sigterm is not None:
-            sigterm.received = True
+        previous = signal.SIG_IGN  # a second SIGTERM cannot cut the unwinding short
         raise Terminated from None
     except (ConnectionError, RuntimeError, ValueError) as exc:
         raise CsqlError(f"cannot start Ray at {address or 'a local instance'}: {' '.join(str(exc).split())}") from None
     finally:
-        if sigterm is not None:
-            signal.signal(signal.SIGTERM, signal.SIG_IGN if sigterm.received else sigterm)
-
-
-def _restore_sigterm(previous: Any, sigterm: _Sigterm) -> None:
-    """SIGTERM's handler from before the session; still ignored after one came, if that was the command line's."""
-    if sigterm.received and getattr(previous, "csql_sim_terminate", False):
-        return  # the command line restores its own predecessor when the command ends
-    signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
+        if main_thread:
+            signal.signal(signal.SIGTERM, signal.SIG_DFL if previous is None else previous)
 
 
 def _shutdown(ray: Any) -> Callable[..., bool]:
@@ -144,7 +110,7 @@ def _shutdown(ray: Any) -> Callable[..., bool]:
     """
     def exit_(exc_type: type[BaseException] | None, *_: object) -> bool:
         interrupted = exc_type is not None and issubclass(exc_type, KeyboardInterrupt)
-        with _stderr_to_null() if interrupted else ExitStack():
+        with _stderr_to_null() if interrupted else nullcontext():
             ray.shutdown()
         return False
 

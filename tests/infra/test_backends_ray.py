@@ -153,24 +153,6 @@ def _start_evaluate(started, running: str = "ray::_run_chunk") -> subprocess.Pop
     return proc
 
 
-def _ends_in_one_line(proc: subprocess.Popen, status: int, line: str) -> None:
-    """``proc`` exits with ``status`` and ``line`` alone on stderr, and leaves no process in its session."""
-    out, err = proc.communicate(timeout=HANG_GUARD)
-    assert (proc.returncode, err.strip(), out) == (status, line, ""), err
-    wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
-
-
-@linux
-@needs_ray
-@pytest.mark.slow
-def test_sigkill_leaves_no_ray_process(started):
-    proc = _start_evaluate(started)
-    assert any("DashboardAgent" in cmd or "RuntimeEnvAgent" in cmd for cmd in session(proc.pid).values())
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
-    wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
-
-
 SIGNALS = [  # what runs when the signal comes, whom it goes to, the exit status and the one line; before:
     # Ray reported the SIGTERM as a KeyboardInterrupt ("interrupted", 130), or aborted with a stack dump
     pytest.param("ray::_run_chunk", "pid", signal.SIGTERM, 143, "csql-sim: terminated", id="sigterm-while-tasks-run"),
@@ -191,4 +173,6 @@ def test_a_signal_is_one_line_and_leaves_no_ray_process(started, running, to, si
         os.killpg(proc.pid, sig)
     else:
         proc.send_signal(sig)
-    _ends_in_one_line(proc, status, line)
+    out, err = proc.communicate(timeout=HANG_GUARD)
+    assert (proc.returncode, err.strip(), out) == (status, line, ""), err
+    wait_for(lambda: not session(proc.pid), GONE_GUARD, f"left running: {session(proc.pid)}")
