@@ -2,7 +2,7 @@
 
     python scripts/feature_table.py --explain FILE
     python scripts/feature_table.py --policy-file FILE --variants generated-4op --seeds 0
-    python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-4op,generated-move]
+    python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-4op,generated-move,committee-move]
                                     [--use 100] [--sizes 7,10,20,26] [--tall 25,50,100] [--tall-tasks 3]
                                     [--out feature_table.jsonl] [--report]
 
@@ -18,7 +18,8 @@ its lower bound (flagged).
 
 Every learned variant trains with its defaults from ``np.random.default_rng(seed)``: ``given``
 the eight hand-written atoms, ``generated-4op`` and ``generated-move`` features generated from
-the predicates of the shipped PDDL domains. A policy of the move domain is run with its moves
+the predicates of the shipped PDDL domains, ``committee-4op`` and ``committee-move`` a committee of
+three populations over them (``csql-sim train-lifted --committee 3``). A policy of the move domain is run with its moves
 executed as a pick and a put, and only its own (hand-empty) states count as revisited.
 Figures come from trials and the learner's sweeps through its world model; none from search.
 
@@ -46,12 +47,16 @@ from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.move_relations import ATOMS, MoveRelations, target_goal
 from csql_sim.core.state.state_count import sample_pairs
+from csql_sim.learners.committee import train_committee
 from csql_sim.learners.gn1 import Gn1Policy
 from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
 
 BENCH_SIZES = (6, 7, 8, 10, 15, 20, 26)
 VARIANTS = {"given": {}, "generated-4op": {"features": "generated", "domain": "4op"},
-            "generated-move": {"features": "generated", "domain": "move"}}
+            "generated-move": {"features": "generated", "domain": "move"},
+            "committee-4op": {"features": "generated", "domain": "4op", "committee": 3},
+            "committee-move": {"features": "generated", "domain": "move", "committee": 3}}
+DEFAULT_VARIANTS = ("given", "generated-4op", "generated-move")
 
 
 def tasks(args: argparse.Namespace) -> dict[str, list[tuple]]:
@@ -115,18 +120,30 @@ def run_all(args: argparse.Namespace) -> None:
         if args.policy_file:
             policy = load_policy(args.policy_file)
             hand = getattr(getattr(policy, "form", None), "hand", True)
-            row.update(file=args.policy_file, classifiers=len(policy.classifiers))
+            row.update(file=args.policy_file, classifiers=classifiers(policy))
         elif seed is None:
             policy, hand = (Gn1Policy() if variant == "gn1" else hand_ordering()), True
         else:
-            run = train_lifted(LiftedParams(**VARIANTS[variant]), np.random.default_rng(seed))
+            options = dict(VARIANTS[variant])
+            size = options.pop("committee", 1)
+            rng = np.random.default_rng(seed)
+            params = LiftedParams(**options)
+            run = train_committee(params, rng, size) if size > 1 else train_lifted(params, rng)
             policy = run.policy()
             hand = getattr(getattr(policy, "form", None), "hand", True)
-            row.update(training_seconds=run.seconds, classifiers=len(policy.classifiers),
-                       literals=[lit.words() for lit in getattr(policy, "literals", ())], features=run.features)
+            members = getattr(run, "members", (run,))
+            row.update(training_seconds=run.seconds, classifiers=classifiers(policy),
+                       literals=[lit.words() for m in getattr(policy, "members", (policy,))
+                                 for lit in getattr(m, "literals", ())],
+                       features=[m.features for m in members] if size > 1 else run.features)
         row["results"] = measure(policy, data, hand)
         with open(args.out, "a") as f:
             f.write(json.dumps(row) + "\n")
+
+
+def classifiers(policy) -> int:  # noqa: ANN001 - any lifted policy
+    """The policy's classifiers, over all members of a committee."""
+    return sum(len(m.classifiers) for m in getattr(policy, "members", (policy,)))
 
 
 def explain(path: str, pairs: int = 300) -> list[str]:
@@ -134,9 +151,16 @@ def explain(path: str, pairs: int = 300) -> list[str]:
 
     The sample: ``pairs`` (state, goal) pairs of 5, 7 and 10 blocks (seed 0; hand-empty only for a
     domain without a hand), every legal move of each. A literal equals an atom (or its negation)
-    when the two take the same value on every sampled move.
+    when the two take the same value on every sampled move. A committee's members in turn.
     """
-    policy = load_policy(path)
+    members = getattr(load_policy(path), "members", None)
+    if members is None:
+        return explain_policy(load_policy(path), pairs)
+    return [line for k, m in enumerate(members, 1) for line in (f"member {k}:", *explain_policy(m, pairs))]
+
+
+def explain_policy(policy, pairs: int) -> list[str]:  # noqa: ANN001 - a FeaturePolicy
+    """The lines of :func:`explain` for one population."""
     rng = np.random.default_rng(0)
     cols: list[np.ndarray] = []
     atoms: list[np.ndarray] = []
@@ -190,7 +214,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ints = lambda t: [int(x) for x in t.split(",") if x]  # noqa: E731
     parser.add_argument("--seeds", default="0-9", help="seeds, a range a-b or a comma list (default 0-9)")
-    parser.add_argument("--variants", default=",".join(VARIANTS), help="learned variants (default: all three)")
+    parser.add_argument("--variants", default=",".join(DEFAULT_VARIANTS),
+                        help=f"learned variants among {', '.join(VARIANTS)} (default: {', '.join(DEFAULT_VARIANTS)}; "
+                             "a committee-* variant trains a committee of three populations)")
     parser.add_argument("--use", type=int, default=100, help="benchmark pairs planned per n (default 100)")
     parser.add_argument("--sizes", type=ints, default=[7, 10, 20, 26], help="benchmark sizes (default 7,10,20,26)")
     parser.add_argument("--tall", type=ints, default=[25, 50, 100], help="tall-tower sizes (default 25,50,100)")

@@ -6,11 +6,15 @@ import argparse
 import os
 import sys
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import add_json, add_quiet, add_seed, command_parser, int_type, path_arg, show_progress
 from csql_sim.cli.output import emit
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
+
+if TYPE_CHECKING:
+    from csql_sim.learners.lifted_ql import LiftedRun
 
 
 def _sizes(text: str) -> tuple[int, ...]:
@@ -40,46 +44,82 @@ def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:
     return report
 
 
-def cmd_train_lifted(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from csql_sim.core.policies.feature_policy import dumps_feature_policy
-    from csql_sim.core.policies.lifted_policy import dumps_lifted_policy
-    from csql_sim.infra.files import write_or_keep
-    from csql_sim.infra.provenance import provenance
-    from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
-
-    if args.atoms is not None and args.features == "generated":
-        raise CsqlError("--atoms chooses among the given atoms; do not give it with --features generated")
-    read = {} if args.atoms is None else {"atoms": args.atoms}
-    params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
-                          domain=args.domain, complexity=args.complexity, **read)
-    run = train_lifted(params, np.random.default_rng(args.seed), progress=_progress(args))
+def _training(run: LiftedRun) -> dict:
+    """What one population's training did and cost, for the file's ``meta``."""
     training = {"trials": run.trials, "steps": run.steps, "seconds": round(run.seconds, 1), "reached": run.reached,
                 "ground_q_classifiers": run.ground, "covered": run.covered, "specializations": run.splits,
                 "generalizations": run.merges, "lifted_q_classifiers": len(run.classifiers)}
     if run.features:
         training["features"] = run.features
+    return training
+
+
+def _summary(run: LiftedRun, sizes: tuple[int, ...]) -> str:
+    """One line on a population's training."""
+    return (f"LQ-CS: {run.trials} trials on {','.join(map(str, sizes))} blocks, {run.steps} steps, "
+            f"{run.seconds:.1f} s; {run.covered} lifted Q-classifiers covered, {run.splits} specialized, "
+            f"{run.merges} generalized; {len(run.classifiers)} kept")
+
+
+def cmd_train_lifted(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from csql_sim.core.policies.committee_policy import dumps_committee
+    from csql_sim.core.policies.feature_policy import dumps_feature_policy
+    from csql_sim.core.policies.lifted_policy import dumps_lifted_policy
+    from csql_sim.infra.files import write_or_keep
+    from csql_sim.infra.provenance import provenance
+    from csql_sim.learners.committee import train_committee
+    from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
+
+    if args.atoms is not None and args.features == "generated":
+        raise CsqlError("--atoms chooses among the given atoms; do not give it with --features generated")
+    if args.committee > 1 and args.features != "generated":
+        raise CsqlError("--committee needs --features generated")
+    read = {} if args.atoms is None else {"atoms": args.atoms}
+    params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
+                          domain=args.domain, complexity=args.complexity, **read)
+    rng = np.random.default_rng(args.seed)
+    if args.committee > 1:
+        runs = train_committee(params, rng, args.committee, progress=_progress(args)).members
+    else:
+        runs = (train_lifted(params, rng, progress=_progress(args)),)
+    run = runs[0]
+    training = _training(run) if len(runs) == 1 else {"committee": len(runs), "members": [_training(r) for r in runs]}
     meta = {"method": "lq-cs", "seed": args.seed, "params": params.as_dict(), "training": training,
-            "provenance": provenance(seed=args.seed, params=params)}
-    if run.literals:
+            "provenance": provenance(seed=args.seed, params=params, committee=args.committee)}
+    if len(runs) > 1:
+        text = dumps_committee([(r.classifiers, r.literals) for r in runs], run.domain,
+                               run.features["formulation"], meta)
+    elif run.literals:
         text = dumps_feature_policy(run.classifiers, run.literals, run.domain, run.features["formulation"], meta)
     else:
         text = dumps_lifted_policy(run.classifiers, meta)
     path = write_or_keep([(args.out, text)])[0]
-    policy = run.policy()
-    lines = [c.text() for c in policy.classifiers]
-    doc = {**meta, "classifiers": lines, "written": str(path)}
-    if run.literals:
-        doc["atoms"] = [lit.text() for lit in policy.literals]
-    emit(args, doc, lambda: [
-        f"LQ-CS: {run.trials} trials on {','.join(map(str, params.sizes))} blocks, {run.steps} steps, "
-        f"{run.seconds:.1f} s; {run.covered} lifted Q-classifiers covered, {run.splits} specialized, "
-        f"{run.merges} generalized; {len(run.classifiers)} kept",
-        *(f"  {line}" for line in lines),
-        *(f"  literal {j + 1}: {lit.words()}" for j, lit in enumerate(getattr(policy, "literals", ()))),
+    emit(args, {**meta, **_learned(runs), "written": str(path)}, lambda: [
+        *(line for k, r in enumerate(runs, 1) for line in _lines(r, params.sizes, k if len(runs) > 1 else 0)),
         f"wrote {path}"])
     return 0
+
+
+def _learned(runs: tuple[LiftedRun, ...]) -> dict:
+    """The classifiers (and literals) of the file, for ``--json``: of the one population, or per member."""
+    docs = []
+    for run in runs:
+        policy = run.policy()
+        doc = {"classifiers": [c.text() for c in policy.classifiers]}
+        if run.literals:
+            doc["atoms"] = [lit.text() for lit in policy.literals]
+        docs.append(doc)
+    return docs[0] if len(docs) == 1 else {"members": docs}
+
+
+def _lines(run: LiftedRun, sizes: tuple[int, ...], member: int) -> list[str]:
+    """The text lines on one population: its training, classifiers and literals (``member`` 0: no committee)."""
+    policy = run.policy()
+    head = [f"member {member}:"] if member else []
+    return [*head, _summary(run, sizes), *(f"  {c.text()}" for c in policy.classifiers),
+            *(f"  literal {j + 1}: {lit.words()}" for j, lit in enumerate(getattr(policy, "literals", ())))]
 
 
 def _atoms(text: str) -> tuple[str, ...]:
@@ -127,6 +167,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with --features generated: the formulation, 4op (default), move, or a PDDL domain file")
     p.add_argument("--complexity", type=int_type(1, 10), default=8,
                    help="with --features generated: the feature grammar's complexity bound K (default 8)")
+    p.add_argument("--committee", type=int_type(1, 9), default=1,
+                   help="with --features generated: populations learned apart from the seed, whose mean advantage "
+                        "ranks a move when planning (default 1)")
     add_seed(p, "seed of the run's one generator")
     add_json(p)
     add_quiet(p)

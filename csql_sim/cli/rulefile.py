@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import (
     DeprecatedAlias,
@@ -27,6 +28,9 @@ from csql_sim.cli.plan import read_task_for_rules
 from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
+
+if TYPE_CHECKING:
+    from csql_sim.core.policies.feature_policy import FeaturePolicy
 
 RULES_HELP = ("a rule file: from 'csql-sim train' (YAML, npz or a sharded directory), 'generalize', "
               "'train-lifted' or 'discover --lifted'")
@@ -94,14 +98,20 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
         raise CsqlError(f"{args.rules} is a {kind} file, shown whole; --start/--goal pick the greedy path of a "
                         f"ground rule base (plan a task with 'csql-sim plan --rules {args.rules}')")
     if kind == formats.LIFTED_Q:
-        from csql_sim.core.policies.lifted_policy import load_lifted_policy
+        from csql_sim.core.policies.feature_policy import FeaturePolicy
+        from csql_sim.core.policies.loader import load_policy
         from csql_sim.core.state.move_relations import ATOMS
 
-        policy = load_lifted_policy(args.rules)
-        lines, meta = [c.text() for c in policy.classifiers], policy.meta
-        head = [f"{len(lines)} lifted Q-classifiers over the relations of a move {', '.join(ATOMS)}",
-                "(1: holds, 0: does not, #: either); the move of least advantage is taken"]
-        field = "classifiers"
+        policy = load_policy(args.rules)
+        meta, field = policy.meta, "classifiers"
+        if isinstance(policy, FeaturePolicy):
+            lines = _feature_lines(policy)
+            head = ["lifted Q-classifiers over features generated from the domain's predicates (1: holds, 0: does "
+                    "not, #: either), then their literals; the move of least advantage is taken"]
+        else:
+            lines = [c.text() for c in policy.classifiers]
+            head = [f"{len(lines)} lifted Q-classifiers over the relations of a move {', '.join(ATOMS)}",
+                    "(1: holds, 0: does not, #: either); the move of least advantage is taken"]
     else:
         from csql_sim.core.classifiers.lifted_rule import load_lifted
 
@@ -110,6 +120,18 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
     doc = {"rules": os.fspath(args.rules), "kind": kind, field: lines, "meta": meta}
     emit(args, doc, lambda: [*head, *(f"  {line}" for line in lines)])
     return 0
+
+
+def _feature_lines(policy: FeaturePolicy) -> list[str]:
+    """A generated-features file's classifiers and literals in words, member by member for a committee."""
+    members = getattr(policy, "members", (policy,))
+    lines = [f"a committee of {len(members)} populations; a move's rank is its mean advantage"] \
+        if len(members) > 1 else []
+    for k, member in enumerate(members, 1):
+        lines += [f"member {k}:"] if len(members) > 1 else []
+        lines += [c.text() for c in member.classifiers]
+        lines += [f"literal {j + 1}: {lit.words()}" for j, lit in enumerate(member.literals)]
+    return lines
 
 
 def cmd_prune(args: argparse.Namespace) -> int:

@@ -100,3 +100,42 @@ def test_a_domain_that_is_not_a_blocks_world_is_one_line(tmp_path, capsys):
     assert main(["train-lifted", "--features", "generated", "--domain", str(domain), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "d.pddl" in err and not out.exists()
+
+
+def test_a_committee_is_written_member_by_member_and_plans(tmp_path, capsys):
+    out = tmp_path / "c.json"
+    argv = ["train-lifted", "--features", "generated", "--domain", "move", "--complexity", "4", "--trials", "120",
+            "--goals", "10", "--sizes", "4", "--committee", "2", "--out", str(out), "--quiet", "--json"]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out)
+    written = json.loads(out.read_text())
+    assert written["version"] == 2 and len(written["members"]) == 2 and doc["members"] == written["members"]
+    assert doc["training"]["committee"] == 2 and [m["trials"] for m in doc["training"]["members"]] == [120, 120]
+    single = tmp_path / "s.json"
+    assert main([*argv[:-6], "--out", str(single), "--quiet", "--json"]) == 0  # the same seed, no committee
+    capsys.readouterr()
+    one = json.loads(single.read_text())
+    assert one["version"] == 1 and written["members"][0] == {"atoms": one["atoms"], "classifiers": one["classifiers"]}
+    assert main(["plan", "--rules", str(out), "--start", "A,B,C,D,E,F,G", "--goal", "GFEDCBA", "--json"]) in (0, 1)
+    assert json.loads(capsys.readouterr().out)
+    assert main(["show", "--rules", str(out), "--json"]) == 0
+    lines = json.loads(capsys.readouterr().out)["classifiers"]
+    second = lines.index("member 2:")
+    assert lines[lines.index("member 1:") + 1:second][:len(one["classifiers"])] == one["classifiers"]
+    assert sum(line.startswith("literal 1: ") for line in lines) == 2
+
+
+@pytest.mark.parametrize(("argv", "names"), [
+    (["--committee", "2"], "--committee"),  # with the given atoms
+    (["--features", "generated", "--committee", "10"], "--committee"),
+    (["--features", "generated", "--committee", "0"], "--committee"),
+])
+def test_a_bad_committee_is_refused_in_one_line_before_training(tmp_path, capsys, argv, names):
+    out = tmp_path / "c.json"
+    try:
+        code = main(["train-lifted", "--out", str(out), *argv])
+    except SystemExit as exit_:  # argparse's usage error
+        code = exit_.code
+    assert code == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and names in err and not out.exists()

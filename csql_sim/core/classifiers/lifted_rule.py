@@ -292,16 +292,19 @@ def dumps_lifted(rules: Iterable[LiftedRule], meta: dict) -> str:
     return json.dumps(doc, indent=2) + "\n"
 
 
-def read_versioned_json(text: str, source: str, fmt: str, version: int, error: type[CsqlError]) -> dict:
-    """A JSON object that names its format ``fmt`` and ``version``; else ``error`` in one line naming ``source``."""
+def read_versioned_json(text: str, source: str, fmt: str, version: int | tuple[int, ...],
+                        error: type[CsqlError]) -> dict:
+    """A JSON object that names its format ``fmt`` and ``version`` (or one of them); else ``error`` in one line."""
     try:
         doc = load_json(text, source)  # bounded nesting and digits: one line, never a RecursionError
     except InputFileError as exc:
         raise error(str(exc)) from None
     if not isinstance(doc, dict) or doc.get("format") != fmt:
         raise error(f"{source} is not a {fmt} file")
-    if doc.get("version") != version:
-        raise error(f"{source} has version {doc.get('version')!r}; this csql-sim reads {version}")
+    versions = version if isinstance(version, tuple) else (version,)
+    if type(doc.get("version")) is not int or doc["version"] not in versions:
+        raise error(f"{source} has version {doc.get('version')!r}; this csql-sim reads "
+                    f"{' or '.join(map(str, versions))}")
     return doc
 
 

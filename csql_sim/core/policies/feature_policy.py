@@ -26,7 +26,6 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.features.formulation import Formulation, parse_formulation
 from csql_sim.core.features.move_features import Literal, literal_values, parse_literal, parsed
 from csql_sim.core.policies.contract import Policy
@@ -36,7 +35,6 @@ from csql_sim.core.policies.lifted_policy import (
     LiftedPolicyError,
     LiftedQClassifier,
     classifier_lines,
-    loads_lifted_policy,
     most_specific,
 )
 from csql_sim.core.state.move_relations import Move, pick_action, put_action, towards
@@ -68,14 +66,16 @@ class FeaturePolicy(Policy):
             self._match[key] = most_specific(self.classifiers, tuple(int(b) for b in bits), kind)
         return self._match[key]
 
+    def advantages(self, state: State, target: State) -> tuple[list[Move], list[float | None]]:
+        """The legal moves (in move order) and each one's advantage (None where no classifier matches)."""
+        options, values = literal_values(self.literals, self.form, state, target)
+        found = [self.classifier_for(bits, move.kind) for move, bits in zip(options, values, strict=True)]
+        return options, [None if c is None else c.advantage for c in found]
+
     def ranked(self, state: State, target: State) -> list[Move]:
         """The legal moves some classifier matches, by least advantage (ties: move order)."""
-        options, values = literal_values(self.literals, self.form, state, target)
-        scored = []
-        for at, (move, bits) in enumerate(zip(options, values, strict=True)):
-            c = self.classifier_for(bits, move.kind)
-            if c is not None:
-                scored.append((c.advantage, at, move))
+        options, advantages = self.advantages(state, target)
+        scored = [(a, at, move) for at, (move, a) in enumerate(zip(options, advantages, strict=True)) if a is not None]
         return [move for _, _, move in sorted(scored, key=lambda r: r[:2])]
 
     def choose(self, state: State, target: State) -> Move | None:
@@ -172,10 +172,4 @@ def feature_policy_from_doc(doc: dict, source: str) -> FeaturePolicy:
     return FeaturePolicy(classifier_lines(doc.get("classifiers"), source, len(literals)), literals, form, domain, meta)
 
 
-def loads_lifted_file(text: str, source: str) -> Policy:
-    """A lifted Q-classifier file's policy: over generated features when it names a domain, else the given atoms."""
-    doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, LIFTED_Q_VERSION, LiftedPolicyError)
-    return feature_policy_from_doc(doc, source) if "domain" in doc else loads_lifted_policy(text, source)
-
-
-__all__ = ["FeaturePolicy", "loads_lifted_file", "dumps_feature_policy", "feature_policy_from_doc", "used_literals"]
+__all__ = ["FeaturePolicy", "dumps_feature_policy", "feature_policy_from_doc", "used_literals"]

@@ -8,7 +8,8 @@ which also tells its kind) and hands what it read to the loader of that kind:
   greedy table;
 * a sharded rule base's directory: read lazily, shard by shard (:class:`ShardedPolicy`);
 * lifted Q-classifiers: a :class:`LiftedPolicy`, for any number of blocks (over generated
-  features, a :class:`~csql_sim.core.policies.feature_policy.FeaturePolicy`).
+  features, a :class:`~csql_sim.core.policies.feature_policy.FeaturePolicy`; a committee of
+  them, a :class:`~csql_sim.core.policies.committee_policy.CommitteePolicy`).
 
 Without a file, the policy is BFS (:class:`~csql_sim.core.model.search.BfsPolicy`). Every
 one of them implements the policy contract (:class:`csql_sim.core.policies.contract.Policy`).
@@ -26,9 +27,9 @@ from csql_sim.core.files.rulebase_npz import arrays_from_bytes
 from csql_sim.core.files.rulebase_npz import loads as npz_loads
 from csql_sim.core.files.rulebase_yaml import RuleBaseError, loads
 from csql_sim.core.model.search import BfsPolicy
+from csql_sim.core.policies.committee_policy import loads_lifted_file
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
-from csql_sim.core.policies.feature_policy import loads_lifted_file
 from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.core.policies.sharded_policy import ShardedPolicy
 from csql_sim.core.state.state_count import state_count

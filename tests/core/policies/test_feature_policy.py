@@ -7,7 +7,8 @@ import pytest
 
 from csql_sim.core.features.formulation import load_formulation
 from csql_sim.core.features.move_features import Literal, literal_values
-from csql_sim.core.policies.feature_policy import FeaturePolicy, dumps_feature_policy, loads_lifted_file
+from csql_sim.core.policies.committee_policy import loads_lifted_file
+from csql_sim.core.policies.feature_policy import FeaturePolicy, dumps_feature_policy
 from csql_sim.core.policies.lifted_policy import LiftedPolicyError, LiftedQClassifier
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
