@@ -133,7 +133,7 @@ LOCK = threading.Lock()
 
 def report_and_block(_):
     got = LOCK.acquire(timeout=5)
-    print(os.getpid(), got, flush=True)
+    os.write(1, f"{os.getpid()} {got}\\n".encode())  # one write: two workers' lines never interleave
     time.sleep(3600)
 
 def main(method):
@@ -166,6 +166,7 @@ def test_a_pool_beside_another_thread_is_not_forked_and_its_workers_die_with_it(
         while len(lines) < 2 and time.monotonic() < deadline:
             if select.select([proc.stdout], [], [], 0.1)[0]:
                 lines.append(proc.stdout.readline().split())
+        assert all(len(line) == 2 for line in lines), lines  # "pid got", one line per worker
         assert [got for _, got in lines] == ["True", "True"], lines  # LOCK free: a fresh process, not a fork
         workers = {int(pid) for pid, _ in lines}
         assert len(workers) == 2 and proc.poll() is None
