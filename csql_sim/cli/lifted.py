@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import sys
 from collections.abc import Callable
@@ -96,22 +97,12 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
     else:
         text = dumps_lifted_policy(run.classifiers, meta)
     path = write_or_keep([(args.out, text)])[0]
-    emit(args, {**meta, **_learned(runs), "written": str(path)}, lambda: [
+    written = json.loads(text)  # what --json reports of the classifiers is what the file holds
+    learned = {k: written[k] for k in ("atoms", "classifiers", "members") if k in written}
+    emit(args, {**meta, **learned, "written": str(path)}, lambda: [
         *(line for k, r in enumerate(runs, 1) for line in _lines(r, params.sizes, k if len(runs) > 1 else 0)),
         f"wrote {path}"])
     return 0
-
-
-def _learned(runs: tuple[LiftedRun, ...]) -> dict:
-    """The classifiers (and literals) of the file, for ``--json``: of the one population, or per member."""
-    docs = []
-    for run in runs:
-        policy = run.policy()
-        doc = {"classifiers": [c.text() for c in policy.classifiers]}
-        if run.literals:
-            doc["atoms"] = [lit.text() for lit in policy.literals]
-        docs.append(doc)
-    return docs[0] if len(docs) == 1 else {"members": docs}
 
 
 def _lines(run: LiftedRun, sizes: tuple[int, ...], member: int) -> list[str]:
