@@ -6,6 +6,11 @@ A concept's denotation in a batch of B (state, target) pairs over N objects is a
 features of one batch share their sub-expressions. Transitive closures follow a functional
 role (at most one successor per object, as ``on``) link by link in O(N) passes, and use
 boolean matrix squaring otherwise.
+
+A planner's batch is one state and the state after each of its moves, towards one goal: the
+goal's predicates are given once (one row), so what is built from them alone is evaluated
+once; ``∃R.C`` over a primitive role follows its links instead of testing every pair; and
+``(R⁻¹)⁺`` and ``R*`` reuse ``R⁺``. Each shortcut equals the definition (:func:`apply`).
 """
 
 from __future__ import annotations
@@ -18,19 +23,29 @@ from csql_sim.core.features.grammar import GrammarError, Node
 class Denotations:
     """The denotations of nodes in one batch of states (primitives from :func:`primitive_arrays`).
 
+    A primitive given with one row (a goal predicate, the same in every pair of the batch) keeps
+    one row, and so does every node built from such primitives alone: :meth:`of` broadcasts it
+    to the batch. ``∃R.C`` and ``∀R.C`` over such a role are one matrix product; over a role with
+    at most one successor (or predecessor) per object they gather (or scatter) along its links.
+
     Args:
-        prims: each predicate's extension (unary (B, N), binary (B, N, N), nullary (B,)).
+        prims: each predicate's extension (unary (B, N), binary (B, N, N), nullary (B,)), or one row of it.
         objects: N, the number of objects (blocks, then constants).
         constants: the constants' names, objects ``N - len(constants) ..``.
     """
 
     def __init__(self, prims: dict[str, np.ndarray], objects: int, constants: tuple[str, ...] = ()) -> None:
         self.prims, self.objects, self.constants = prims, objects, constants
-        self.pairs = next(iter(prims.values())).shape[0]
+        self.pairs = max(v.shape[0] for v in prims.values())
         self.memo: dict[Node, np.ndarray] = {}
+        self._links: dict[Node, tuple[np.ndarray | None, np.ndarray | None]] = {}
 
     def of(self, node: Node, keep: bool = True) -> np.ndarray:
-        """The denotation of ``node``; remembered unless ``keep`` is False (its parts are, always)."""
+        """The denotation of ``node`` in every pair; remembered unless ``keep`` is False (its parts are, always)."""
+        value = self._of(node, keep)
+        return value if value.shape[0] == self.pairs else np.broadcast_to(value, (self.pairs, *value.shape[1:]))
+
+    def _of(self, node: Node, keep: bool = True) -> np.ndarray:
         found = self.memo.get(node)
         if found is not None:
             return found
@@ -42,7 +57,7 @@ class Denotations:
     def _compute(self, node: Node) -> np.ndarray:
         op, a = node.op, node.args
         if op == "top":
-            return np.ones((self.pairs, self.objects), bool)
+            return np.ones((1, self.objects), bool)
         if op in ("pred", "role"):
             return self._primitive(a[0], 1 if op == "pred" else 2)
         if op == "proj":
@@ -50,16 +65,74 @@ class Denotations:
         if op == "nom":
             if a[0] not in self.constants:
                 raise GrammarError(f"feature {node.text()}: {a[0]!r} is not a constant of the domain")
-            out = np.zeros((self.pairs, self.objects), bool)
+            out = np.zeros((1, self.objects), bool)
             out[:, self.objects - len(self.constants) + self.constants.index(a[0])] = True
             return out
-        return apply(op, [self.of(x) for x in a])
+        if op in ("some", "all"):
+            return self._quantified(op, a[0], self._of(a[1]))
+        if op in ("plus", "star"):
+            return self._closure(op, a[0])
+        return apply(op, [self._of(x) for x in a])
+
+    def _quantified(self, op: str, r: Node, c: np.ndarray) -> np.ndarray:
+        """∃R.C or ∀R.C (∀R.C is ¬∃R.¬C), by the cheapest of a product, a gather, a scatter or the definition."""
+        c = c if op == "some" else ~c
+        role = self._of(r)
+        succ, pred_ = self._links_of(r, role)
+        if role.shape[0] == 1:
+            found = (c.astype(np.float32) @ role[0].T.astype(np.float32)) > 0
+        elif succ is not None:
+            found = np.where(succ >= 0, c[np.arange(c.shape[0])[:, None] if c.shape[0] > 1 else 0,
+                                          np.maximum(succ, 0)], False)
+        elif pred_ is not None:
+            found = np.zeros((self.pairs, self.objects), bool)
+            rows, ys = np.nonzero((pred_ >= 0) & c)
+            found[rows, pred_[rows, ys]] = True
+        else:
+            found = (role & c[:, None, :]).any(axis=2)
+        return found if op == "some" else ~found
+
+    def _links_of(self, node: Node, role: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """A primitive role's (or its inverse's) successor and predecessor indexes (B, N), -1 for none.
+
+        Each is None where some object has two, or the role is one row (the product is cheaper).
+        """
+        if node.op not in ("role", "inv") or role.shape[0] == 1:
+            return None, None
+        if node not in self._links:
+            if node.op == "inv":
+                succ, pred_ = self._links_of(node.args[0], self._of(node.args[0]))
+                self._links[node] = (pred_, succ)
+            else:
+                self._links[node] = (_index(role, 2), _index(role, 1))
+        return self._links[node]
+
+    def _closure(self, op: str, r: Node) -> np.ndarray:
+        """R⁺ (one closure per role: (R⁻¹)⁺ is (R⁺)⁻¹) and R* = R⁺ ∪ identity."""
+        if r.op == "inv":
+            return self._of(Node(op, r.args)).transpose(0, 2, 1)
+        if op == "star":
+            return self._of(Node("plus", (r,))) | np.eye(self.objects, dtype=bool)[None]
+        role = self._of(r)
+        succ, pred_ = self._links_of(r, role)
+        if succ is not None:
+            return _functional_closure(role, succ)
+        if pred_ is not None:
+            return _functional_closure(role.transpose(0, 2, 1), pred_).transpose(0, 2, 1)
+        return closure(role)
 
     def _primitive(self, name: str, arity: int) -> np.ndarray:
         value = self.prims.get(name)
         if value is None or value.ndim != arity + 1:
             raise GrammarError(f"feature predicate {name!r}: the domain has no predicate {name}/{arity}")
         return value
+
+
+def _index(role: np.ndarray, axis: int) -> np.ndarray | None:
+    """Along ``axis`` (2: successors, 1: predecessors) each object's one partner, -1 for none; None if some has two."""
+    if (role.sum(axis=axis) > 1).any():
+        return None
+    return np.where(role.any(axis=axis), role.argmax(axis=axis), -1)
 
 
 def apply(op: str, args: list[np.ndarray]) -> np.ndarray:
@@ -86,10 +159,12 @@ def apply(op: str, args: list[np.ndarray]) -> np.ndarray:
 
 def closure(r: np.ndarray) -> np.ndarray:
     """The transitive closure of a batch of relations (B, N, N)."""
-    if (r.sum(axis=2) <= 1).all():
-        return _functional_closure(r)
-    if (r.sum(axis=1) <= 1).all():
-        return _functional_closure(r.transpose(0, 2, 1)).transpose(0, 2, 1)
+    succ = _index(r, 2)
+    if succ is not None:
+        return _functional_closure(r, succ)
+    pred_ = _index(r, 1)
+    if pred_ is not None:
+        return _functional_closure(r.transpose(0, 2, 1), pred_).transpose(0, 2, 1)
     out = r.copy()
     while True:
         step = out | (np.matmul(out.astype(np.uint8), out.astype(np.uint8)) > 0)
@@ -98,10 +173,9 @@ def closure(r: np.ndarray) -> np.ndarray:
         out = step
 
 
-def _functional_closure(r: np.ndarray) -> np.ndarray:
-    """Closure of relations with at most one successor per object: follow the links, N passes at most."""
+def _functional_closure(r: np.ndarray, succ: np.ndarray) -> np.ndarray:
+    """Closure of relations with at most one successor per object (``succ``, -1 for none): follow the links."""
     b, n, _ = r.shape
-    succ = np.where(r.any(axis=2), r.argmax(axis=2), -1)
     out = np.zeros_like(r)
     rows = np.arange(b)[:, None].repeat(n, 1)
     cols = np.arange(n)[None, :].repeat(b, 0)

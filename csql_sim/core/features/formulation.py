@@ -123,7 +123,10 @@ def primitive_arrays(form: Formulation, states: list[State], targets: list[State
 
 
 def support_arrays(form: Formulation, sup: np.ndarray, goal: np.ndarray) -> tuple[dict[str, np.ndarray], int]:
-    """:func:`primitive_arrays` of states and targets given as support arrays (pairs, n)."""
+    """:func:`primitive_arrays` of states and targets given as support arrays (pairs, n).
+
+    ``goal`` may have one row, the target of every pair: the goal predicates then have one row.
+    """
     n = sup.shape[1]
     objects = n + len(form.constants)
     out = {}

@@ -95,7 +95,7 @@ def literal_values(literals: tuple[Literal, ...], form: Formulation, state: Stat
     sup = np.tile(np.array(state.support, np.int64), (len(options) + 1 if later else 1, 1))
     if later:
         sup[np.arange(1, len(options) + 1), xs] = [m.onto for m in options]  # the states after the moves
-    prims, objects = support_arrays(form, sup, np.tile(np.array(target.support, np.int64), (len(sup), 1)))
+    prims, objects = support_arrays(form, sup, np.array([target.support], np.int64))  # the goal's: one row
     den = Denotations(prims, objects, form.constants)
     now_only = Denotations({k: v[:1] for k, v in prims.items()}, objects, form.constants)
     out = np.zeros((len(options), len(literals)), np.uint8)

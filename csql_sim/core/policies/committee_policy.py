@@ -19,8 +19,10 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 
+import numpy as np
+
 from csql_sim.core.classifiers.lifted_rule import read_versioned_json
-from csql_sim.core.features.move_features import Literal
+from csql_sim.core.features.move_features import Literal, literal_values
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.feature_policy import FeaturePolicy, feature_policy_from_doc, used_literals
 from csql_sim.core.policies.lifted_policy import (
@@ -48,6 +50,10 @@ class CommitteePolicy(FeaturePolicy):
         first = members[0]
         super().__init__(first.classifiers, first.literals, first.form, first.domain, meta)
         self.members = tuple(members)
+        union = tuple(dict.fromkeys(lit for m in self.members for lit in m.literals))
+        at = {lit: j for j, lit in enumerate(union)}
+        self._union = union
+        self._columns = tuple(np.array([at[lit] for lit in m.literals], np.int64) for m in self.members)
 
     def advantages(self, state: State, target: State) -> tuple[list[Move], list[float | None]]:
         """The legal moves and each one's mean advantage over the members that match it (None: none does).
@@ -55,10 +61,9 @@ class CommitteePolicy(FeaturePolicy):
         A move that some member does not match gets its mean plus the largest advantage any
         member gave, times the members missing, so that it ranks after the moves all of them match.
         """
-        options, columns = [], []
-        for member in self.members:
-            options, values = member.advantages(state, target)
-            columns.append(values)
+        options, values = literal_values(self._union, self.form, state, target)  # once, for every member
+        columns = [m.advantages_of(options, values[:, cols])
+                   for m, cols in zip(self.members, self._columns, strict=True)]
         worst = max((a for column in columns for a in column if a is not None), default=0.0)
         out: list[float | None] = []
         for row in zip(*columns, strict=True):

@@ -69,8 +69,12 @@ class FeaturePolicy(Policy):
     def advantages(self, state: State, target: State) -> tuple[list[Move], list[float | None]]:
         """The legal moves (in move order) and each one's advantage (None where no classifier matches)."""
         options, values = literal_values(self.literals, self.form, state, target)
+        return options, self.advantages_of(options, values)
+
+    def advantages_of(self, options: tuple[Move, ...], values: np.ndarray) -> list[float | None]:
+        """Each move's advantage from its literals' values (moves, literals); None where no classifier matches."""
         found = [self.classifier_for(bits, move.kind) for move, bits in zip(options, values, strict=True)]
-        return options, [None if c is None else c.advantage for c in found]
+        return [None if c is None else c.advantage for c in found]
 
     def ranked(self, state: State, target: State) -> list[Move]:
         """The legal moves some classifier matches, by least advantage (ties: move order)."""
