@@ -9,7 +9,17 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
-from csql_sim.cli.args import add_json, add_quiet, add_seed, command_parser, int_type, path_arg, show_progress
+from csql_sim.cli.args import (
+    add_json,
+    add_quiet,
+    add_seed,
+    add_workers,
+    command_parser,
+    int_type,
+    path_arg,
+    show_progress,
+    warn_workers,
+)
 from csql_sim.cli.output import emit
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
@@ -82,7 +92,8 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
                           domain=args.domain, complexity=args.complexity, **read)
     rng = np.random.default_rng(args.seed)
     if args.committee > 1:
-        runs = train_committee(params, rng, args.committee, progress=_progress(args)).members
+        warn_workers(args)
+        runs = train_committee(params, rng, args.committee, progress=_progress(args), workers=args.workers).members
     else:
         runs = (train_lifted(params, rng, progress=_progress(args)),)
     run = runs[0]
@@ -161,6 +172,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--committee", type=int_type(1, 9), default=1,
                    help="with --features generated: populations learned apart from the seed, whose mean advantage "
                         "ranks a move when planning (default 1)")
+    add_workers(p, "with --committee: processes that train members at once")
     add_seed(p, "seed of the run's one generator")
     add_json(p)
     add_quiet(p)

@@ -18,6 +18,9 @@ import numpy as np
 
 from csql_sim.core.policies.committee_policy import MAX_MEMBERS, CommitteePolicy
 from csql_sim.core.policies.feature_policy import FeaturePolicy
+from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
+from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.workers import worker_count
 from csql_sim.learners.lifted_ql import LiftedParams, LiftedRun, train_lifted
 from csql_sim.learners.params import ParamsError
 
@@ -42,25 +45,57 @@ class CommitteeRun:
 
 
 def train_committee(params: LiftedParams, rng: np.random.Generator, size: int,
-                    progress: Callable[[int, int], None] | None = None) -> CommitteeRun:
+                    progress: Callable[[int, int], None] | None = None, workers: int | None = 1) -> CommitteeRun:
     """Learn ``size`` populations of lifted Q-classifiers over generated features (module docstring).
 
     Args:
         params: every member's parameters (``features`` must be ``generated``).
         rng: the run's one generator: member 1's, and the parent of the others'.
         size: members K. Range 1..:data:`~csql_sim.core.policies.committee_policy.MAX_MEMBERS`.
-        progress: called with (trials done, trials) over all members, after every sweep.
+        progress: called with (trials done, trials) over all members: after every sweep in this
+            process, or as each member finishes when they train in worker processes.
+        workers: processes that train members at once (1, the default: in this process, one after
+            another; None: every core); at most the cores and ``size``. The members are the same
+            whatever the number.
     """
     if params.features != "generated":
         raise ParamsError("a committee needs generated features (--features generated)")
     if not (isinstance(size, int) and 1 <= size <= MAX_MEMBERS):
         raise ParamsError(f"committee size {size!r} is out of range 1..{MAX_MEMBERS}")
+    if workers is not None and not (isinstance(workers, int) and workers >= 1):
+        raise ParamsError(f"workers {workers!r} must be a positive integer")
     generators = [rng, *rng.spawn(size - 1)]
+    if worker_count(workers, size) > 1:
+        return CommitteeRun(_train_apart(params, generators, workers, progress))
     runs = []
     for k, generator in enumerate(generators):
         step = None if progress is None else _offset(progress, k * params.trials, size * params.trials)
         runs.append(train_lifted(params, generator, progress=step))
     return CommitteeRun(tuple(runs))
+
+
+def _train_apart(params: LiftedParams, generators: list[np.random.Generator], workers: int | None,
+                 progress: Callable[[int, int], None] | None) -> tuple[LiftedRun, ...]:
+    """Each member trained in a worker process (:func:`~csql_sim.infra.backends.map_tasks`)."""
+    done = [0]
+
+    def finished(_k: int, run: LiftedRun | TaskFailure) -> LiftedRun | TaskFailure:
+        done[0] += 1
+        if progress is not None:
+            progress(done[0] * params.trials, len(generators) * params.trials)
+        return run
+
+    runs = map_tasks(_train_member, [(params, g) for g in generators], Backend(workers=workers), on_result=finished)
+    for k, run in enumerate(runs, 1):
+        if isinstance(run, TaskFailure):
+            raise CsqlError(f"committee member {k} failed: {run.reason}")
+    return tuple(runs)
+
+
+def _train_member(job: tuple[LiftedParams, np.random.Generator]) -> LiftedRun:
+    """One member's training (in a worker)."""
+    params, generator = job
+    return train_lifted(params, generator)
 
 
 def _offset(progress: Callable[[int, int], None], before: int, total: int) -> Callable[[int, int], None]:

@@ -129,6 +129,7 @@ def test_a_committee_is_written_member_by_member_and_plans(tmp_path, capsys):
     (["--committee", "2"], "--committee"),  # with the given atoms
     (["--features", "generated", "--committee", "10"], "--committee"),
     (["--features", "generated", "--committee", "0"], "--committee"),
+    (["--features", "generated", "--committee", "2", "--workers", "0"], "--workers"),
 ])
 def test_a_bad_committee_is_refused_in_one_line_before_training(tmp_path, capsys, argv, names):
     out = tmp_path / "c.json"

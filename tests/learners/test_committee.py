@@ -1,5 +1,7 @@
 """A committee: K populations learned apart from one seed, member 1 the single run of that seed."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -33,3 +35,20 @@ def test_member_one_is_the_single_run_and_the_others_the_spawned_generators():
 def test_a_committee_of_given_atoms_or_of_a_bad_size_is_refused(params, size):
     with pytest.raises(ParamsError, match="committee"):
         train_committee(params, np.random.default_rng(0), size)
+
+
+def test_members_trained_in_worker_processes_are_the_members_trained_here(monkeypatch):
+    monkeypatch.setattr(os, "cpu_count", lambda: 4)  # two workers even where the machine has one core
+    params = LiftedParams(**SMALL)
+    seen = []
+    here = train_committee(params, np.random.default_rng(7), 3)
+    apart = train_committee(params, np.random.default_rng(7), 3, workers=2,
+                            progress=lambda done, total: seen.append((done, total)))
+    for a, b in zip(here.members, apart.members, strict=True):
+        assert a.classifiers == b.classifiers and a.literals == b.literals and a.steps == b.steps
+    assert seen == [(100, 300), (200, 300), (300, 300)]  # one report per member finished
+
+
+def test_workers_must_be_a_positive_integer():
+    with pytest.raises(ParamsError, match="workers"):
+        train_committee(LiftedParams(**SMALL), np.random.default_rng(0), 2, workers=0)
