@@ -135,6 +135,38 @@ def _index(role: np.ndarray, axis: int) -> np.ndarray | None:
     return np.where(role.any(axis=axis), role.argmax(axis=axis), -1)
 
 
+def by_definition(node: Node, prims: dict[str, np.ndarray], objects: int, constants: tuple[str, ...] = (),
+                  memo: dict[Node, np.ndarray] | None = None) -> np.ndarray:
+    """A node's denotation from the grammar's definitions alone (:func:`apply`), primitives given in full.
+
+    The reference that :class:`Denotations` and its shortcuts must equal (its tests and
+    ``scripts/bench_denotations.py``). With ``memo``, sub-expressions are remembered there.
+    """
+    if memo is not None and node in memo:
+        return memo[node]
+    value = _defined(node, prims, objects, constants, memo)
+    if memo is not None:
+        memo[node] = value
+    return value
+
+
+def _defined(node: Node, prims: dict[str, np.ndarray], objects: int, constants: tuple[str, ...],
+             memo: dict[Node, np.ndarray] | None) -> np.ndarray:
+    pairs = next(iter(prims.values())).shape[0]
+    op, a = node.op, node.args
+    if op == "top":
+        return np.ones((pairs, objects), bool)
+    if op in ("pred", "role"):
+        return prims[a[0]]
+    if op == "proj":
+        return prims[a[0]].any(axis=2 - a[1])
+    if op == "nom":
+        out = np.zeros((pairs, objects), bool)
+        out[:, objects - len(constants) + constants.index(a[0])] = True
+        return out
+    return apply(op, [by_definition(x, prims, objects, constants, memo) for x in a])
+
+
 def apply(op: str, args: list[np.ndarray]) -> np.ndarray:
     """A constructor applied to its arguments' denotations."""
     if op == "not":
@@ -191,4 +223,4 @@ def _functional_closure(r: np.ndarray, succ: np.ndarray) -> np.ndarray:
     return out
 
 
-__all__ = ["Denotations", "apply", "closure"]
+__all__ = ["Denotations", "apply", "by_definition", "closure"]

@@ -3,31 +3,14 @@
 import numpy as np
 import pytest
 
-from csql_sim.core.features.denotation import Denotations, apply
+from csql_sim.core.features.denotation import Denotations, by_definition
 from csql_sim.core.features.formulation import load_formulation, primitive_arrays, support_arrays
 from csql_sim.core.features.generate import generate_concepts
-from csql_sim.core.features.grammar import Node, parse
+from csql_sim.core.features.grammar import parse
 from csql_sim.core.features.move_features import literal_values, parse_literal
 from csql_sim.core.state.move_relations import after, moves, pick_action
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import State, successor
-
-
-def by_definition(node: Node, prims: dict, objects: int, constants: tuple) -> np.ndarray:
-    """A node's denotation from the grammar's definitions alone (:func:`apply`), over full-batch primitives."""
-    pairs = next(iter(prims.values())).shape[0]
-    op, a = node.op, node.args
-    if op == "top":
-        return np.ones((pairs, objects), bool)
-    if op in ("pred", "role"):
-        return prims[a[0]]
-    if op == "proj":
-        return prims[a[0]].any(axis=2 - a[1])
-    if op == "nom":
-        out = np.zeros((pairs, objects), bool)
-        out[:, objects - len(constants) + constants.index(a[0])] = True
-        return out
-    return apply(op, [by_definition(x, prims, objects, constants) for x in a])
 
 
 def tall(n: int) -> State:
