@@ -2,6 +2,7 @@
 
     python scripts/feature_table.py --explain FILE
     python scripts/feature_table.py --policy-file FILE --variants generated-4op --seeds 0
+    python scripts/feature_table.py --policy-file 'c_{seed}.json' --variants committee-move --seeds 0-9
     python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-4op,generated-move,committee-move]
                                     [--use 100] [--sizes 7,10,20,26] [--tall 25,50,100] [--tall-tasks 3]
                                     [--out feature_table.jsonl] [--report]
@@ -110,17 +111,18 @@ def run_all(args: argparse.Namespace) -> None:
     data = tasks(args)
     jobs = [(name, None) for name in ("gn1", "hand ordering")] + \
         [(v, seed) for v in args.variants for seed in args.seeds]
-    if args.policy_file:  # one trained file, measured as the run of its variant and seed
-        jobs = [(args.variants[0], args.seeds[0])]
+    if args.policy_file:  # trained files, each measured as the run of its variant and seed
+        jobs = [(args.variants[0], seed) for seed in (args.seeds if "{seed}" in args.policy_file else args.seeds[:1])]
     for variant, seed in jobs:
         if (variant, seed) in done:
             continue
         print(f"{variant} seed {seed}", file=sys.stderr, flush=True)
         row: dict = {"variant": variant, "seed": seed}
         if args.policy_file:
-            policy = load_policy(args.policy_file)
+            path = args.policy_file.replace("{seed}", str(seed))
+            policy = load_policy(path)
             hand = getattr(getattr(policy, "form", None), "hand", True)
-            row.update(file=args.policy_file, classifiers=classifiers(policy))
+            row.update(file=path, classifiers=classifiers(policy))
         elif seed is None:
             policy, hand = (Gn1Policy() if variant == "gn1" else hand_ordering()), True
         else:
@@ -224,7 +226,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", default="feature_table.jsonl", help="results, one JSON line per run")
     parser.add_argument("--report", action="store_true", help="print the tables of --out and stop")
     parser.add_argument("--policy-file", help="measure this trained file as the run of the first variant and seed "
-                        "(made by csql-sim train-lifted with that variant's options and seed)")
+                        "(made by csql-sim train-lifted with that variant's options and seed); with {seed} in "
+                        "the name, the file of each seed of --seeds")
     parser.add_argument("--explain", metavar="FILE", help="print the literals of a generated-features file in words")
     args = parser.parse_args(argv)
     if args.explain:
