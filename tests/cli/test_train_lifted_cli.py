@@ -67,7 +67,7 @@ def test_an_existing_file_of_someone_else_is_kept(tmp_path, capsys):
 def test_train_lifted_over_generated_features_writes_a_file_plan_reads(tmp_path, capsys, domain):
     out = tmp_path / "g.json"
     argv = ["train-lifted", "--features", "generated", "--domain", domain, "--complexity", "4", "--trials", "120",
-            "--goals", "10", "--sizes", "4", "--out", str(out), "--quiet", "--json"]
+            "--goals", "10", "--sizes", "4", "--committee", "1", "--out", str(out), "--quiet", "--json"]
     assert main(argv) == 0
     doc = json.loads(capsys.readouterr().out)
     written = json.loads(out.read_text())
@@ -112,7 +112,7 @@ def test_a_committee_is_written_member_by_member_and_plans(tmp_path, capsys):
     assert written["version"] == 2 and len(written["members"]) == 2 and doc["members"] == written["members"]
     assert doc["training"]["committee"] == 2 and [m["trials"] for m in doc["training"]["members"]] == [120, 120]
     single = tmp_path / "s.json"
-    assert main([*argv[:-6], "--out", str(single), "--quiet", "--json"]) == 0  # the same seed, no committee
+    assert main([*argv[:-6], "--committee", "1", "--out", str(single), "--quiet", "--json"]) == 0  # the same seed
     capsys.readouterr()
     one = json.loads(single.read_text())
     assert one["version"] == 1 and written["members"][0] == {"atoms": one["atoms"], "classifiers": one["classifiers"]}
@@ -123,6 +123,17 @@ def test_a_committee_is_written_member_by_member_and_plans(tmp_path, capsys):
     second = lines.index("member 2:")
     assert lines[lines.index("member 1:") + 1:second][:len(one["classifiers"])] == one["classifiers"]
     assert sum(line.startswith("literal 1: ") for line in lines) == 2
+
+
+def test_generated_features_learn_a_committee_of_three_by_default(tmp_path, capsys):
+    out = tmp_path / "d.json"
+    argv = ["train-lifted", "--features", "generated", "--domain", "move", "--complexity", "4", "--trials", "60",
+            "--goals", "6", "--sizes", "4", "--out", str(out), "--quiet", "--json"]
+    assert main(argv) == 0
+    doc = json.loads(capsys.readouterr().out)
+    written = json.loads(out.read_text())
+    assert written["version"] == 2 and len(written["members"]) == 3 and doc["training"]["committee"] == 3
+    assert doc["provenance"]["parameters"]["committee"] == 3
 
 
 @pytest.mark.parametrize(("argv", "names"), [
