@@ -3,7 +3,7 @@
     python scripts/feature_table.py --explain FILE
     python scripts/feature_table.py --policy-file FILE --variants generated-4op --seeds 0
     python scripts/feature_table.py --policy-file 'c_{seed}.json' --variants committee-move --seeds 0-9
-    python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-4op,generated-move,committee-move]
+    python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-move,committee-move]
                                     [--use 100] [--sizes 7,10,20,26] [--tall 25,50,100] [--tall-tasks 3]
                                     [--out feature_table.jsonl] [--report]
 
@@ -18,9 +18,10 @@ of the deadlock characterization, solved by CP-SAT
 its lower bound (flagged).
 
 Every learned variant trains with its defaults from ``np.random.default_rng(seed)``: ``given``
-the eight hand-written atoms, ``generated-4op`` and ``generated-move`` features generated from
-the predicates of the shipped PDDL domains, ``committee-4op`` and ``committee-move`` a committee of
-three populations over them (``csql-sim train-lifted --committee 3``). A policy of the move domain is run with its moves
+the eight hand-written atoms, ``generated-4op`` and ``generated-move`` one population over
+features generated from the predicates of the shipped PDDL domains (``--committee 1``),
+``committee-4op`` and ``committee-move`` a committee of three populations over them (what
+``csql-sim train-lifted --features generated`` learns by default). A policy of the move domain is run with its moves
 executed as a pick and a put, and only its own (hand-empty) states count as revisited.
 Figures come from trials and the learner's sweeps through its world model; none from search.
 
@@ -57,7 +58,7 @@ VARIANTS = {"given": {}, "generated-4op": {"features": "generated", "domain": "4
             "generated-move": {"features": "generated", "domain": "move"},
             "committee-4op": {"features": "generated", "domain": "4op", "committee": 3},
             "committee-move": {"features": "generated", "domain": "move", "committee": 3}}
-DEFAULT_VARIANTS = ("given", "generated-4op", "generated-move")
+DEFAULT_VARIANTS = ("given", "generated-4op", "generated-move", "committee-4op", "committee-move")
 
 
 def tasks(args: argparse.Namespace) -> dict[str, list[tuple]]:
