@@ -114,12 +114,7 @@ class Denotations:
         if op == "star":
             return self._of(Node("plus", (r,))) | np.eye(self.objects, dtype=bool)[None]
         role = self._of(r)
-        succ, pred_ = self._links_of(r, role)
-        if succ is not None:
-            return _functional_closure(role, succ)
-        if pred_ is not None:
-            return _functional_closure(role.transpose(0, 2, 1), pred_).transpose(0, 2, 1)
-        return closure(role)
+        return closure(role, *self._links_of(r, role))
 
     def _primitive(self, name: str, arity: int) -> np.ndarray:
         value = self.prims.get(name)
@@ -189,12 +184,12 @@ def apply(op: str, args: list[np.ndarray]) -> np.ndarray:
     raise GrammarError(f"unknown constructor {op!r}")
 
 
-def closure(r: np.ndarray) -> np.ndarray:
-    """The transitive closure of a batch of relations (B, N, N)."""
-    succ = _index(r, 2)
+def closure(r: np.ndarray, succ: np.ndarray | None = None, pred_: np.ndarray | None = None) -> np.ndarray:
+    """The transitive closure of a batch of relations (B, N, N); ``succ`` / ``pred_``: its links if known."""
+    succ = _index(r, 2) if succ is None else succ
     if succ is not None:
         return _functional_closure(r, succ)
-    pred_ = _index(r, 1)
+    pred_ = _index(r, 1) if pred_ is None else pred_
     if pred_ is not None:
         return _functional_closure(r.transpose(0, 2, 1), pred_).transpose(0, 2, 1)
     out = r.copy()
