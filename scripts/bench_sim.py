@@ -18,13 +18,13 @@ import numpy as np
 
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import all_states
-from csql_sim.sim.camera import RENDER_CAMERA, capture
-from csql_sim.sim.executor import run_physical_episode
-from csql_sim.sim.physical import PhysicalWorld
-from csql_sim.sim.recording import Recording
-from csql_sim.sim.renderer import close_quietly, egl_available
-from csql_sim.sim.replay import apply_snapshot, replay_scene
-from csql_sim.sim.video import write_video
+from csql_sim.sim.control.executor import run_physical_episode
+from csql_sim.sim.control.physical import PhysicalWorld
+from csql_sim.sim.perception.camera import RENDER_CAMERA, capture
+from csql_sim.sim.video.recording import Recording
+from csql_sim.sim.video.renderer import close_quietly, egl_available
+from csql_sim.sim.video.replay import apply_snapshot, replay_scene
+from csql_sim.sim.video.writing import write_video
 
 
 def raw_steps_per_second(steps: int, config: str) -> float:

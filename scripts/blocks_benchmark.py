@@ -43,12 +43,12 @@ import numpy as np
 from pddl import parse_problem
 
 from csql_sim.core.measure.bounds import bounded_optimum, cpsat_available, hitting_set_optimum, lower_bound
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state import State
 from csql_sim.core.state.world import TABLE
 from csql_sim.jobs.problems import drawn_problems
-from csql_sim.learners.gn1 import Gn1Policy
 
 DISTRIBUTION = "tall-towers"
 

@@ -8,7 +8,7 @@ input). Every --every trials each learner's greedy policy is checked on every pa
 (csql_sim.core.model.search.count_optimal_greedy: a pair is optimal iff each greedy step lowers
 the BFS distance by one); a learner is done at the first check where all pairs are.
 
-* XCS-QL: csql_sim.learners.xcs_ql.XCSQL with the cs-ql defaults for n and no planning
+* XCS-QL: csql_sim.learners.generalize.xcs_ql.XCSQL with the cs-ql defaults for n and no planning
   sweep (learning from trials alone, as the scaling study does); its policy is its
   condensed population; population = actors before condensation (and condensed).
 * xcsf 1.5 multi-step reinforcement learning (Preen), ternary conditions, constant
@@ -37,8 +37,8 @@ from csql_sim.core.model.transition_table import true_table
 from csql_sim.core.state.goal_message import GoalForm
 from csql_sim.core.state.goal_message_index import pair_messages
 from csql_sim.core.state.world import BlocksWorld
-from csql_sim.learners.params import defaults_for_blocks, with_overrides
-from csql_sim.learners.xcs_ql import XCSQL
+from csql_sim.learners.generalize.xcs_ql import XCSQL
+from csql_sim.learners.paper.params import defaults_for_blocks, with_overrides
 
 XCSF_SETTINGS = {"pop_size": 4000, "e0": 0.01, "alpha": 0.1, "nu": 5, "beta": 0.2, "theta_sub": 20,
                  "set_subsumption": True, "gamma": 0.95, "p_explore": 0.9, "pop_init": False}

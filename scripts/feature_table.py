@@ -45,13 +45,13 @@ from csql_sim.core.features.move_features import literal_values
 from csql_sim.core.measure.bounds import bounded_optimum, cpsat_optimum
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.task_draws import draw_task
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.move_relations import ATOMS, MoveRelations, target_goal
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.learners.committee import train_committee
-from csql_sim.learners.gn1 import Gn1Policy
-from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.committee import train_committee
+from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
 
 BENCH_SIZES = (6, 7, 8, 10, 15, 20, 26)
 VARIANTS = {"given": {}, "generated-4op": {"features": "generated", "domain": "4op"},

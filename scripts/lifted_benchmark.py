@@ -15,7 +15,7 @@ the policy's wall time; the optimum's time is reported per n.
 Policies, on the same pairs: ``lq-cs``, the lifted Q-classifiers learned on five blocks by
 ``csql-sim train-lifted`` (the rule file given, by default the shipped
 ``assets/rules/lifted.json``), and ``gn1``, the hand-written baseline
-(:mod:`csql_sim.learners.gn1`).
+(:mod:`csql_sim.core.policies.gn1`).
 """
 
 from __future__ import annotations
@@ -27,10 +27,10 @@ import time
 import numpy as np
 
 from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.learners.gn1 import Gn1Policy
 
 
 def policies(rules: str) -> dict:

@@ -27,7 +27,7 @@ from lifted_seeds import score  # the script beside this one
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.lifted_policy import LiftedPolicy
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
 
 
 def seeds_of(text: str) -> list[int]:

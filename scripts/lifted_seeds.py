@@ -11,7 +11,7 @@ exact optimum of each pair is computed once (a yardstick only). For every seed o
 ``--seeds`` the learner trains with its defaults (``--trials`` aside) from
 ``np.random.default_rng(seed)``; its training seconds, lifted classifiers and, per n, solved
 and optimal % are printed, then minimum / median / maximum over the seeds beside two fixed
-policies on the same pairs: ``gn1`` (:mod:`csql_sim.learners.gn1`) and ``hand``, the hand
+policies on the same pairs: ``gn1`` (:mod:`csql_sim.core.policies.gn1`) and ``hand``, the hand
 ordering of the atoms written as lifted classifiers (:func:`hand_ordering`).
 """
 
@@ -28,12 +28,12 @@ from pathlib import Path
 import numpy as np
 
 from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.move_relations import ATOMS, KINDS
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.learners.gn1 import Gn1Policy
-from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
 
 
 def hand_ordering() -> LiftedPolicy:

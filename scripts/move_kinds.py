@@ -30,12 +30,12 @@ from collections import Counter
 from feature_table import BENCH_SIZES, tasks  # the scripts beside this one
 from lifted_seeds import hand_ordering
 
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.goal_relations import deadlocked, well_placed
 from csql_sim.core.state.move_relations import target_goal
 from csql_sim.core.state.world import TABLE, State, successor
-from csql_sim.learners.gn1 import Gn1Policy
 
 
 def benchmark_tasks(n: int, use: int) -> list[tuple[State, State, int]]:

@@ -21,16 +21,16 @@ import time
 import numpy as np
 from PIL import Image
 
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file
-from csql_sim.learners.gn1 import Gn1Policy
-from csql_sim.sim.arm_state import check_arm_blocks, check_arm_policy
-from csql_sim.sim.camera import Camera, capture
-from csql_sim.sim.executor import EpisodeResult, run_physical_episode
-from csql_sim.sim.replay import apply_snapshot, replay_scene
-from csql_sim.sim.video import caption_image
+from csql_sim.sim.control.executor import EpisodeResult, run_physical_episode
+from csql_sim.sim.perception.camera import Camera, capture
+from csql_sim.sim.video.replay import apply_snapshot, replay_scene
+from csql_sim.sim.video.writing import caption_image
+from csql_sim.sim.world.arm_state import check_arm_blocks, check_arm_policy
 
 START = "A,B,C,D,E,F,G,H,I,J"  # ten cubes side by side on the arc, F in the middle
 GOAL = "FGHIJABCDE"  # one tower on F: G on F, ..., E on top

@@ -24,7 +24,7 @@ from csql_sim.core.features.formulation import load_formulation
 from csql_sim.core.features.move_features import literal_values
 from csql_sim.core.state.move_relations import MoveRelations
 from csql_sim.core.state.state_count import sample_hand_empty
-from csql_sim.learners.lifted_features import build_space
+from csql_sim.learners.lifted.features import build_space
 
 
 def examples(n: int, states: int) -> list[tuple]:

@@ -19,7 +19,7 @@ from pathlib import Path
 
 from csql_sim.jobs.experiment import ExperimentResult, run_experiment
 from csql_sim.jobs.figure7_statements import early_value, end_steps, end_value, evaluate, first_reach
-from csql_sim.learners.params import BucketBrigadeParams
+from csql_sim.learners.paper.params import BucketBrigadeParams
 
 
 def floats(text: str) -> list[float]:

@@ -10,7 +10,7 @@ carries its own goal. The number of blocks then picks the view:
   ``gn1`` too), rollouts on the world model, BFS as the yardstick, the paper's messages,
   ``--pairs all|K`` over indexed pairs;
 * **past six**, where nothing may be enumerated: the planner is lifted (``--planner gn1``,
-  :class:`csql_sim.learners.gn1.Gn1Policy`, or ``--rules FILE`` for which
+  :class:`csql_sim.core.policies.gn1.Gn1Policy`, or ``--rules FILE`` for which
   :func:`csql_sim.core.policies.loader.load_policy` returns a lifted policy; BFS and
   ground rule files are refused with one line); plans run symbolically
   (:func:`csql_sim.core.policies.relational_rollout.rollout_relational`) and are measured against

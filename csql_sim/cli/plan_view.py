@@ -6,6 +6,7 @@ import argparse
 from collections.abc import Sequence
 
 from csql_sim.cli.args import show_progress
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.relational_rollout import RelationalPolicy
@@ -13,7 +14,6 @@ from csql_sim.core.state.message import action_code, format_action_message
 from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE, format_large_action
 from csql_sim.core.state.world import MAX_BLOCKS, Action, action_index
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.gn1 import Gn1Policy
 
 
 def select_policy(args: argparse.Namespace, n: int | None) -> Policy | RelationalPolicy:

@@ -17,7 +17,7 @@ pair). A transition whose outcome the action cannot have caused (judged from per
 The world is anything with the :class:`~csql_sim.discovery.world.ExplorableWorld` protocol:
 :class:`~csql_sim.discovery.world.SymbolicWorld` (an illegal action fails and changes nothing;
 ``perturb`` knocks a tower top onto the table now and then), or the simulated arm
-(:mod:`csql_sim.sim.exploration`). State messages use goal code 0 throughout (exploration
+(:mod:`csql_sim.sim.control.exploration`). State messages use goal code 0 throughout (exploration
 has no goal), so the goal position never varies and induces nothing.
 """
 

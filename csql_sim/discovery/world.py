@@ -2,7 +2,7 @@
 
 :class:`ExplorableWorld` is the protocol: perceive, attempt an action, start over. The
 STRIPS world (:class:`SymbolicWorld`) is here; the simulated arm implements the same
-protocol (:class:`csql_sim.sim.exploration.ArmWorld`), and the job that runs discovery on
+protocol (:class:`csql_sim.sim.control.exploration.ArmWorld`), and the job that runs discovery on
 the arm (:mod:`csql_sim.jobs.discover`) wires the two.
 """
 

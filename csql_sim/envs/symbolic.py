@@ -15,7 +15,7 @@
 
 :func:`run_env_episode` lets a learner act on such an environment (the physical world
 offers the same interface) through its step-level act/learn interface
-(:class:`~csql_sim.learners.trial.StepLearner`), learning from the *observed* next state.
+(:class:`~csql_sim.learners.paper.trial.StepLearner`), learning from the *observed* next state.
 """
 
 from __future__ import annotations
@@ -45,8 +45,8 @@ from csql_sim.core.state.world import (
 )
 from csql_sim.envs.relational import check_env_blocks, large_mask, large_option, large_task
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.learner import Transition
-from csql_sim.learners.trial import StepLearner
+from csql_sim.learners.paper.learner import Transition
+from csql_sim.learners.paper.trial import StepLearner
 
 
 def rule_transitions(world: BlocksWorld, rules: str | os.PathLike) -> np.ndarray:
@@ -282,7 +282,7 @@ def run_env_episode(env: gym.Env, learner: StepLearner, temperature: float, opti
 
     Args:
         env: a blocks-world environment (observations are state messages).
-        learner: any :class:`~csql_sim.learners.trial.StepLearner` (a reference engine).
+        learner: any :class:`~csql_sim.learners.paper.trial.StepLearner` (a reference engine).
         temperature: T of eq. 3 (0 = greedy).
         options: passed to ``env.reset`` (``start``, ``goal``).
         cap: the most steps (default ``learner.params.step_cap``).

@@ -19,7 +19,7 @@ operators, lifted rules and GN1 aim at the target
 :func:`~csql_sim.core.model.goal_spec.goal_target` derives from the start, and BFS and
 ground rule files are refused with one line (they enumerate the world).
 
-Execution is :func:`~csql_sim.sim.executor.run_physical_episode`: blocks move only through
+Execution is :func:`~csql_sim.sim.control.executor.run_physical_episode`: blocks move only through
 the arm's contacts, and after every action the scene is perceived. The goal is
 ``reached`` when the final **perceived** state satisfies the goal's atoms. The result
 (:class:`~csql_sim.jobs.execute_report.ExecuteResult`) says per step what was perceived.
@@ -37,6 +37,7 @@ from typing import Any
 from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_plan, read_plan
 from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
 from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
+from csql_sim.core.policies.gn1 import NAMED_POLICIES
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.state.world import LETTERS, MAX_BLOCKS, Action, State
 from csql_sim.infra.errors import CsqlError
@@ -44,7 +45,6 @@ from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
 from csql_sim.jobs.execute_report import ExecuteResult, StepReport
 from csql_sim.jobs.execute_steps import BEFORE, final_state, policy_reports, replay_reports
-from csql_sim.learners.gn1 import NAMED_POLICIES
 
 VIDEO_SIZE, VIDEO_FPS = (640, 480), 30
 PlanInput = str | os.PathLike | Sequence[str]
@@ -153,7 +153,7 @@ def execute_task(start: str | State, goal: str | State | Sequence[str],
 
 def task_problem(start: str | State, goal: str | State | Sequence[str]) -> BlocksProblem:
     """A :class:`BlocksProblem` of a start configuration and a goal configuration or atoms."""
-    from csql_sim.sim.arm_state import parse_arm_state
+    from csql_sim.sim.world.arm_state import parse_arm_state
 
     first = start if isinstance(start, State) else parse_arm_state(start)
     names = tuple(LETTERS[: first.n].lower())
@@ -173,9 +173,9 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
                    video: str | os.PathLike | None = None, progress: bool = False,
                    files: dict[str, Any] | None = None) -> ExecuteResult:
     """Run a read problem on the arm (the body of :func:`execute_problem`); 2..10 cubes."""
-    from csql_sim.sim.arm_state import check_arm_blocks
-    from csql_sim.sim.physical import check_perception
-    from csql_sim.sim.video import check_video_options
+    from csql_sim.sim.control.physical import check_perception
+    from csql_sim.sim.video.writing import check_video_options
+    from csql_sim.sim.world.arm_state import check_arm_blocks
 
     check_arm_blocks(bp.n)
     check_perception(perception)
@@ -227,7 +227,7 @@ def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str
                 perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
     """Follow a rule base, BFS or a named baseline (GN1) to the goal on the arm."""
     from csql_sim.core.policies.loader import load_policy
-    from csql_sim.sim.arm_state import check_arm_policy
+    from csql_sim.sim.world.arm_state import check_arm_policy
 
     named = planner is not None and planner != "bfs"
     if planner == "bfs":
@@ -270,7 +270,7 @@ def _episode(start: State, target: State, policy: Policy, seed: int, perception:
              video: str | os.PathLike | None, progress: bool, cap: int | None) -> Any:
     from tqdm import tqdm
 
-    from csql_sim.sim.executor import run_physical_episode
+    from csql_sim.sim.control.executor import run_physical_episode
 
     with tqdm(desc="executing", unit="action", disable=not progress, delay=1.0, leave=False) as bar:
         return run_physical_episode(start, target, policy, seed=seed, record=video is not None, perturb=perturb,
@@ -292,8 +292,8 @@ def _result(bp: BlocksProblem, reached: bool, reason: str, target: State, source
 def _write_video(episode: Any, video: str | os.PathLike, params: dict) -> Path:
     """The episode's video and its provenance sidecar (as ``csql-sim render`` writes them)."""
     from csql_sim.jobs.render import sidecar_path, sidecar_record
-    from csql_sim.sim.legend import cube_legend
-    from csql_sim.sim.video import video_frame_count, write_video
+    from csql_sim.sim.video.legend import cube_legend
+    from csql_sim.sim.video.writing import video_frame_count, write_video
 
     names = tuple(params["objects"])
     episode.recording.names = names  # the legend: PDDL object names, each with its cube's colour

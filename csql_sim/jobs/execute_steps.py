@@ -1,7 +1,7 @@
 """From the executor's record to the execute job's steps: which plan step each action was, and its fate.
 
-The executor (:func:`~csql_sim.sim.executor.run_physical_episode`) records every
-primitive it ran (:class:`~csql_sim.sim.executor.StepRecord`: the action, what was
+The executor (:func:`~csql_sim.sim.control.executor.run_physical_episode`) records every
+primitive it ran (:class:`~csql_sim.sim.control.executor.StepRecord`: the action, what was
 perceived after it, recoveries marked as such). :func:`replay_reports` walks that record
 along a replayed plan with the rule :class:`~csql_sim.jobs.execute.PlanReplay` follows: a
 perceived state equal to the plan's next state completes the step; equal to the state
@@ -16,7 +16,7 @@ from typing import Any
 from csql_sim.core.files.ipc_plan import PlanStep
 from csql_sim.core.state.world import State, WorldError, action_name
 from csql_sim.jobs.execute_report import StepReport
-from csql_sim.sim.arm_state import parse_arm_state
+from csql_sim.sim.world.arm_state import parse_arm_state
 
 BEFORE = "perceived before the step"
 """How a step's detail starts when perception diverged before the step was run (not after it)."""

@@ -1,7 +1,7 @@
 """Figure 7: test-task curves of the four learners, averaged over cycles run in parallel.
 
 Each cycle is one fresh agent trained for ``trials`` random tasks with the test task
-every 50 trials (:meth:`csql_sim.learners.learner.Learner.train`). Cycle ``c`` of every
+every 50 trials (:meth:`csql_sim.learners.paper.learner.Learner.train`). Cycle ``c`` of every
 method draws from ``numpy.random.SeedSequence(seed).spawn(cycles)[c]``, so results do
 not depend on the number of worker processes.
 """
@@ -25,9 +25,9 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.infra.workers import worker_count
-from csql_sim.learners.learner import Curve
-from csql_sim.learners.params import CommonParams, resolve_params
-from csql_sim.learners.training import METHODS, PAPER_METHODS, make_learner
+from csql_sim.learners.paper.learner import Curve
+from csql_sim.learners.paper.params import CommonParams, resolve_params
+from csql_sim.learners.training.train import METHODS, PAPER_METHODS, make_learner
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -163,7 +163,7 @@ def run_experiment(
     """Run ``cycles`` cycles of each method, in parallel processes when ``workers`` > 1, or on Ray.
 
     Args:
-        methods: learner names (see :data:`csql_sim.learners.training.METHODS`).
+        methods: learner names (see :data:`csql_sim.learners.training.train.METHODS`).
         cycles: independent agents per method.
         trials: training trials per cycle.
         seed: root of the per-cycle seed sequences (cycle c of every method gets the same).

@@ -3,8 +3,8 @@
 ``evaluate`` keeps a summary of every episode for its report, and ``render --discovery``
 keeps every recorded frame of every attempt until the video is written: their memory
 grows with the count asked for. The limit is the one ``train`` checks by default (the
-default of its ``--max-memory``: :func:`csql_sim.learners.estimate.available_memory`,
-above a process's own :data:`~csql_sim.learners.estimate.PROCESS_BYTES`); a count whose
+default of its ``--max-memory``: :func:`csql_sim.learners.training.estimate.available_memory`,
+above a process's own :data:`~csql_sim.learners.training.estimate.PROCESS_BYTES`); a count whose
 records cannot fit is refused before any work, in one line naming the count.
 """
 
@@ -12,13 +12,13 @@ from __future__ import annotations
 
 from csql_sim.core.model.pairs import rounded
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.estimate import PROCESS_BYTES, available_memory, format_size
+from csql_sim.learners.training.estimate import PROCESS_BYTES, available_memory, format_size
 
 EPISODE_BYTES = 4096
 """Peak memory per episode of ``evaluate``: its summary, its ``runs`` record and its JSON text (measured
 4.0 kB at 6 blocks with ``tracemalloc``, the peak while the report is written)."""
 FRAME_BYTES = 800
-"""A recorded frame (:class:`csql_sim.sim.recording.Frame`): the arm's joints and the caption (measured) ..."""
+"""A recorded frame (:class:`csql_sim.sim.video.recording.Frame`): the arm's joints and the caption (measured) ..."""
 FRAME_BYTES_PER_CUBE = 400
 """... and the pose of each cube (measured: 2.0 kB a frame at 3 cubes, 3.2 kB at 6)."""
 GIF_PIXEL_BYTES = 4

@@ -1,7 +1,7 @@
-"""The paper's four learners (section 6) behind one contract (:mod:`~csql_sim.learners.learner`).
+"""The paper's four learners (section 6) behind one contract (:mod:`~csql_sim.learners.paper.learner`).
 
-``lt-ql`` (:mod:`~csql_sim.learners.lt_ql`), ``cs-ql`` (:mod:`~csql_sim.learners.cs_ql`, with
-an array engine in :mod:`~csql_sim.learners.fast_engine`), ``cs-bb-bz`` and ``cs-bb-rw``
-(:mod:`~csql_sim.learners.bucket_brigade`); :mod:`~csql_sim.learners.training` makes and
+``lt-ql`` (:mod:`~csql_sim.learners.paper.lt_ql`), ``cs-ql`` (:mod:`~csql_sim.learners.paper.cs_ql`, with
+an array engine in :mod:`~csql_sim.learners.engines.fast_engine`), ``cs-bb-bz`` and ``cs-bb-rw``
+(:mod:`~csql_sim.learners.paper.bucket_brigade`); :mod:`~csql_sim.learners.training.train` makes and
 trains them.
 """

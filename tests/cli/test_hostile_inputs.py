@@ -15,8 +15,8 @@ from csql_sim.cli import main
 from csql_sim.core.classifiers.r_classifier import r_classifiers
 from csql_sim.core.files.rulebase import RuleBase, load, save
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.params import ParamsError, load_params, resolve_params
-from csql_sim.learners.pruning import prune
+from csql_sim.learners.generalize.pruning import prune
+from csql_sim.learners.paper.params import ParamsError, load_params, resolve_params
 
 BIG = "1" + "0" * 400  # a 401-digit integer
 

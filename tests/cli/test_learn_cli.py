@@ -84,7 +84,7 @@ def test_experiment_json_records_params_overrides_and_names_the_n4_test_task(tmp
 def test_params_prints_yaml_that_params_accepts(tmp_path, capsys):
     import dataclasses
 
-    from csql_sim.learners.params import defaults_for_blocks, load_params
+    from csql_sim.learners.paper.params import defaults_for_blocks, load_params
 
     code, out, _ = run(capsys, "params", "--method", "lt-ql", "--blocks", "4")
     assert code == 0 and out.startswith("# csql-sim")

@@ -31,7 +31,7 @@ def refused(capsys, *argv, fragment=""):
 
 WORK = [  # where the commands compute: cycles, episodes, pruning, rendering
     ("csql_sim.jobs.experiment", "run_experiment"), ("csql_sim.jobs.evaluate", "evaluate"),
-    ("csql_sim.learners.pruning", "prune"), ("csql_sim.jobs.render", "render_episode"),
+    ("csql_sim.learners.generalize.pruning", "prune"), ("csql_sim.jobs.render", "render_episode"),
 ]
 
 
@@ -57,7 +57,7 @@ def spy(monkeypatch, owner, name, calls, note=lambda *args: True, on_return=Fals
 @pytest.fixture
 def work(monkeypatch):
     """The :data:`WORK` functions a command called, and ``make_learner`` once a learner was built."""
-    from csql_sim.learners import training
+    from csql_sim.learners.training.train import train as training
 
     called = []
     for module, name in WORK:

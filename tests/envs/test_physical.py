@@ -30,8 +30,8 @@ def test_same_interface_as_symbolic_env_and_reaches_goal():
 
 def test_same_learning_agent_runs_in_symbolic_and_physical_env():
     from csql_sim.envs.symbolic import BlocksWorldEnv, run_env_episode
-    from csql_sim.learners.training import make_learner
-    from csql_sim.learners.trial import run_trial
+    from csql_sim.learners.paper.trial import run_trial
+    from csql_sim.learners.training.train import make_learner
 
     agent = make_learner("cs-ql", seed=0)
     rng = np.random.default_rng(0)
@@ -94,10 +94,10 @@ def test_reset_without_seed_continues_the_seeded_stream():
 
 @pytest.mark.slow
 def test_eight_cubes_on_the_arm_through_the_environment():
+    from csql_sim.core.policies.gn1 import Gn1Policy
     from csql_sim.core.state.notation import parse_config
     from csql_sim.core.state.relational_message import format_large_message
     from csql_sim.core.state.world import State, action_index
-    from csql_sim.learners.gn1 import Gn1Policy
 
     env = PhysicalBlocksEnv(8, perception="camera", render_mode="rgb_array", width=64, height=48)
     obs, info = env.reset(seed=3, options={"start": "A,B,C,D,E,F,G,H", "goal": "HGFEDCBA"})

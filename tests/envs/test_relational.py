@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relational_message import format_large_message, message_length
 from csql_sim.core.state.state_count import rank_state, state_count
@@ -10,7 +11,6 @@ from csql_sim.core.state.world import State, action_at, action_count, action_ind
 from csql_sim.envs.relational import check_env_blocks, large_mask, large_option, large_task
 from csql_sim.envs.symbolic import BlocksWorldEnv
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.gn1 import Gn1Policy
 
 
 @pytest.mark.parametrize("n", [7, 8, 10])

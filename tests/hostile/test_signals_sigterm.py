@@ -3,7 +3,7 @@
 The crash (exit -11, about one run in 75 under load) came from numba's unboxing of a
 ``numpy.random.Generator``: it calls ``ctypes.cast``, a Python function, without checking
 the result, so a signal handler raising there (``Terminated``, ``KeyboardInterrupt``) made
-it read through a NULL pointer. :func:`csql_sim.learners.fast_engine.call_kernel` holds the
+it read through a NULL pointer. :func:`csql_sim.learners.engines.fast_engine.call_kernel` holds the
 handlers back for each compiled call. The end-to-end test hits that window rarely; the
 storm test hits it within a second on the unfixed engine.
 """
@@ -72,8 +72,8 @@ def test_shtr_sigterm(work: Path):
 STORM = """
 import os, signal, sys, threading, time
 import numpy as np
-from csql_sim.learners.fast_engine import FastCSQL
-from csql_sim.learners.params import resolve_params
+from csql_sim.learners.engines.fast_engine import FastCSQL
+from csql_sim.learners.paper.params import resolve_params
 
 class Stop(Exception):
     pass

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from csql_sim.core.model.task_draws import draw_task
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.world import ActionKind
 from csql_sim.jobs.problems import DOMAIN_TEXT, block_names, drawn_problems, relational_problem_text
-from csql_sim.learners.gn1 import Gn1Policy
 
 up = pytest.importorskip("unified_planning", reason="unified-planning is in the test extra: pip install '.[test]'")
 

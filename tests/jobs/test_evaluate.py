@@ -154,7 +154,7 @@ def test_camera_noise_option():
 
 def test_a_task_that_fails_in_its_worker_is_a_failed_episode(monkeypatch):
     import csql_sim.jobs.evaluate as ev
-    from csql_sim.sim.physical import SimError
+    from csql_sim.sim.control.physical import SimError
 
     def broken(spec):
         raise SimError(f"no physics for {spec.start}")

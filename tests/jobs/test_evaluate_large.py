@@ -9,6 +9,7 @@ from csql_sim.cli import main
 from csql_sim.core.classifiers.r_classifier import r_classifiers
 from csql_sim.core.files.rulebase import RuleBase, save
 from csql_sim.core.measure.optimum import optimal_length
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import pair_count, sample_pairs
 from csql_sim.core.state.world import State, action_name, legal_actions, successor
@@ -16,7 +17,6 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import PolicyData, evaluate, make_specs
 from csql_sim.jobs.execute import execute_task
 from csql_sim.jobs.render import render_episode
-from csql_sim.learners.gn1 import Gn1Policy
 
 
 def test_pairs_past_six_blocks_are_sampled_by_counting_from_the_seed():

@@ -4,8 +4,8 @@ import pytest
 
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.jobs.evaluate import PolicyData, evaluate
-from csql_sim.learners.params import defaults_for_blocks
-from csql_sim.learners.shards import ShardRun, train_sharded
+from csql_sim.learners.paper.params import defaults_for_blocks
+from csql_sim.learners.training.shards import ShardRun, train_sharded
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ from csql_sim.core.files.pddl_import import read_problem
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import State
 from csql_sim.jobs.execute import execute_problem
-from csql_sim.sim.physical import PhysicalWorld
+from csql_sim.sim.control.physical import PhysicalWorld
 
 DATA = Path(__file__).resolve().parents[1] / "data" / "problems"
 PROBLEM, PLAN = DATA.parent / "large" / "blocks8-names.pddl", DATA.parent / "large" / "blocks8-names.plan"

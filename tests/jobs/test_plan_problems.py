@@ -5,10 +5,10 @@ from pathlib import Path
 import pytest
 
 from csql_sim.core.files.ipc_plan import write_ipc_plan_lines
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.jobs.plan_problems import plan_folder, plan_problem
 from csql_sim.jobs.problems import drawn_problems
-from csql_sim.learners.gn1 import Gn1Policy
 
 up = pytest.importorskip("unified_planning", reason="unified-planning is in the test extra: pip install '.[test]'")
 

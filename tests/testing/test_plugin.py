@@ -7,7 +7,7 @@ from pathlib import Path
 # pytester's in-process runs drop the modules a run imported; numpy's C extension cannot be
 # loaded twice in one process, so the simulator is imported here, once, before any run.
 import csql_sim.jobs.execute  # noqa: F401
-import csql_sim.sim.executor  # noqa: F401
+import csql_sim.sim.control.executor  # noqa: F401
 
 pytest_plugins = ["pytester"]
 

@@ -1,6 +1,6 @@
 """Sharded rule bases: one directory, a manifest and one file of arrays per shard of goals.
 
-Goal-sharded training (:mod:`csql_sim.learners.shards`) writes, in a directory ``D``:
+Goal-sharded training (:mod:`csql_sim.learners.training.shards`) writes, in a directory ``D``:
 
 * ``D/manifest.json``: format ``csql-sim-shards`` version 1; what determines the content
   (method, blocks, seed, trials, shards, the parameters, the R-classifiers, provenance);

@@ -1,6 +1,6 @@
 """A committee of lifted Q-classifier populations over generated features: the greedy policy, and its file.
 
-One training run may learn K populations independently (:func:`csql_sim.learners.committee.train_committee`:
+One training run may learn K populations independently (:func:`csql_sim.learners.lifted.committee.train_committee`:
 each from its own generator, spawned from the run's, with its own training worlds and features). Each
 member ranks a move by the advantage of its most specific matching classifier, as
 :class:`~csql_sim.core.policies.feature_policy.FeaturePolicy` does; :class:`CommitteePolicy` takes the

@@ -9,7 +9,7 @@ Every policy implements it:
 * a goal-form rule base's default hierarchy (:class:`~csql_sim.core.policies.default_hierarchy.DefaultHierarchy`);
 * a sharded rule base, read lazily (:class:`~csql_sim.core.policies.sharded_policy.ShardedPolicy`);
 * lifted Q-classifiers, for any n (:class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy`);
-* the GN1 baseline (:class:`csql_sim.learners.gn1.Gn1Policy`);
+* the GN1 baseline (:class:`csql_sim.core.policies.gn1.Gn1Policy`);
 * breadth-first search, the yardstick (:class:`~csql_sim.core.model.search.BfsPolicy`), which
   lies below the policies in the core's layers and so implements the protocol by its shape
   alone (``isinstance(BfsPolicy(), Policy)`` holds; the protocol is checkable at run time).

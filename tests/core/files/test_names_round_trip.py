@@ -9,9 +9,9 @@ from csql_sim.core.files.ipc_plan import parse_plan, plan_index, read_plan, writ
 from csql_sim.core.files.pddl_export import blocks_problem_text
 from csql_sim.core.files.pddl_import import parse_problem_text
 from csql_sim.core.model.search import bfs_plan
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import State, successor
-from csql_sim.learners.gn1 import Gn1Policy
 
 NAMES = ("Red", "b10", "b2", "GREEN", "x-1")
 

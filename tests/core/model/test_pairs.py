@@ -13,7 +13,7 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import BlocksWorld
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import make_specs
-from csql_sim.learners.training import train
+from csql_sim.learners.training.train import train
 
 N6_STATES = 7057
 
@@ -99,7 +99,7 @@ def test_test_tasks_are_maximal_pairs():
 
 
 def test_greedy_pass_steps_table():
-    from csql_sim.learners.params import GREEDY_PASS_STEPS
+    from csql_sim.learners.paper.params import GREEDY_PASS_STEPS
 
     for n in (2, 3, 4):
         count = len(BlocksWorld.of(n).states)

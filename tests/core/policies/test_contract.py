@@ -8,11 +8,11 @@ from csql_sim.core.model.search import BfsPolicy
 from csql_sim.core.policies import policy as policy_module
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.core.policies.lifted_policy import LiftedPolicy
 from csql_sim.core.policies.policy import QPolicy
 from csql_sim.core.policies.sharded_policy import ShardedPolicy
-from csql_sim.learners.gn1 import Gn1Policy
 
 NAMED = [GreedyTable, QPolicy, DefaultHierarchy, ShardedPolicy, LiftedPolicy, Gn1Policy]
 

@@ -9,6 +9,7 @@ from csql_sim.core.features.formulation import load_formulation
 from csql_sim.core.features.move_features import Literal, literal_values
 from csql_sim.core.policies.committee_policy import loads_lifted_file
 from csql_sim.core.policies.feature_policy import FeaturePolicy, dumps_feature_policy
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import LiftedPolicyError, LiftedQClassifier
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
@@ -17,7 +18,6 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import all_states, successor
 from csql_sim.infra.assets import asset_text
-from csql_sim.learners.gn1 import Gn1Policy
 
 WELL_PLACED = "all(star(on),eq(on,on_g))"
 

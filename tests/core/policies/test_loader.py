@@ -46,8 +46,8 @@ def _goal_form() -> RuleBase:
 
 
 def _sharded(tmp_path: Path) -> Path:
-    from csql_sim.learners.params import defaults_for_blocks
-    from csql_sim.learners.shards import ShardRun, train_sharded
+    from csql_sim.learners.paper.params import defaults_for_blocks
+    from csql_sim.learners.training.shards import ShardRun, train_sharded
 
     out = tmp_path / "sharded"
     train_sharded(ShardRun(out, 3, defaults_for_blocks("cs-ql", 3), 0, 2000, 2))

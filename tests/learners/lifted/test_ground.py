@@ -1,0 +1,22 @@
+"""The ground Q-classifiers of LQ-CS: one-move backups through the model, made on demand."""
+
+from csql_sim.core.state.move_relations import moves
+from csql_sim.core.state.notation import parse_config
+from csql_sim.learners.lifted.ground import GroundValues
+from csql_sim.learners.lifted.vocab import GivenAtoms
+
+
+def test_a_backup_counts_moves_plus_early_per_block_left_misplaced():
+    ground = GroundValues(GivenAtoms().relations, early=0.25)
+    state, target = parse_config("A,B,C"), parse_config("ABC")
+    i = ground.of(state, target)
+    assert ground.of(state, target) == i and ground.low[i] == 2  # B and C are misplaced
+    q = ground.backup(i)
+    options = ground.moves_of(i)[0]
+    assert options == moves(state) and len(q) == len(options) == len(ground.successors(i))
+    # B onto A leaves C misplaced: 1 + 0.25 x 1 + 1 (the successor's lower bound, excess 0 so far)
+    assert q[options.index(next(m for m in options if (m.block, m.onto) == (1, 0)))] == 2.25
+    assert min(q) == 2.25 and ground.excess[i] == 0.25
+    # once the successor is known to be one move from the target, the bound holds exactly
+    j = ground.successors(i)[options.index(next(m for m in options if (m.block, m.onto) == (1, 0)))]
+    assert min(ground.backup(j)) == 1.0 and ground.excess[j] == 0.0
