@@ -37,7 +37,7 @@ def declare_demo(args: argparse.Namespace, outputs: Outputs) -> None:
     folder the user named, existing files are replaced when they are csql-sim's own.
     """
     from csql_sim.jobs.render import sidecar_path
-    from csql_sim.sim.video.writing import check_video_options
+    from csql_sim.sim.video import check_video_options
 
     default = default_path(args, "out", DEFAULT_OUT)
     out = outputs.folder(args.out, "output folder", default=default)
@@ -58,10 +58,10 @@ def cmd_demo(args: argparse.Namespace) -> int:
     from csql_sim.infra.files import write_or_keep
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode
-    from csql_sim.learners.generalize.pruning import count_q, figure6_table, prune
-    from csql_sim.learners.paper.params import default_trials
-    from csql_sim.learners.training.train import train
-    from csql_sim.sim.video.renderer import resolve_renderer
+    from csql_sim.learners.generalize import count_q, figure6_table, prune
+    from csql_sim.learners.paper import default_trials
+    from csql_sim.learners.training import train
+    from csql_sim.sim.video import resolve_renderer
 
     out = Path(args.out)
     video = out / VIDEO

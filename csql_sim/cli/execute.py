@@ -44,7 +44,7 @@ def declare_execute(args: argparse.Namespace, outputs: Outputs) -> None:
     if args.video is not None:
         from csql_sim.jobs.execute import VIDEO_FPS, VIDEO_SIZE
         from csql_sim.jobs.render import sidecar_path
-        from csql_sim.sim.video.writing import check_video_options
+        from csql_sim.sim.video import check_video_options
 
         check_video_options(args.video, *VIDEO_SIZE, VIDEO_FPS)
         sidecar = sidecar_path(args.video)

@@ -29,7 +29,7 @@ def declare(args: argparse.Namespace, outputs: Outputs) -> None:
 def cmd_generalize(args: argparse.Namespace) -> int:
     from csql_sim.core.files.rulebase import file_bytes
     from csql_sim.infra.files import write_or_keep
-    from csql_sim.learners.generalize.compaction import generalize
+    from csql_sim.learners.generalize import generalize
 
     rulebase = generalize(args.rules, args.detectors, progress=show_progress(args))
     path = write_or_keep([(args.out, file_bytes(args.out, rulebase))])[0]

@@ -53,7 +53,7 @@ def declare_rule_file(args: argparse.Namespace, outputs: Outputs) -> None:
 
 
 def _methods(text: str) -> list[str]:
-    from csql_sim.learners.training.train import METHODS
+    from csql_sim.learners.training import METHODS
 
     names = list(dict.fromkeys(m.strip().lower() for m in text.split(",") if m.strip()))  # once each, in order
     for m in names:
@@ -68,7 +68,7 @@ def _methods(text: str) -> list[str]:
 def cmd_experiment(args: argparse.Namespace) -> int:
     from csql_sim.jobs.experiment import run_experiment, summary_lines, write_figure7
     from csql_sim.jobs.figure7_statements import evaluate, statement_lines
-    from csql_sim.learners.paper.params import default_trials
+    from csql_sim.learners.paper import default_trials
 
     warn_workers(args)
     began = time.perf_counter()
@@ -107,11 +107,11 @@ def cmd_train(args: argparse.Namespace) -> int:
     """``train``: the estimate first; then one engine and one rule file, or shards into a directory."""
     from csql_sim.cli import train_shards
     from csql_sim.infra.files import write_or_keep
-    from csql_sim.learners.training.train import train_learner
+    from csql_sim.learners.training import train_learner
 
     train_shards.settle(args)
     if args.params is not None and not args.resume:  # a bad parameter file: refused by --dry-run too
-        from csql_sim.learners.paper.params import resolve_params
+        from csql_sim.learners.paper import resolve_params
 
         resolve_params(args.method, args.params, args.blocks)
     out = None  # every refusal of the run comes before the estimate, so that --dry-run refuses it too
@@ -230,7 +230,7 @@ def _block_list(text: str) -> list[int]:
 def _register_experiment(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -> None:
     p = command_parser(sub, "experiment", "Figure 7: test-task curves of the learners over cycles",
                        "csql-sim experiment --cycles 10 --out fig7")
-    from csql_sim.learners.training.train import PAPER_METHODS
+    from csql_sim.learners.training import PAPER_METHODS
 
     p.add_argument("--methods", type=_methods, default=list(PAPER_METHODS),
                    help=f"comma list of {','.join(methods)} (default the paper's {','.join(PAPER_METHODS)})")
@@ -338,7 +338,7 @@ def _params_yaml(method: str, n: int = 3) -> str:
     import yaml
 
     from csql_sim import __version__
-    from csql_sim.learners.paper.params import defaults_for_blocks
+    from csql_sim.learners.paper import defaults_for_blocks
 
     params = defaults_for_blocks(method, n)
     doc = {f.name: getattr(params, f.name) for f in fields(params)}
@@ -349,7 +349,7 @@ def _params_yaml(method: str, n: int = 3) -> str:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``experiment``, ``train``, ``scaling``, ``bench`` and ``params`` to the subparsers."""
-    from csql_sim.learners.training.train import METHODS
+    from csql_sim.learners.training import METHODS
 
     for add in (_register_experiment, _register_train, _register_scaling, _register_bench, _register_params):
         add(sub, METHODS)

@@ -9,7 +9,7 @@ from csql_sim.infra.errors import CsqlError
 
 def train_params(args: argparse.Namespace) -> object:
     """``--params`` with ``--sweep`` and ``--replay`` on top (they override the file's ``sweep``, ``replay_ratio``)."""
-    from csql_sim.learners.paper.params import resolve_params
+    from csql_sim.learners.paper import resolve_params
 
     overrides = {}
     if args.sweep is not None:
@@ -20,7 +20,7 @@ def train_params(args: argparse.Namespace) -> object:
         return args.params
     if args.method not in ("cs-ql", "xcs-ql"):
         raise CsqlError(f"--sweep and --replay apply to cs-ql and xcs-ql, not {args.method}")
-    from csql_sim.learners.paper.params import with_overrides
+    from csql_sim.learners.paper import with_overrides
 
     return with_overrides(resolve_params(args.method, args.params, args.blocks or 3), overrides)
 

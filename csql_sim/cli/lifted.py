@@ -25,7 +25,7 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 
 if TYPE_CHECKING:
-    from csql_sim.learners.lifted.ql import LiftedRun
+    from csql_sim.learners.lifted import LiftedRun
 
 
 def _sizes(text: str) -> tuple[int, ...]:
@@ -85,8 +85,7 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
     from csql_sim.core.policies.lifted_policy import dumps_lifted_policy
     from csql_sim.infra.files import write_or_keep
     from csql_sim.infra.provenance import provenance
-    from csql_sim.learners.lifted.committee import train_committee
-    from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
+    from csql_sim.learners.lifted import LiftedParams, train_committee, train_lifted
 
     if args.atoms is not None and args.features == "generated":
         raise CsqlError("--atoms chooses among the given atoms; do not give it with --features generated")

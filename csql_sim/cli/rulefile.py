@@ -63,7 +63,7 @@ def declare_prune(args: argparse.Namespace, outputs: Outputs) -> None:
 def cmd_show(args: argparse.Namespace) -> int:
     from csql_sim.core.files.rulebase import load
     from csql_sim.core.files.rulebase_shards import is_sharded
-    from csql_sim.learners.generalize.pruning import figure6_rows, figure6_table
+    from csql_sim.learners.generalize import figure6_rows, figure6_table
 
     kind = formats.sniff(args.rules)
     if is_sharded(args.rules):  # read lazily (its manifest checked and named if corrupt): the greedy path only
@@ -80,7 +80,7 @@ def cmd_show(args: argparse.Namespace) -> int:
         start, goal = read_task_for_rules(args.start, args.goal, rb.blocks, args.rules)
     task = {"start": start.notation() if start else None, "goal": goal.notation() if goal else None}
     if rb.meta.get("form") == "goal":  # generalized Q-classifiers: list order and coverage (learners/paper/coverage.py)
-        from csql_sim.learners.paper.coverage import coverage_rows, coverage_table
+        from csql_sim.learners.paper import coverage_rows, coverage_table
 
         rows = coverage_rows(rb, start, goal)
         doc = {"rules": args.rules, "blocks": rb.blocks, **task, "classifiers": rows, "meta": rb.meta}
@@ -137,7 +137,7 @@ def _feature_lines(policy: FeaturePolicy) -> list[str]:
 def cmd_prune(args: argparse.Namespace) -> int:
     from csql_sim.core.files.rulebase import file_bytes, load
     from csql_sim.infra.files import write_or_keep
-    from csql_sim.learners.generalize.pruning import count_q, prune
+    from csql_sim.learners.generalize import count_q, prune
 
     rb = load(args.rules, progress=show_progress(args))
     pruned = prune(rb, args.threshold)

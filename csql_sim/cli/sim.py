@@ -42,14 +42,14 @@ from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
-from csql_sim.sim.world.config import MAX_ARM_BLOCKS
+from csql_sim.sim.world import MAX_ARM_BLOCKS
 
 DEFAULT_VIDEO = "video.mp4"
 _any_blocks = int_type(MIN_BLOCKS, MAX_LETTERS)
 
 if TYPE_CHECKING:
     from csql_sim.jobs.evaluate import EvalReport
-    from csql_sim.sim.control.executor import EpisodeResult
+    from csql_sim.sim.control import EpisodeResult
 
 
 def arm_blocks_arg(text: str) -> int:
@@ -73,7 +73,7 @@ def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[Stat
     """
     if relational_blocks(argparse.Namespace(blocks=None, start=start, pairs=None)) is None:
         return read_task_for_rules(start, goal, None, rules)
-    from csql_sim.sim.world.arm_state import check_arm_blocks
+    from csql_sim.sim.world import check_arm_blocks
 
     s, g = read_task(start, goal, None)
     check_arm_blocks(s.n)
@@ -94,8 +94,8 @@ def pairs_arg(text: str) -> str | int:
 
 def print_episode(result: EpisodeResult, n: int) -> None:
     """Print the legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.control.report.episode_lines`)."""
-    from csql_sim.sim.control.report import episode_lines
-    from csql_sim.sim.video.legend import legend_line
+    from csql_sim.sim.control import episode_lines
+    from csql_sim.sim.video import legend_line
 
     print("\n".join([legend_line(n), *episode_lines(result)]))
 
@@ -103,7 +103,7 @@ def print_episode(result: EpisodeResult, n: int) -> None:
 def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
     """The video (default ``video.mp4``) and, for an episode, its provenance sidecar ``<video>.json``."""
     from csql_sim.jobs.render import sidecar_path
-    from csql_sim.sim.video.writing import check_video_options
+    from csql_sim.sim.video import check_video_options
 
     default = default_path(args, "out", DEFAULT_VIDEO)
     check_video_options(args.out, args.width, args.height, args.fps)
@@ -126,8 +126,8 @@ def declare_evaluate(args: argparse.Namespace, outputs: Outputs) -> None:
 def cmd_render(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode, sidecar_path
-    from csql_sim.sim.perception.rgbd import CameraNoise
-    from csql_sim.sim.video.writing import check_video_options, video_frame_count
+    from csql_sim.sim.perception import CameraNoise
+    from csql_sim.sim.video import check_video_options, video_frame_count
 
     check_render_options(args)
     if args.discovery:
@@ -176,8 +176,7 @@ def render_discovery(args: argparse.Namespace) -> int:
     from csql_sim.jobs.discover import record_discovery
     from csql_sim.jobs.job_memory import check_discovery
     from csql_sim.jobs.render import sidecar_path, sidecar_record
-    from csql_sim.sim.video.legend import cube_legend, legend_line
-    from csql_sim.sim.video.writing import check_video_options, video_frame_count, write_video
+    from csql_sim.sim.video import check_video_options, cube_legend, legend_line, video_frame_count, write_video
 
     if args.start or args.goal or args.rules:
         raise CsqlError("render --discovery takes no --start, --goal or --rules")

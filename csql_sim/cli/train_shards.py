@@ -35,7 +35,7 @@ def add_size_arguments(p: argparse.ArgumentParser) -> None:
 
 def sharded(args: argparse.Namespace) -> bool:
     """Whether this ``train`` writes a sharded rule base (a directory)."""
-    from csql_sim.learners.training.shards import default_shards
+    from csql_sim.learners.training import default_shards
 
     return args.resume or args.shards is not None or default_shards(args.blocks) > 1
 
@@ -62,7 +62,7 @@ def adopt_manifest(args: argparse.Namespace) -> None:
     """``--resume``: continue with what the directory was started with; a different option given is refused."""
     from csql_sim.core.files import rulebase_shards as rs
     from csql_sim.infra.provenance import plain
-    from csql_sim.learners.paper.params import resolve_params
+    from csql_sim.learners.paper import resolve_params
 
     if not rs.is_sharded(args.out):
         raise CsqlError(f"--resume: {args.out} holds no sharded rule base to continue")
@@ -90,8 +90,7 @@ def check_estimate(args: argparse.Namespace) -> int | None:
     """
     from csql_sim.core.state.state_count import state_count
     from csql_sim.infra.workers import worker_count
-    from csql_sim.learners.training.estimate import check_fits, estimate, parse_size
-    from csql_sim.learners.training.shards import default_shards
+    from csql_sim.learners.training import check_fits, default_shards, estimate, parse_size
 
     split = sharded(args)
     shards = (args.shards or default_shards(args.blocks)) if split else 1
@@ -151,8 +150,8 @@ def check_directory(args: argparse.Namespace) -> Path | None:
 
 def run(args: argparse.Namespace, out: Path) -> int:
     """``train`` into the sharded rule base ``out`` (:func:`check_directory`): shards saved as they come back."""
-    from csql_sim.learners.paper.params import default_trials, resolve_params
-    from csql_sim.learners.training.shards import ShardRun, default_shards, read_reports, train_sharded
+    from csql_sim.learners.paper import default_trials, resolve_params
+    from csql_sim.learners.training import ShardRun, default_shards, read_reports, train_sharded
 
     problem = read_reports(out)[1]  # the reports are not part of the rule base: replaced, and said so after the run
     params = resolve_params("cs-ql", getattr(args, "resume_params", None) or args.params, args.blocks)
@@ -204,7 +203,7 @@ def show_sharded(args: argparse.Namespace) -> int:
     from csql_sim.cli.output import emit
     from csql_sim.cli.plan import read_task
     from csql_sim.core.policies.sharded_policy import ShardedPolicy, path_rulebase
-    from csql_sim.learners.generalize.pruning import figure6_rows, figure6_table
+    from csql_sim.learners.generalize import figure6_rows, figure6_table
 
     policy = ShardedPolicy.open(args.rules)
     if args.start is None or args.goal is None:

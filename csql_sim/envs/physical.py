@@ -15,10 +15,8 @@ import numpy as np
 
 from csql_sim.envs.symbolic import BlocksWorldEnv
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.control.physical import PhysicalWorld
-from csql_sim.sim.perception.camera import capture, render_camera
-from csql_sim.sim.perception.poses import Perceived
-from csql_sim.sim.perception.rgbd import NO_NOISE, CameraNoise
+from csql_sim.sim.control import PhysicalWorld
+from csql_sim.sim.perception import NO_NOISE, CameraNoise, Perceived, capture, render_camera
 
 PHYSICS_SEED_BOUND = 2**31  # physics seeds are drawn from [0, 2**31)
 MIN_IMAGE_SIDE, MAX_IMAGE_SIDE = 16, 4096  # rendered images' width and height, in pixels

@@ -45,8 +45,7 @@ from csql_sim.core.state.world import (
 )
 from csql_sim.envs.relational import check_env_blocks, large_mask, large_option, large_task
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.paper.learner import Transition
-from csql_sim.learners.paper.trial import StepLearner
+from csql_sim.learners.paper import StepLearner, Transition
 
 
 def rule_transitions(world: BlocksWorld, rules: str | os.PathLike) -> np.ndarray:

@@ -17,10 +17,7 @@ import numpy as np
 
 from csql_sim.core.model.task import test_task
 from csql_sim.core.state.world import BlocksWorld
-from csql_sim.learners.paper.learner import UniformStream
-from csql_sim.learners.paper.params import CSQLParams
-from csql_sim.learners.paper.selection import boltzmann
-from csql_sim.learners.paper.trial import TEST_EVERY
+from csql_sim.learners.paper import TEST_EVERY, CSQLParams, UniformStream, boltzmann
 
 
 def plain_q_learning(trials: int, seed: int, params: CSQLParams | None = None) -> int:
@@ -134,7 +131,7 @@ def bench(trials: int = 2500, seed: int = 0, repeats: int = 5) -> BenchResult:
     trajectories are identical when both its engines write the same rule file (npz
     bytes: every field at full precision).
     """
-    from csql_sim.learners.training.train import make_learner
+    from csql_sim.learners.training import make_learner
 
     def run(method: str, engine: str):
         def job():

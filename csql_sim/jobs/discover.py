@@ -11,7 +11,7 @@ import numpy as np
 from csql_sim.discovery.explore import DiscoveryResult, Exploration, Progress, explore
 from csql_sim.discovery.world import SymbolicWorld
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.video.recording import Recording
+from csql_sim.sim.video import Recording
 
 WORLDS = ("physical", "symbolic")
 DEFAULT_SETTINGS = Exploration()
@@ -29,7 +29,7 @@ def discover(n: int, world: str = "physical", seed: int = 0, settings: Explorati
         return explore(SymbolicWorld(n, rng, perturb=perturb), rng, settings, progress)
     if world != "physical":
         raise CsqlError(f"world must be one of {', '.join(WORLDS)}, got {world!r}")
-    from csql_sim.sim.control.exploration import ArmWorld  # pybullet is loaded only for the arm
+    from csql_sim.sim.control import ArmWorld  # pybullet is loaded only for the arm
 
     with ArmWorld(n, rng, perception=perception, perturb=perturb) as arm:
         return explore(arm, rng, settings, progress)
@@ -38,7 +38,7 @@ def discover(n: int, world: str = "physical", seed: int = 0, settings: Explorati
 def record_discovery(n: int, seed: int, transitions: int, fps: int, perception: str = "pose",
                      perturb: bool = False) -> tuple[DiscoveryResult, Recording]:
     """A short discovery episode on the arm, recorded: every attempt captioned, failures as such."""
-    from csql_sim.sim.control.exploration import ArmWorld
+    from csql_sim.sim.control import ArmWorld
 
     rng = np.random.default_rng(seed)
     with ArmWorld(n, rng, perception=perception, perturb=perturb, recorder_fps=fps) as arm:

@@ -31,7 +31,7 @@ from csql_sim.infra.workers import worker_count
 from csql_sim.jobs.episodes import Episodes, EpisodeSpec, batches, plan_episodes
 from csql_sim.jobs.episodes import make_specs as make_specs  # re-exported: the episodes of an evaluation
 from csql_sim.jobs.job_memory import check_episodes
-from csql_sim.sim.video.legend import cube_legend
+from csql_sim.sim.video import cube_legend
 
 BATCH_EPISODES = 4096
 """Episodes handed to the workers at once: the specs are drawn a batch at a time, never all listed."""
@@ -164,8 +164,8 @@ class EpisodeRunner:
 
     def __init__(self, policy: Policy, n: int, perturb: bool, perception: str,
                  camera_noise: tuple[float, float] = (0.0, 0.0)) -> None:
-        from csql_sim.sim.perception.rgbd import CameraNoise
-        from csql_sim.sim.world.arm_state import world_model_for
+        from csql_sim.sim.perception import CameraNoise
+        from csql_sim.sim.world import world_model_for
 
         self.policy = policy
         self.n = n
@@ -176,8 +176,8 @@ class EpisodeRunner:
 
     def run(self, spec: EpisodeSpec) -> EpisodeSummary:
         """Run one physical episode; a CsqlError becomes a failed summary with its message."""
-        from csql_sim.sim.control.executor import run_physical_episode
-        from csql_sim.sim.world.arm_state import parse_arm_state
+        from csql_sim.sim.control import run_physical_episode
+        from csql_sim.sim.world import parse_arm_state
 
         try:
             start, goal = parse_arm_state(spec.start), parse_arm_state(spec.goal)
@@ -308,9 +308,9 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
             policy, number of cubes or pairs, or more episodes than their summaries' memory allows
             (:func:`csql_sim.jobs.job_memory.check_episodes`), before any episode.
     """
-    from csql_sim.sim.control.physical import check_perception
-    from csql_sim.sim.perception.rgbd import CameraNoise
-    from csql_sim.sim.world.arm_state import check_arm_blocks
+    from csql_sim.sim.control import check_perception
+    from csql_sim.sim.perception import CameraNoise
+    from csql_sim.sim.world import check_arm_blocks
 
     check_arm_blocks(n)
     check_perception(perception)  # bad options fail once, here, not in every episode

@@ -153,7 +153,7 @@ def execute_task(start: str | State, goal: str | State | Sequence[str],
 
 def task_problem(start: str | State, goal: str | State | Sequence[str]) -> BlocksProblem:
     """A :class:`BlocksProblem` of a start configuration and a goal configuration or atoms."""
-    from csql_sim.sim.world.arm_state import parse_arm_state
+    from csql_sim.sim.world import parse_arm_state
 
     first = start if isinstance(start, State) else parse_arm_state(start)
     names = tuple(LETTERS[: first.n].lower())
@@ -173,9 +173,9 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
                    video: str | os.PathLike | None = None, progress: bool = False,
                    files: dict[str, Any] | None = None) -> ExecuteResult:
     """Run a read problem on the arm (the body of :func:`execute_problem`); 2..10 cubes."""
-    from csql_sim.sim.control.physical import check_perception
-    from csql_sim.sim.video.writing import check_video_options
-    from csql_sim.sim.world.arm_state import check_arm_blocks
+    from csql_sim.sim.control import check_perception
+    from csql_sim.sim.video import check_video_options
+    from csql_sim.sim.world import check_arm_blocks
 
     check_arm_blocks(bp.n)
     check_perception(perception)
@@ -227,7 +227,7 @@ def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str
                 perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
     """Follow a rule base, BFS or a named baseline (GN1) to the goal on the arm."""
     from csql_sim.core.policies.loader import load_policy
-    from csql_sim.sim.world.arm_state import check_arm_policy
+    from csql_sim.sim.world import check_arm_policy
 
     named = planner is not None and planner != "bfs"
     if planner == "bfs":
@@ -270,7 +270,7 @@ def _episode(start: State, target: State, policy: Policy, seed: int, perception:
              video: str | os.PathLike | None, progress: bool, cap: int | None) -> Any:
     from tqdm import tqdm
 
-    from csql_sim.sim.control.executor import run_physical_episode
+    from csql_sim.sim.control import run_physical_episode
 
     with tqdm(desc="executing", unit="action", disable=not progress, delay=1.0, leave=False) as bar:
         return run_physical_episode(start, target, policy, seed=seed, record=video is not None, perturb=perturb,
@@ -292,8 +292,7 @@ def _result(bp: BlocksProblem, reached: bool, reason: str, target: State, source
 def _write_video(episode: Any, video: str | os.PathLike, params: dict) -> Path:
     """The episode's video and its provenance sidecar (as ``csql-sim render`` writes them)."""
     from csql_sim.jobs.render import sidecar_path, sidecar_record
-    from csql_sim.sim.video.legend import cube_legend
-    from csql_sim.sim.video.writing import video_frame_count, write_video
+    from csql_sim.sim.video import cube_legend, video_frame_count, write_video
 
     names = tuple(params["objects"])
     episode.recording.names = names  # the legend: PDDL object names, each with its cube's colour

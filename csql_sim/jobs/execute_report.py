@@ -22,8 +22,8 @@ from typing import Any
 
 from csql_sim.core.model.goal_spec import GoalSpec
 from csql_sim.core.state.world import LETTERS
-from csql_sim.sim.video.legend import cube_legend, legend_line
-from csql_sim.sim.world.arm_state import parse_arm_state
+from csql_sim.sim.video import cube_legend, legend_line
+from csql_sim.sim.world import parse_arm_state
 
 REPORT_FORMAT = "csql-sim execute report"
 REPORT_VERSION = 1

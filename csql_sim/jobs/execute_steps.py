@@ -16,7 +16,7 @@ from typing import Any
 from csql_sim.core.files.ipc_plan import PlanStep
 from csql_sim.core.state.world import State, WorldError, action_name
 from csql_sim.jobs.execute_report import StepReport
-from csql_sim.sim.world.arm_state import parse_arm_state
+from csql_sim.sim.world import parse_arm_state
 
 BEFORE = "perceived before the step"
 """How a step's detail starts when perception diverged before the step was run (not after it)."""

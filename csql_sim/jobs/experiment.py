@@ -25,9 +25,8 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.infra.workers import worker_count
-from csql_sim.learners.paper.learner import Curve
-from csql_sim.learners.paper.params import CommonParams, resolve_params
-from csql_sim.learners.training.train import METHODS, PAPER_METHODS, make_learner
+from csql_sim.learners.paper import CommonParams, Curve, resolve_params
+from csql_sim.learners.training import METHODS, PAPER_METHODS, make_learner
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -163,7 +162,7 @@ def run_experiment(
     """Run ``cycles`` cycles of each method, in parallel processes when ``workers`` > 1, or on Ray.
 
     Args:
-        methods: learner names (see :data:`csql_sim.learners.training.train.METHODS`).
+        methods: learner names (see :data:`csql_sim.learners.training.tabular.METHODS`).
         cycles: independent agents per method.
         trials: training trials per cycle.
         seed: root of the per-cycle seed sequences (cycle c of every method gets the same).

@@ -3,8 +3,8 @@
 ``evaluate`` keeps a summary of every episode for its report, and ``render --discovery``
 keeps every recorded frame of every attempt until the video is written: their memory
 grows with the count asked for. The limit is the one ``train`` checks by default (the
-default of its ``--max-memory``: :func:`csql_sim.learners.training.estimate.available_memory`,
-above a process's own :data:`~csql_sim.learners.training.estimate.PROCESS_BYTES`); a count whose
+default of its ``--max-memory``: :func:`csql_sim.learners.training.costs.available_memory`,
+above a process's own :data:`~csql_sim.learners.training.costs.PROCESS_BYTES`); a count whose
 records cannot fit is refused before any work, in one line naming the count.
 """
 
@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from csql_sim.core.model.pairs import rounded
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.training.estimate import PROCESS_BYTES, available_memory, format_size
+from csql_sim.learners.training import PROCESS_BYTES, available_memory, format_size
 
 EPISODE_BYTES = 4096
 """Peak memory per episode of ``evaluate``: its summary, its ``runs`` record and its JSON text (measured

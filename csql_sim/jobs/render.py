@@ -9,12 +9,10 @@ from pathlib import Path
 from csql_sim.core.policies.policy import Policy
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
-from csql_sim.sim.control.executor import EpisodeResult, run_physical_episode
-from csql_sim.sim.perception.rgbd import NO_NOISE, CameraNoise
-from csql_sim.sim.video.legend import cube_legend
-from csql_sim.sim.video.renderer import resolve_renderer
-from csql_sim.sim.video.writing import check_video_options, video_frame_count, write_video
-from csql_sim.sim.world.arm_state import ArmState
+from csql_sim.sim.control import EpisodeResult, run_physical_episode
+from csql_sim.sim.perception import NO_NOISE, CameraNoise
+from csql_sim.sim.video import check_video_options, cube_legend, resolve_renderer, video_frame_count, write_video
+from csql_sim.sim.world import ArmState
 
 SIDECAR_FORMAT = "csql-sim video provenance"
 SIDECAR_VERSION = 1
@@ -57,7 +55,7 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
     renderer = resolve_renderer(renderer)  # an unusable --renderer fails before the episode runs
     from tqdm import tqdm
 
-    from csql_sim.sim.world.arm_state import arm_optimal_length
+    from csql_sim.sim.world import arm_optimal_length
 
     with tqdm(total=arm_optimal_length(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
               leave=False) as bar:

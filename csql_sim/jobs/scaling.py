@@ -40,9 +40,8 @@ from csql_sim.core.model.optimal_pairs import count_optimal_pairs, count_optimal
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
-from csql_sim.learners.paper.learner import Learner
-from csql_sim.learners.paper.params import default_params
-from csql_sim.learners.training.train import make_learner
+from csql_sim.learners.paper import Learner, default_params
+from csql_sim.learners.training import make_learner
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -142,7 +141,7 @@ def run_cell(method: str, n: int, seed: int, max_trials: int, engine: str | None
              mode: str = "trials") -> ScalingRow:
     """Train one agent until all pairs are optimal or ``max_trials``; its row.
 
-    ``engine``: as :func:`~csql_sim.learners.training.train.make_learner`'s (None: the array
+    ``engine``: as :func:`~csql_sim.learners.training.tabular.make_learner`'s (None: the array
     engine where the method has one; the reference for ``replay``); trials and steps do
     not depend on it. ``mode``: one of :data:`MODES` (see the module).
     """

@@ -42,7 +42,7 @@ def test_demo_takes_blocks(tmp_path, capsys):
 @pytest.mark.parametrize(("blocks", "trials"), [(3, 2500), (4, 20000)])
 def test_demo_trains_with_the_trials_train_uses_for_n(tmp_path, monkeypatch, blocks, trials):
     """demo --blocks N uses train's per-n default (it trained 2,500 trials at any n)."""
-    import csql_sim.learners.training.train as training
+    import csql_sim.learners.training as training
 
     seen = {}
 

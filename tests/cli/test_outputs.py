@@ -49,8 +49,8 @@ def snapshot(folder):
 
 WORK = [("csql_sim.jobs.discover", "discover"), ("csql_sim.jobs.render", "render_episode"),
         ("csql_sim.jobs.experiment", "run_experiment"), ("csql_sim.jobs.scaling", "run_scaling"),
-        ("csql_sim.jobs.evaluate", "evaluate"), ("csql_sim.learners.training.train", "train"),
-        ("csql_sim.learners.training.train", "train_learner"), ("csql_sim.core.policies.rollout", "check_pairs")]
+        ("csql_sim.jobs.evaluate", "evaluate"), ("csql_sim.learners.training", "train"),
+        ("csql_sim.learners.training", "train_learner"), ("csql_sim.core.policies.rollout", "check_pairs")]
 
 
 @pytest.fixture

@@ -57,7 +57,7 @@ def spy(monkeypatch, owner, name, calls, note=lambda *args: True, on_return=Fals
 @pytest.fixture
 def work(monkeypatch):
     """The :data:`WORK` functions a command called, and ``make_learner`` once a learner was built."""
-    from csql_sim.learners.training.train import train as training
+    import csql_sim.learners.training.tabular as training
 
     called = []
     for module, name in WORK:

@@ -131,7 +131,7 @@ def _interrupted(*_args, **_kwargs):
 
 
 def test_an_interrupted_run_says_how_to_go_on_and_resume_only_where_it_can(tmp_path, capsys, monkeypatch):
-    from csql_sim.learners.training.train import shards
+    import csql_sim.learners.training as shards
 
     real = shards.train_sharded
     monkeypatch.setattr(shards, "train_sharded", _interrupted)

@@ -31,7 +31,7 @@ def test_same_interface_as_symbolic_env_and_reaches_goal():
 def test_same_learning_agent_runs_in_symbolic_and_physical_env():
     from csql_sim.envs.symbolic import BlocksWorldEnv, run_env_episode
     from csql_sim.learners.paper.trial import run_trial
-    from csql_sim.learners.training.train import make_learner
+    from csql_sim.learners.training.tabular import make_learner
 
     agent = make_learner("cs-ql", seed=0)
     rng = np.random.default_rng(0)

@@ -6,7 +6,7 @@ from csql_sim.core.state.world import BlocksWorld
 from csql_sim.envs.symbolic import BlocksWorldEnv, run_env_episode
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.paper.trial import run_trial
-from csql_sim.learners.training.train import make_learner
+from csql_sim.learners.training.tabular import make_learner
 
 
 @pytest.mark.parametrize("n", [2, 3])

@@ -47,7 +47,7 @@ def test_ev_seeds_1e9_n3(work: Path) -> None:
 
 def test_ev_pairs_all_n6(work: Path) -> None:
     from csql_sim.jobs.job_memory import EPISODE_BYTES
-    from csql_sim.learners.training.estimate import PROCESS_BYTES, available_memory
+    from csql_sim.learners.training.costs import PROCESS_BYTES, available_memory
 
     episodes = 7057 * 7056  # every ordered pair of the 7057 states of 6 blocks
     if PROCESS_BYTES + episodes * EPISODE_BYTES <= available_memory():

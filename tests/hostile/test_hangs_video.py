@@ -34,7 +34,8 @@ exec sleep 300
 WRITE_WITH_A_STUCK_ENCODER = """
 import sys
 from csql_sim.core.state.notation import parse_config
-from csql_sim.sim.video.writing import writing as video, encoders as video_writers
+from csql_sim.sim.video import encoders as video_writers
+from csql_sim.sim.video import writing as video
 from csql_sim.sim.control.executor import run_physical_episode
 
 video_writers.STALL_SECONDS = 1.0

@@ -4,7 +4,7 @@ from csql_sim.core.classifiers.r_classifier import load_paper_rules
 from csql_sim.core.policies.policy import QPolicy
 from csql_sim.core.policies.rollout import check_all_pairs
 from csql_sim.jobs.discover import discover
-from csql_sim.learners.training.train import train
+from csql_sim.learners.training.tabular import train
 
 
 @pytest.mark.slow

@@ -66,7 +66,7 @@ def test_a_fast_downward_style_plan_reaches_the_goal(name):
 
 
 def test_a_wrong_step_is_refused_before_physics_with_its_line(tmp_path, monkeypatch, capsys):
-    import csql_sim.sim.control.executor as executor
+    import csql_sim.sim.control as executor
 
     def no_physics(*args, **kwargs):
         raise AssertionError("physics ran")
@@ -139,7 +139,7 @@ def test_pyperplans_plans_execute(tmp_path):
 
 def test_a_rule_base_drives_the_arm(tmp_path):
     from csql_sim.core.files.rulebase import save
-    from csql_sim.learners.training.train import train
+    from csql_sim.learners.training.tabular import train
 
     rules = tmp_path / "rules.yaml"
     save(rules, train("cs-ql", trials=2500, seed=0))
@@ -219,7 +219,7 @@ def test_past_six_blocks_a_partial_goal_aims_at_a_fixed_target_and_stops_once_sa
 
 
 def test_past_six_blocks_a_ground_rule_file_is_refused_before_physics(monkeypatch):
-    import csql_sim.sim.control.executor as executor
+    import csql_sim.sim.control as executor
 
     monkeypatch.setattr(executor, "run_physical_episode", lambda *a, **k: pytest.fail("physics ran"))
     rules = Path(__file__).resolve().parents[2] / "assets" / "rules" / "blocks3.yaml"

@@ -8,7 +8,7 @@ import pytest
 
 from csql_sim.core.model.search import count_optimal_greedy
 from csql_sim.jobs.scaling import COLUMNS, csv_text, peak_rss_bytes, reset_peak_rss, run_cell, run_scaling
-from csql_sim.learners.training.train import make_learner
+from csql_sim.learners.training.tabular import make_learner
 
 
 def test_lt_ql_cells_are_the_same_on_both_engines():

@@ -4,7 +4,7 @@ import pytest
 from csql_sim.core.classifiers.q_classifier import QClassifier
 from csql_sim.core.classifiers.r_classifier import r_classifiers
 from csql_sim.core.files.rulebase import RuleBase, RuleBaseError, dumps, load, loads, save
-from csql_sim.learners.training.train import train
+from csql_sim.learners.training.tabular import train
 
 
 def _fields(rb: RuleBase) -> list[tuple]:

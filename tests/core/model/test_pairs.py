@@ -13,7 +13,7 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import BlocksWorld
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.evaluate import make_specs
-from csql_sim.learners.training.train import train
+from csql_sim.learners.training.tabular import train
 
 N6_STATES = 7057
 

@@ -11,7 +11,7 @@ from csql_sim.learners.engines.fast_engine import FastCSQL, world_model
 from csql_sim.learners.generalize.pruning import prune
 from csql_sim.learners.paper.params import ParamsError
 from csql_sim.learners.paper.trial import run_training
-from csql_sim.learners.training.train import make_learner, train
+from csql_sim.learners.training.tabular import make_learner, train
 
 
 @pytest.mark.parametrize("seed", [0, 1, 7])

@@ -15,7 +15,7 @@ import pytest
 
 from csql_sim.core.files.rulebase import dumps
 from csql_sim.learners.engines import fast_engine
-from csql_sim.learners.training.train import make_learner, train
+from csql_sim.learners.training.tabular import make_learner, train
 
 HANG_GUARD = 90.0  # seconds; only against a hang (a run of 10**9 trials takes many minutes), never the assertion
 

@@ -11,7 +11,7 @@ from csql_sim.learners.engines.lt_fast import FastTabularQ
 from csql_sim.learners.paper.learner import Learner
 from csql_sim.learners.paper.lt_ql import TabularQ
 from csql_sim.learners.paper.params import ParamsError, TabularParams
-from csql_sim.learners.training.train import make_learner
+from csql_sim.learners.training.tabular import make_learner
 
 META = {"method": "lt-ql", "note": "test"}
 

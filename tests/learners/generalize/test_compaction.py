@@ -8,7 +8,7 @@ from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.core.policies.rollout import check_all_pairs
 from csql_sim.core.state.goal_message import GoalForm
 from csql_sim.learners.generalize.compaction import compact, greedy_sets
-from csql_sim.learners.training.train import train
+from csql_sim.learners.training.tabular import train
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ from csql_sim.core.policies.rollout import check_all_pairs
 from csql_sim.learners.generalize.compaction import compact
 from csql_sim.learners.generalize.xcs_ql import XCSQL
 from csql_sim.learners.paper.params import defaults_for_blocks, with_overrides
-from csql_sim.learners.training.train import train
+from csql_sim.learners.training.tabular import train
 
 
 def _learner(seed=0, **overrides):

@@ -6,7 +6,7 @@ from csql_sim.core.state.goal_message import GoalForm
 from csql_sim.core.state.notation import parse_state_arg
 from csql_sim.learners.generalize.compaction import compact
 from csql_sim.learners.paper.coverage import coverage_rows, coverage_table
-from csql_sim.learners.training.train import train
+from csql_sim.learners.training.tabular import train
 
 
 def test_coverage_sums_to_the_pairs_and_the_path_follows_the_plan():

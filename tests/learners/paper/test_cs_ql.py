@@ -11,7 +11,7 @@ from csql_sim.learners.generalize.pruning import count_q, figure6_table, greedy_
 from csql_sim.learners.paper.cs_ql import CSQL
 from csql_sim.learners.paper.learner import Transition
 from csql_sim.learners.paper.trial import run_training, run_trial
-from csql_sim.learners.training.train import make_learner, train
+from csql_sim.learners.training.tabular import make_learner, train
 
 
 def all_optimal(rb) -> int:

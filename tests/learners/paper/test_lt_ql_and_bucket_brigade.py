@@ -6,7 +6,7 @@ from csql_sim.core.state.world import BlocksWorld
 from csql_sim.learners.generalize.pruning import count_q
 from csql_sim.learners.paper.learner import Transition
 from csql_sim.learners.paper.trial import run_training, run_trial
-from csql_sim.learners.training.train import make_learner, train
+from csql_sim.learners.training.tabular import make_learner, train
 
 
 def test_lt_ql_model_covers_all_18_actions_and_illegal_keeps_state():

@@ -3,7 +3,7 @@ import dataclasses
 import pytest
 
 from csql_sim.learners.paper.params import CSQLParams, ParamsError, TabularParams, load_params, resolve_params
-from csql_sim.learners.training.train import make_learner
+from csql_sim.learners.training.tabular import make_learner
 
 
 def test_defaults_are_frozen_and_paper_values():

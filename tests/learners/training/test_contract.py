@@ -8,7 +8,7 @@ import pytest
 from csql_sim.core.files.rulebase import dumps, load
 from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.learners.paper.learner import Curve, Learner
-from csql_sim.learners.training.train import make_learner, train_learner
+from csql_sim.learners.training.tabular import make_learner, train_learner
 
 KINDS = [("lt-ql", "reference"), ("lt-ql", "fast"), ("cs-ql", "reference"), ("cs-ql", "fast"),
          ("cs-bb-bz", "reference"), ("cs-bb-rw", "reference")]

@@ -8,7 +8,7 @@ from csql_sim.core.model.optimal_pairs import count_optimal_pairs, count_optimal
 from csql_sim.core.model.search import distance_matrix
 from csql_sim.core.model.transition_table import true_table
 from csql_sim.learners.paper.params import ParamsError
-from csql_sim.learners.training.train import make_learner, train_learner
+from csql_sim.learners.training.tabular import make_learner, train_learner
 
 
 def _q_by_entry(learner) -> dict[tuple[int, int, int], float]:

@@ -129,7 +129,7 @@ def test_bad_video_options(args):
 
 
 def test_failed_render_keeps_the_old_video_and_leaves_no_temporary(recording, tmp_path, monkeypatch):
-    from csql_sim.sim.video.writing import writing as render
+    from csql_sim.sim.video import writing as render
 
     out = tmp_path / "ep.gif"
     out.write_bytes(b"old video")

@@ -15,8 +15,8 @@ import pytest
 from csql_sim.core.state.notation import parse_config
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.control.executor import run_physical_episode
+from csql_sim.sim.video import writing as video
 from csql_sim.sim.video.writing import VideoError, video_frame_count, write_video
-from csql_sim.sim.video.writing import writing as video
 
 HANG_GUARD = 120.0  # seconds; only against a hang, never the assertion
 

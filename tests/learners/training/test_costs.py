@@ -3,7 +3,7 @@
 import pytest
 
 from csql_sim.infra.errors import CsqlError
-from csql_sim.learners.training.estimate import GB, check_fits, estimate, parse_size
+from csql_sim.learners.training.costs import GB, check_fits, estimate, parse_size
 
 
 def test_six_blocks_sharded_fit_a_few_gigabytes_and_one_engine_does_not():
