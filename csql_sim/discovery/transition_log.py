@@ -5,7 +5,7 @@
     {"format": "csql-sim transitions", "version": 1, "blocks": 3}
     {"before": "S0111000ttt0000C", "action": "A70000001000at00", "after": "...", "ok": true, "reason": ""}
 
-Written atomically; read back for induction or for a peer learner (scripts/acs2_peer.py).
+Written atomically; read back for induction or for a peer learner (benchmarks/discovery_acs2.py).
 """
 
 from __future__ import annotations

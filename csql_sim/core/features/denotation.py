@@ -135,7 +135,7 @@ def by_definition(node: Node, prims: dict[str, np.ndarray], objects: int, consta
     """A node's denotation from the grammar's definitions alone (:func:`apply`), primitives given in full.
 
     The reference that :class:`Denotations` and its shortcuts must equal (its tests and
-    ``scripts/bench_denotations.py``). With ``memo``, sub-expressions are remembered there.
+    ``benchmarks/features_denotations.py``). With ``memo``, sub-expressions are remembered there.
     """
     if memo is not None and node in memo:
         return memo[node]

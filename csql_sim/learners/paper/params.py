@@ -208,7 +208,7 @@ class BucketBrigadeParams(CommonParams):
     same bucket, as in Wilson's ZCS, so strengths tend to ``payoff`` on every chain that
     reaches the goal). Matched candidates that were not selected pay a tax ``tax * S``.
 
-    The constants were chosen with ``scripts/sweep_bucket_brigade.py`` against the paper's
+    The constants were chosen with ``benchmarks/learning_bucket_brigade.py`` against the paper's
     statements about Figure 7 (:mod:`csql_sim.jobs.figure7_statements`; docs/learning.md has
     the sweep). ``bid`` is the speed at which strength flows back along a chain: Figure
     7(b)'s "the bucket-brigade curves rise faster than CS-QL's" needs bid 0.8 (at 0.5 they

@@ -1,10 +1,12 @@
 """Transitions and failed attempts that rule discovery needs, over seeds and settings.
 
+Regenerates docs/discovery.md, the table of transitions and failed attempts per setting.
+
 Runs `discover` for each setting and seed and prints the median and maximum of the
 transitions until the rule set was final, all transitions until the stop, failed attempts,
 simulated and wall seconds, and how many runs induced all given rules string for string.
 
-    python scripts/discovery_figures.py --seeds 10 --settings symbolic,pose,pose-perturb,camera --json out.json
+    python benchmarks/discovery_figures.py --seeds 10 --settings symbolic,pose,pose-perturb,camera --json out.json
 """
 
 from __future__ import annotations

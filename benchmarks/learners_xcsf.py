@@ -1,5 +1,7 @@
 """XCS-QL (this project) and xcsf side by side: trials to all pairs optimal, population size, wall time.
 
+Regenerates docs/learners.md, XCS-QL beside xcsf.
+
 Both learners see the same tasks (random ordered (start, goal) pairs of distinct states
 from one seeded generator) and the same encoding: the goal form of the state message with
 the detectors home, placed and ready (csql_sim.core.state.goal_message), which xcsf reads as
@@ -20,7 +22,7 @@ the BFS distance by one); a learner is done at the first check where all pairs a
 Wall time is process CPU time of learning and checks (the machine is shared).
 
     .venv/bin/pip install xcsf==1.5.0      # development only, never a runtime dependency
-    .venv/bin/python scripts/compare_xcsf.py --blocks 3,4 --max-trials 3:10000,4:40000 \
+    .venv/bin/python benchmarks/learners_xcsf.py --blocks 3,4 --max-trials 3:10000,4:40000 \
         --xcsf-max-trials 3:10000,4:2000 --checks 20 --out docs/xcsf_comparison.png --json docs/xcsf_comparison.json
 """
 
@@ -175,7 +177,7 @@ def draw(rows: list[dict], path: str) -> None:
     axes[0].legend(fontsize=8, loc="upper left")
     fig.suptitle("XCS-QL (condensed, this project) and xcsf 1.5 on the same tasks and encoding", fontsize=10)
     fig.tight_layout(rect=(0, 0, 1, 0.95))
-    fig.savefig(path, dpi=110, metadata={"Software": "csql-sim scripts/compare_xcsf.py"})
+    fig.savefig(path, dpi=110, metadata={"Software": "csql-sim benchmarks/learners_xcsf.py"})
 
 
 def main() -> None:

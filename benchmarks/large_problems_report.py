@@ -1,6 +1,8 @@
-"""The table and plot of ``scripts/blocks_benchmark.py`` from its JSON-lines files.
+"""The table and plot of ``benchmarks/large_problems.py`` from its JSON-lines files.
 
-    python scripts/blocks_benchmark_report.py DIR [--png docs/large_problems_time.png]
+Regenerates docs/large_problems.md, the table and docs/large_problems_time.png.
+
+    python benchmarks/large_problems_report.py DIR [--png docs/large_problems_time.png]
 
 Reads DIR/plans.jsonl and DIR/optimum.jsonl, writes DIR/table.md and the PNG (default
 DIR/time_per_task.png), and prints the table.

@@ -1,6 +1,8 @@
 """Denotations of a planning batch: the planner's shortcuts against the definitions, timed in one run.
 
-    python scripts/bench_denotations.py [--rules FILE] [--domain move] [--blocks 100] [--table 40] [--repeat 3]
+Regenerates docs/features.md, planning speed (the denotations' shortcuts against the definitions).
+
+    python benchmarks/features_denotations.py [--rules FILE] [--domain move] [--blocks 100] [--table 40] [--repeat 3]
 
 The batch is what a greedy policy over generated features evaluates at one step: a state and
 the state after each of its legal moves, towards one goal. The state is the first tall-tower

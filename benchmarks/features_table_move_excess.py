@@ -1,6 +1,8 @@
 """How many moves a table move of a deadlocked block wastes, by its above-needed, least-stuck and cover atoms.
 
-    python scripts/table_move_excess.py [--blocks 5] [--pairs 20000] [--draw uniform|tall-towers] [--seed 1]
+Regenerates docs/features.md and docs/lifted.md, the excess of deadlocked blocks' table moves.
+
+    python benchmarks/features_table_move_excess.py [--blocks 5] [--pairs 20000] [--draw uniform|tall-towers] [--seed 1]
                                         [--by atoms|deadlocked]
 
 For every drawn (start, goal) pair with a deadlock and every move of a misplaced,

@@ -1,10 +1,12 @@
 """Benchmark of the physical layer: physics, executor and video throughput.
 
+Regenerates docs/sim.md and docs/arm.md, the physics, executor and video throughput.
+
 Prints raw stepSimulation steps/s against executor steps/s (target ratio >= 0.8), and,
 for each renderer (the TinyRenderer, and the EGL plugin where it loads), raw
 getCameraImage frames/s in one process and video frames/s through the pipeline (render,
 caption, encode; all workers) against raw frames/s times workers (target >= 0.8).
-Usage: python scripts/bench_sim.py [--workers W] [--episodes K] [--video-only]
+Usage: python benchmarks/sim_throughput.py [--workers W] [--episodes K] [--video-only]
 """
 
 from __future__ import annotations

@@ -1,6 +1,8 @@
 """Which generated literals tell a deadlocked block's table move from one of a block not deadlocked.
 
-    python scripts/separating_literals.py [--sizes 5,12,20] [--states 150] [--top 15]
+Regenerates docs/features.md, the literals that separate deadlocked table moves.
+
+    python benchmarks/features_separating_literals.py [--sizes 5,12,20] [--states 150] [--top 15]
 
 Builds the 4-operator feature space as the learner does (K = 8, pruned on 200 sampled pairs of
 five blocks, 40 goals, ``np.random.default_rng(0)``). Then, for each size, draws random pairs
@@ -18,7 +20,7 @@ import argparse
 import sys
 
 import numpy as np
-from table_move_excess import stuck_table_moves  # the script beside this one
+from features_table_move_excess import stuck_table_moves  # the script beside this one
 
 from csql_sim.core.features.formulation import load_formulation
 from csql_sim.core.features.move_features import literal_values

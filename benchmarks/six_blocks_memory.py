@@ -1,6 +1,8 @@
 """Run a command and report its wall time and the peak resident memory of its whole process tree.
 
-    python scripts/peak_memory.py -- csql-sim train --blocks 6 --out rules6
+Regenerates docs/six_blocks.md, the wall time and peak memory of a sharded run.
+
+    python benchmarks/six_blocks_memory.py -- csql-sim train --blocks 6 --out rules6
 
 ``/usr/bin/time`` reports the largest single process; a sharded run is a driver and its
 workers, so this samples the sum of their resident set sizes every 0.2 s (psutil, a
@@ -32,7 +34,7 @@ def main(argv: list[str]) -> int:
     """Run ``argv`` (after ``--``), sampling its tree; its exit status."""
     command = argv[argv.index("--") + 1:] if "--" in argv else argv
     if not command:
-        print("usage: peak_memory.py -- COMMAND ...", file=sys.stderr)
+        print("usage: six_blocks_memory.py -- COMMAND ...", file=sys.stderr)
         return 2
     began = time.perf_counter()
     child = subprocess.Popen(command)

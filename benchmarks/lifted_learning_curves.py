@@ -1,9 +1,11 @@
 """LQ-CS learning curves: optimal % at n = 10 and 20 against training trials, several seeds, one run each.
 
-    python scripts/lifted_curves.py [--seeds 0-4] [--checkpoints 10,30,100,300,1000,3000,10000,30000]
+Regenerates docs/lifted_learning.md, the learning curves.
+
+    python benchmarks/lifted_learning_curves.py [--seeds 0-4] [--checkpoints 10,30,100,300,1000,3000,10000,30000]
                                     [--pairs 1000] [--sizes 10,20] [--pairs-seed 0]
                                     [--json curves.json] [--png curves.png]
-    python scripts/lifted_curves.py --merge a.json b.json --json curves.json [--png curves.png]
+    python benchmarks/lifted_learning_curves.py --merge a.json b.json --json curves.json [--png curves.png]
 
 For every seed, one training run with the learner's defaults (``trials`` set to the last
 checkpoint) from ``np.random.default_rng(seed)``; at every checkpoint the classifiers of that
@@ -22,7 +24,7 @@ import sys
 import time
 
 import numpy as np
-from lifted_seeds import score  # the script beside this one
+from lifted_learning_seeds import score  # the script beside this one
 
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.lifted_policy import LiftedPolicy

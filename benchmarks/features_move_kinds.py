@@ -1,8 +1,10 @@
 """Where a policy's plans waste moves: every move it makes, classed by the state before it.
 
-    python scripts/move_kinds.py [--policy-file FILE ...] [--n 20] [--use 100]
+Regenerates docs/features.md, the table of move kinds per policy.
 
-Plans the first ``--use`` benchmark pairs of size ``--n`` (those of ``scripts/feature_table.py``:
+    python benchmarks/features_move_kinds.py [--policy-file FILE ...] [--n 20] [--use 100]
+
+Plans the first ``--use`` benchmark pairs of size ``--n`` (those of ``benchmarks/features_table.py``:
 one generator seeded 0 draws 1,000 pairs for n = 6, 7, 8, 10, 15, 20, 26 in turn) with GN1, the
 hand ordering and each policy file, and classes each move (a pick and the put after it) by the
 yardstick relations of the state before it (:mod:`csql_sim.core.state.goal_relations`):
@@ -27,8 +29,8 @@ import argparse
 import sys
 from collections import Counter
 
-from feature_table import BENCH_SIZES, tasks  # the scripts beside this one
-from lifted_seeds import hand_ordering
+from features_table import BENCH_SIZES, tasks  # the scripts beside this one
+from lifted_learning_seeds import hand_ordering
 
 from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.loader import load_policy

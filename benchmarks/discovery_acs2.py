@@ -1,5 +1,7 @@
 """Rule induction (csql_sim.discovery.induction) and ACS2 (pyalcs) side by side on one transition stream.
 
+Regenerates docs/discovery.md, rule induction beside ACS2 (the figure and its JSON).
+
 Both learners get the same stream of (state message, action, next state message) records,
 symbolic and recorded from the arm, in order. Every --every transitions the script counts,
 for each learner, how many of the 42 legal (state, action) transitions of the 3-block world
@@ -15,7 +17,8 @@ ACS2 is driven through its anticipatory learning process (ClassifiersList.apply_
 the stream's actions, not its own choices; no GA, default parameters otherwise.
 
     pip install -e ".[dev]"   # pyalcs is a development dependency only
-    python scripts/acs2_peer.py --arm-log arm.jsonl --out docs/discovery_acs2.png --json docs/discovery_acs2.json
+    python benchmarks/discovery_acs2.py --arm-log arm.jsonl --out docs/discovery_acs2.png
+        --json docs/discovery_acs2.json
 """
 
 from __future__ import annotations

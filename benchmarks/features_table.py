@@ -1,13 +1,15 @@
 """LQ-CS over given atoms and over generated features, both formulations, beside GN1 and the hand ordering.
 
-    python scripts/feature_table.py --explain FILE
-    python scripts/feature_table.py --policy-file FILE --variants generated-4op --seeds 0
-    python scripts/feature_table.py --policy-file 'c_{seed}.json' --variants committee-move --seeds 0-9
-    python scripts/feature_table.py [--seeds 0-9] [--variants given,generated-move,committee-move]
+Regenerates docs/features.md, the table of LQ-CS over given atoms and generated features.
+
+    python benchmarks/features_table.py --explain FILE
+    python benchmarks/features_table.py --policy-file FILE --variants generated-4op --seeds 0
+    python benchmarks/features_table.py --policy-file 'c_{seed}.json' --variants committee-move --seeds 0-9
+    python benchmarks/features_table.py [--seeds 0-9] [--variants given,generated-move,committee-move]
                                     [--use 100] [--sizes 7,10,20,26] [--tall 25,50,100] [--tall-tasks 3]
                                     [--out feature_table.jsonl] [--report]
 
-Pairs: the benchmark's (``scripts/lifted_benchmark.py --pairs 1000``: one generator seeded 0
+Pairs: the benchmark's (``benchmarks/lifted_benchmark.py --pairs 1000``: one generator seeded 0
 draws 1,000 pairs for n = 6, 7, 8, 10, 15, 20, 26 in turn), of which the first ``--use`` of
 each size of ``--sizes`` are planned, against their exact optimum (a yardstick). Tall towers:
 ``--tall-tasks`` tasks per size of ``--tall`` from the tall-tower generator of ``csql-sim
@@ -39,7 +41,7 @@ import time
 from pathlib import Path
 
 import numpy as np
-from lifted_seeds import hand_ordering  # the script beside this one
+from lifted_learning_seeds import hand_ordering  # the script beside this one
 
 from csql_sim.core.features.move_features import literal_values
 from csql_sim.core.measure.bounds import bounded_optimum, cpsat_optimum

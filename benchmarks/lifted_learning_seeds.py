@@ -1,10 +1,12 @@
 """LQ-CS over many seeds: solved and optimal % per seed on the benchmark's pairs, beside GN1 and a hand ordering.
 
-    python scripts/lifted_seeds.py [--seeds 0-9] [--trials 3000] [--pairs 1000] [--sizes 7,10,20,26]
+Regenerates docs/lifted_learning.md, the table of seeds.
+
+    python benchmarks/lifted_learning_seeds.py [--seeds 0-9] [--trials 3000] [--pairs 1000] [--sizes 7,10,20,26]
                                    [--bench-seed 0] [--bench-sizes 6,7,8,10,15,20,26] [--no-fixed]
                                    [--optima optima.json]
 
-The pairs are the benchmark's (``scripts/lifted_benchmark.py``): one generator seeded with
+The pairs are the benchmark's (``benchmarks/lifted_benchmark.py``): one generator seeded with
 ``--bench-seed`` draws ``--pairs`` pairs for every size of ``--bench-sizes`` in turn, and the
 sizes of ``--sizes`` are kept, so ``--pairs 1000`` gives exactly the benchmark's pairs. The
 exact optimum of each pair is computed once (a yardstick only). For every seed of

@@ -1,6 +1,8 @@
 """Run 7..10-block PDDL tasks through ``execute``: an outside planner's plans, the lifted rules and GN1.
 
-    python scripts/execute_benchmark.py OUTDIR [--named K] [--problems DIR --domain D]
+Regenerates docs/execute.md, the table of PDDL tasks executed on the arm.
+
+    python benchmarks/execute_pddl.py OUTDIR [--named K] [--problems DIR --domain D]
         [--seed S] [--perception pose|camera] [--overwrite]
 
 OUTDIR gets K generated tasks (``named-<k>.pddl``: 7..10 objects with names of every kind,
@@ -119,7 +121,7 @@ def main(argv: list[str] | None = None) -> int:
     except CsqlError as exc:
         print(f"execute_benchmark: error: {exc}", file=sys.stderr)
         return 2
-    record = provenance(command="scripts/execute_benchmark.py", named=args.named, seed=args.seed,
+    record = provenance(command="benchmarks/execute_pddl.py", named=args.named, seed=args.seed,
                         perception=args.perception, problems=None if args.problems is None else str(args.problems))
     doc = {"format": REPORT_FORMAT, "version": REPORT_VERSION, "summary": summary(rows), "runs": rows,
            "provenance": record}

@@ -1,12 +1,14 @@
 """The picture of ten cubes stacked by the simulated Panda: ``docs/ten_tower.png``.
 
+Regenerates docs/sim.md, the picture docs/ten_tower.png.
+
 The tower is built physically, by a closed-loop episode (perceive, ask the policy, run the
 pick or place primitive, perceive again; cubes move only through contact), never by
 placing the cubes. The picture is the episode's final frame, rendered off-screen from the
 recorded poses, with a caption saying what was run and what perception saw at the end.
 
-    python scripts/render_tower.py                       # GN1, camera perception, docs/ten_tower.png
-    python scripts/render_tower.py --rules lifted.json   # the learned lifted rules instead
+    python benchmarks/sim_ten_tower.py                       # GN1, camera perception, docs/ten_tower.png
+    python benchmarks/sim_ten_tower.py --rules lifted.json   # the learned lifted rules instead
 
 Bad input is one line on stderr and exit status 2; the output is checked writable before
 the episode runs and written atomically. Exit status 1 if the tower was not reached.

@@ -1,10 +1,12 @@
 """Ray's start-up overhead against the local process pool, on the same tasks.
 
+Regenerates docs/six_blocks.md, Ray's start-up overhead against the process pool.
+
 Times, for each backend, a small ``evaluate`` (physical episodes) and a small
 ``experiment`` (Figure 7 cycles), each from a cold start (Ray: a fresh local instance,
 started and shut down inside the call); checks the results are identical; and times a
 bare Ray start and shutdown.
-Usage: python scripts/bench_backends.py [--workers W] [--pairs K] [--cycles C]
+Usage: python benchmarks/six_blocks_backends.py [--workers W] [--pairs K] [--cycles C]
 """
 
 from __future__ import annotations

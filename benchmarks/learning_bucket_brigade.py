@@ -1,11 +1,13 @@
 """Sweep the bucket-brigade constants against the paper's statements about Figure 7.
 
+Regenerates docs/learning.md, the bucket-brigade sweep.
+
 For every combination of ``--bid``, ``--tax``, ``--s0`` and ``--payoff`` this runs
 CS-BB-BZ and CS-BB-RW for ``--cycles`` x ``--trials`` (LT-QL and CS-QL once, as they do
 not depend on these constants), checks :func:`csql_sim.jobs.figure7_statements.evaluate`, and
 writes one CSV row per combination plus a plot of the levers against the statements.
 
-    python scripts/sweep_bucket_brigade.py --cycles 20 --out docs/sweep_bucket_brigade
+    python benchmarks/learning_bucket_brigade.py --cycles 20 --out docs/sweep_bucket_brigade
 """
 
 from __future__ import annotations
