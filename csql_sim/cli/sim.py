@@ -95,7 +95,7 @@ def pairs_arg(text: str) -> str | int:
 def print_episode(result: EpisodeResult, n: int) -> None:
     """Print the legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.control.report.episode_lines`)."""
     from csql_sim.sim.control import episode_lines
-    from csql_sim.sim.video import legend_line
+    from csql_sim.sim.world import legend_line
 
     print("\n".join([legend_line(n), *episode_lines(result)]))
 
@@ -176,7 +176,8 @@ def render_discovery(args: argparse.Namespace) -> int:
     from csql_sim.jobs.discover import record_discovery
     from csql_sim.jobs.job_memory import check_discovery
     from csql_sim.jobs.render import sidecar_path, sidecar_record
-    from csql_sim.sim.video import check_video_options, cube_legend, legend_line, video_frame_count, write_video
+    from csql_sim.sim.video import check_video_options, video_frame_count, write_video
+    from csql_sim.sim.world import cube_legend, legend_line
 
     if args.start or args.goal or args.rules:
         raise CsqlError("render --discovery takes no --start, --goal or --rules")

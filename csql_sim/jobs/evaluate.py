@@ -31,7 +31,7 @@ from csql_sim.infra.workers import worker_count
 from csql_sim.jobs.episodes import Episodes, EpisodeSpec, batches, plan_episodes
 from csql_sim.jobs.episodes import make_specs as make_specs  # re-exported: the episodes of an evaluation
 from csql_sim.jobs.job_memory import check_episodes
-from csql_sim.sim.video import cube_legend
+from csql_sim.sim.world import cube_legend
 
 BATCH_EPISODES = 4096
 """Episodes handed to the workers at once: the specs are drawn a batch at a time, never all listed."""

@@ -292,7 +292,8 @@ def _result(bp: BlocksProblem, reached: bool, reason: str, target: State, source
 def _write_video(episode: Any, video: str | os.PathLike, params: dict) -> Path:
     """The episode's video and its provenance sidecar (as ``csql-sim render`` writes them)."""
     from csql_sim.jobs.render import sidecar_path, sidecar_record
-    from csql_sim.sim.video import cube_legend, video_frame_count, write_video
+    from csql_sim.sim.video import video_frame_count, write_video
+    from csql_sim.sim.world import cube_legend
 
     names = tuple(params["objects"])
     episode.recording.names = names  # the legend: PDDL object names, each with its cube's colour

@@ -21,7 +21,7 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import InputFileError, read_text_file
 from csql_sim.infra.provenance import provenance
 from csql_sim.jobs.execute import execute_problem
-from csql_sim.sim.video import cube_legend
+from csql_sim.sim.world import cube_legend
 
 PLAN_SUFFIXES = (".plan", ".soln", ".pddl.soln")
 REPORT_FORMAT = "csql-sim problems report"

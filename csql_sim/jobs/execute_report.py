@@ -22,8 +22,7 @@ from typing import Any
 
 from csql_sim.core.model.goal_spec import GoalSpec
 from csql_sim.core.state.world import LETTERS
-from csql_sim.sim.video import cube_legend, legend_line
-from csql_sim.sim.world import parse_arm_state
+from csql_sim.sim.world import cube_legend, legend_line, parse_arm_state
 
 REPORT_FORMAT = "csql-sim execute report"
 REPORT_VERSION = 1

@@ -11,8 +11,8 @@ from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.sim.control import EpisodeResult, run_physical_episode
 from csql_sim.sim.perception import NO_NOISE, CameraNoise
-from csql_sim.sim.video import check_video_options, cube_legend, resolve_renderer, video_frame_count, write_video
-from csql_sim.sim.world import ArmState
+from csql_sim.sim.video import check_video_options, resolve_renderer, video_frame_count, write_video
+from csql_sim.sim.world import ArmState, cube_legend
 
 SIDECAR_FORMAT = "csql-sim video provenance"
 SIDECAR_VERSION = 1

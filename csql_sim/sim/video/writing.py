@@ -26,11 +26,11 @@ from csql_sim.infra.files import atomic_output, check_output_file
 from csql_sim.infra.workers import worker_count, worker_pool
 from csql_sim.sim.perception.camera import Camera, capture, render_camera
 from csql_sim.sim.video.encoders import EncoderError, FfmpegWriter, GifWriter
-from csql_sim.sim.video.legend import draw_legend, legend_names
 from csql_sim.sim.video.recording import Frame, Recording
 from csql_sim.sim.video.renderer import close_quietly, resolve_renderer
 from csql_sim.sim.video.replay import apply_snapshot, replay_scene
 from csql_sim.sim.world.config import SimConfig
+from csql_sim.sim.world.legend import draw_legend, legend_names
 from csql_sim.sim.world.scene import Scene
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
@@ -73,7 +73,7 @@ def caption_image(rgb: np.ndarray, text: str, legend: int | Sequence[str] = 0, f
 
     ``legend``: the cubes' names in cube order (or a count: the letters A, B, ...); each is
     drawn beside its colour's square, with the colour word when ``full``
-    (:func:`csql_sim.sim.video.legend.draw_legend`).
+    (:func:`csql_sim.sim.world.legend.draw_legend`).
     """
     img = Image.fromarray(rgb)
     h = img.height

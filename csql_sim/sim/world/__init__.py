@@ -2,8 +2,8 @@
 
 :mod:`.client` is the only module that imports pybullet; :mod:`.config` holds the physical
 constants, :mod:`.scene` the table and the cubes, :mod:`.robot` the Panda, :mod:`.layout`
-where towers and put-down spots are, :mod:`.arm_state` the symbolic side of the arm's world
-(its blocks, state messages and world model).
+where towers and put-down spots are, :mod:`.legend` the cubes' colours by name, :mod:`.arm_state`
+the symbolic side of the arm's world (its blocks, state messages and world model).
 
 Contract: the bottom of ``sim``: imports only ``core`` and ``infra``. Outside ``sim``, import
 these names from this package (importing it does not load pybullet).
@@ -18,8 +18,9 @@ from csql_sim.sim.world.arm_state import (
     world_model_for,
 )
 from csql_sim.sim.world.config import MAX_ARM_BLOCKS
+from csql_sim.sim.world.legend import cube_legend, legend_line
 
 __all__ = [
-    "ArmState", "MAX_ARM_BLOCKS", "arm_optimal_length", "check_arm_blocks", "check_arm_policy",
-    "parse_arm_state", "world_model_for",
+    "ArmState", "MAX_ARM_BLOCKS", "arm_optimal_length", "check_arm_blocks", "check_arm_policy", "cube_legend",
+    "legend_line", "parse_arm_state", "world_model_for",
 ]

@@ -2,8 +2,8 @@
 
 import pytest
 
-from csql_sim.sim.video.legend import cube_legend, legend_line, legend_names
 from csql_sim.sim.world.config import COLOUR_NAMES, COLOURS
+from csql_sim.sim.world.legend import cube_legend, legend_line, legend_names
 
 
 def test_letters_by_default_and_names_in_cube_order():
