@@ -151,6 +151,19 @@ def path_arg(text: str) -> str:
     return text
 
 
+def rules_arg(text: str) -> str:
+    """Argparse type of every ``--rules``: a rule file's path, or ``builtin`` for the shipped lifted rules."""
+    from csql_sim.infra.assets import BUILTIN_RULES, builtin_rules_path
+
+    if text == BUILTIN_RULES:
+        return os.fspath(builtin_rules_path())
+    return path_arg(text)
+
+
+RULES_BUILTIN_HELP = "; 'builtin': the shipped lifted rules (any number of blocks)"
+"""What every ``--rules`` help ends with."""
+
+
 def add_overwrite(parser: argparse.ArgumentParser) -> None:
     """``--overwrite``: replace existing output files (added once per parser).
 

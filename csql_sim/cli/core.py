@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from csql_sim.cli.args import (
+    RULES_BUILTIN_HELP,
     DeprecatedAlias,
     add_json,
     add_planner,
@@ -14,6 +15,7 @@ from csql_sim.cli.args import (
     command_parser,
     large_blocks_arg,
     path_arg,
+    rules_arg,
     seed_arg,
 )
 from csql_sim.cli.output import emit
@@ -91,9 +93,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                                     "; past 6 the states are relational and the planner lifted: gn1, or lifted "
                                     "--rules"))
     add_planner(p, "up to 6 blocks; gn1 and lifted rules: any n")
-    p.add_argument("--rules", type=path_arg,
+    p.add_argument("--rules", type=rules_arg,
                    help="a rule base from 'csql-sim train' (plan greedily from its Q-classifiers), a sharded rule "
-                        "base, or lifted rules from 'csql-sim train-lifted' (any n)")
+                        "base, or lifted rules from 'csql-sim train-lifted' (any n)" + RULES_BUILTIN_HELP
+                        + "; --problem without --planner or --rules plans with builtin")
     p.add_argument("--pairs", type=_pairs_arg, default=None,
                    help="plan every ordered pair of distinct states (all; up to 6 blocks) or a seeded sample of "
                         "K (past 6 blocks drawn uniformly by counting), streamed; print a summary")

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from csql_sim.cli.args import (
+    RULES_BUILTIN_HELP,
     DeprecatedAlias,
     add_json,
     add_planner,
@@ -13,6 +14,7 @@ from csql_sim.cli.args import (
     add_seed,
     command_parser,
     path_arg,
+    rules_arg,
     show_progress,
 )
 from csql_sim.cli.output import emit
@@ -77,8 +79,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="here its PDDL domain (optional): the 4-operator blocks domain or a move variant")
     p.add_argument("--plan", type=path_arg,
                    help="an IPC plan file: one action per line, e.g. (unstack a b); ';' starts a comment")
-    p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train' (or lifted rules) instead of a plan")
+    p.add_argument("--rules", type=rules_arg,
+                   help="a rule base from 'csql-sim train' (or lifted rules) instead of a plan" + RULES_BUILTIN_HELP)
     add_planner(p)
     p.add_argument("--out", dest="video", type=path_arg, metavar="V",
                    help="write the episode's video (.mp4 or .gif, 640x480) and its provenance <V>.json")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from csql_sim.cli.args import add_overwrite, add_quiet, command_parser, path_arg, show_progress
+from csql_sim.cli.args import add_overwrite, add_quiet, command_parser, path_arg, rules_arg, show_progress
 from csql_sim.infra.outputs import Outputs
 
 
@@ -45,7 +45,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = command_parser(sub, "generalize", "compact a trained rule base into a default hierarchy of # "
                        "Q-classifiers over the goal form of the message",
                        "csql-sim generalize --rules rules.yaml --out general.yaml")
-    p.add_argument("--rules", type=path_arg, required=True, help="a trained rule file (index form, YAML or npz)")
+    p.add_argument("--rules", type=rules_arg, required=True, help="a trained rule file (index form, YAML or npz)")
     p.add_argument("--out", type=path_arg, required=True, help="rule file to write: *.npz (compact) or YAML")
     p.add_argument("--detectors", type=_detectors, default=None,
                    help="comma list of detector fields in the message: home, placed, ready (default all), or none")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 
 from csql_sim.cli.args import say
 from csql_sim.cli.output import emit
@@ -48,6 +49,18 @@ def declare_problem(args: argparse.Namespace, outputs: Outputs) -> None:
     outputs.input(args.domain, "PDDL domain")
 
 
+def default_to_builtin_rules(args: argparse.Namespace) -> None:
+    """No ``--planner`` and no ``--rules``: a PDDL problem plans with the shipped lifted rules (``--rules builtin``).
+
+    They hold for any number of blocks, up to the objects that ``plan --problem`` reads
+    (:data:`~csql_sim.core.files.pddl_import.MAX_PLANNED_BLOCKS`); BFS (``--planner bfs``) stops at six.
+    """
+    if args.planner is None and args.rules is None:
+        from csql_sim.infra.assets import builtin_rules_path
+
+        args.rules = os.fspath(builtin_rules_path())
+
+
 def _planner(args: argparse.Namespace) -> str:
     return args.planner or ("rules" if args.rules else "bfs")
 
@@ -64,6 +77,7 @@ def cmd_plan_problem(args: argparse.Namespace) -> int:
     """``plan --problem`` or ``plan --problems`` (module docstring)."""
     if args.domain is not None and args.problem is None and args.problems is None:
         raise CsqlError("--domain goes with --problem FILE or --problems DIR")
+    default_to_builtin_rules(args)
     cache: dict[int, object] = {}
 
     def policy_for(n: int):  # noqa: ANN202 - a Policy or a RelationalPolicy

@@ -14,12 +14,14 @@ import os
 from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import (
+    RULES_BUILTIN_HELP,
     DeprecatedAlias,
     add_json,
     add_overwrite,
     add_quiet,
     command_parser,
     path_arg,
+    rules_arg,
     show_progress,
     threshold_arg,
 )
@@ -33,7 +35,7 @@ if TYPE_CHECKING:
     from csql_sim.core.policies.feature_policy import FeaturePolicy
 
 RULES_HELP = ("a rule file: from 'csql-sim train' (YAML, npz or a sharded directory), 'generalize', "
-              "'train-lifted' or 'discover --lifted'")
+              "'train-lifted' or 'discover --lifted'" + RULES_BUILTIN_HELP)
 
 
 def settle_rules(args: argparse.Namespace) -> None:
@@ -147,8 +149,8 @@ def cmd_prune(args: argparse.Namespace) -> int:
 
 
 def _add_rules(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--rules", type=path_arg, default=None, help=RULES_HELP)
-    p.add_argument("rules_positional", nargs="?", type=path_arg, metavar="RULES", action=DeprecatedAlias,
+    p.add_argument("--rules", type=rules_arg, default=None, help=RULES_HELP)
+    p.add_argument("rules_positional", nargs="?", type=rules_arg, metavar="RULES", action=DeprecatedAlias,
                    new="--rules RULES", help="the same as --rules RULES (deprecated: goes in 0.3.0)")
 
 

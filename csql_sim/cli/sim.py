@@ -9,6 +9,7 @@ import sys
 from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import (
+    RULES_BUILTIN_HELP,
     add_backend_arguments,
     add_json,
     add_overwrite,
@@ -23,6 +24,7 @@ from csql_sim.cli.args import (
     int_type,
     path_arg,
     positive_int,
+    rules_arg,
     seed_arg,
     show_progress,
     warn_workers,
@@ -288,8 +290,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                        "csql-sim render --start CBA --goal BAC --out task.mp4")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
-    p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
+    p.add_argument("--rules", type=rules_arg,
+                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)"
+                        + RULES_BUILTIN_HELP)
     add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
     p.add_argument("--out", type=path_arg, default=None,
                    help=f"output .mp4 or .gif (default {DEFAULT_VIDEO}; an existing one is kept unless --overwrite)")
@@ -315,8 +318,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
     p = command_parser(sub, "evaluate", "run physical episodes over start/goal pairs and report success",
                        "csql-sim evaluate --blocks 3 --rules rules.yaml")
-    p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
+    p.add_argument("--rules", type=rules_arg,
+                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)"
+                        + RULES_BUILTIN_HELP)
     add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
     p.add_argument("--blocks", type=arm_blocks_arg, default=None,
                    help=blocks_help(2, MAX_ARM_BLOCKS, 3, f"; past {MAX_BLOCKS} the states are relational and the "

@@ -143,8 +143,31 @@ def test_bad_options_exit_2_in_one_line(capsys, argv, names):
 
 def test_bfs_is_refused_past_six_blocks(capsys, tmp_path):
     _, (problem,) = generated(tmp_path, 9)
-    code, out, err = run(capsys, "plan", "--problem", problem)
+    code, out, err = run(capsys, "plan", "--problem", problem, "--planner", "bfs")
     assert code == 2 and out == "" and "plans only up to 6 blocks" in err
+
+
+@pytest.mark.parametrize("n", [4, 30])
+def test_without_a_planner_a_problem_plans_with_the_shipped_lifted_rules(capsys, tmp_path, n):
+    domain, (problem,) = generated(tmp_path, n)
+    code, out, err = run(capsys, "plan", "--problem", problem, "--plan-out", tmp_path / "p.plan", "--json",
+                         "--optimum-budget", "0")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["planner"] == "rules" and doc["solved"] and doc["cost"] >= doc["lower_bound"]
+    bp, steps, end = replayed(problem, tmp_path / "p.plan", domain)
+    assert bp.goal.satisfied(end) and len(steps) == doc["cost"]
+
+
+def test_builtin_names_the_shipped_rules_wherever_rules_are_taken(capsys, tmp_path):
+    domain, (problem,) = generated(tmp_path, 9)
+    code, out, err = run(capsys, "plan", "--problem", problem, "--rules", "builtin", "--optimum-budget", "0")
+    assert code == 0 and "by rules" in out, err
+    code, out, err = run(capsys, "plan", "--start", "CBA", "--goal", "ABC", "--rules", "builtin", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["length"] >= doc["optimal_length"] == 6, err  # reverse a tower of 3: 6 at best
+    code, out, err = run(capsys, "show", "--rules", "builtin")
+    assert code == 0 and out.strip(), err
 
 
 def test_a_folder_gives_one_row_per_task_and_a_failed_row_for_a_broken_file(capsys, tmp_path):
@@ -185,7 +208,7 @@ def test_csql_sims_own_export_is_planned_in_its_own_words(capsys, tmp_path):
     assert run(capsys, "pddl", "--start", "CBA", "--goal", "BAC", "--out", tmp_path / "task")[0] == 0
     task = tmp_path / "task"
     code, out, err = run(capsys, "plan", "--problem", task / "problem.pddl", "--domain", task / "domain.pddl",
-                         "--plan-out", tmp_path / "p.plan")
+                         "--plan-out", tmp_path / "p.plan", "--planner", "bfs")
     assert code == 0, err
     assert out.splitlines()[0] == "(unstack_a_b)" and "8 actions by bfs" in out and "optimum 8 (proven)" in out
     bp, steps, end = replayed(task / "problem.pddl", tmp_path / "p.plan", task / "domain.pddl")
