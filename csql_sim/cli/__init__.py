@@ -30,7 +30,20 @@ from contextlib import contextmanager
 from typing import Any, NoReturn
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, problems_cmd, rulefile, sim
+from csql_sim.cli import (
+    core,
+    demo,
+    discover,
+    execute,
+    generalize,
+    learn,
+    lifted,
+    pddl_cmd,
+    problems_cmd,
+    rulefile,
+    sim,
+    validate_cmd,
+)
 from csql_sim.cli.args import say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
@@ -87,7 +100,8 @@ class _ClosedStdout(io.TextIOBase):
         raise io.UnsupportedOperation("standard output is closed")
 
 
-SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, problems_cmd, execute, generalize)
+SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, problems_cmd, execute, generalize,
+                      validate_cmd)
 
 
 class OneLineParser(argparse.ArgumentParser):
