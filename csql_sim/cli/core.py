@@ -104,7 +104,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--all", dest="pairs", nargs=0, action=_AllPairs, new="--pairs all", help=argparse.SUPPRESS)
     p.add_argument("--plan-out", type=path_arg, default=None,
                    help="also write the plan as an IPC plan file (as Fast Downward writes them; "
-                        "'execute --plan' reads it; with --problem in the problem's object and action names)")
+                        "'execute --plan' reads it; with --problem in the problem's object and action names); with "
+                        "--problems DIR a folder (not DIR) that gets <problem>.plan for each solved problem, the "
+                        "names 'evaluate --problems DIR --plans' reads")
     p.add_argument("--problem", type=path_arg, default=None, metavar="FILE",
                    help="plan a blocks-world PDDL problem of any size (up to 2,000 objects; full or partial goal)")
     p.add_argument("--problems", type=path_arg, default=None, metavar="DIR",

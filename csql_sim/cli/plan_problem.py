@@ -43,10 +43,29 @@ def declare_problem(args: argparse.Namespace, outputs: Outputs) -> None:
     for name in PROBLEM_OPTIONS:
         if getattr(args, name) is not None:
             raise CsqlError(f"--{name} names another task; --problem and --problems read theirs from PDDL")
-    if args.problems is not None and args.plan_out is not None:
-        raise CsqlError("--plan-out writes the plan of one --problem; with --problems use --json")
     outputs.input(args.problem, "PDDL problem")
     outputs.input(args.domain, "PDDL domain")
+    if args.problems is not None and args.plan_out is not None:
+        declare_plan_folder(args, outputs)
+
+
+def declare_plan_folder(args: argparse.Namespace, outputs: Outputs) -> None:
+    """``--problems DIR --plan-out OUTDIR``: a ``<problem>.plan`` per problem in OUTDIR, each declared before any work.
+
+    OUTDIR is a folder other than DIR (the problems stay alone in theirs); no existing plan file
+    is replaced without ``--overwrite`` (:class:`~csql_sim.infra.outputs.Outputs`).
+    """
+    from csql_sim.infra.outputs import same_path
+    from csql_sim.jobs.execute_batch import plan_file_name, problem_files
+
+    folder = outputs.folder(args.plan_out, "plan folder", option="--plan-out")
+    if same_path(folder, args.problems):
+        raise CsqlError(f"--plan-out {args.plan_out!r} is the folder of the problems (--problems); name another "
+                        "folder for their plan files")
+    for path, unreadable in problem_files(args.problems):
+        outputs.input(path, "PDDL problem")
+        if unreadable is None:
+            outputs.file(folder / plan_file_name(path), "plan file", "pddl", option="--plan-out")
 
 
 def default_to_builtin_rules(args: argparse.Namespace) -> None:
@@ -107,13 +126,31 @@ def _single(args: argparse.Namespace, plan: ProblemPlan) -> int:
         say(args, "error", f"{plan.problem}: not solved by {plan.planner}: {plan.reason}")
         return 1
     if args.plan_out is not None:
-        from csql_sim.core.files.ipc_plan import write_ipc_plan_lines
-        from csql_sim.infra.outputs import PDDL_HEADER
-
-        write_ipc_plan_lines(plan.lines, args.plan_out, header=f"{PDDL_HEADER} plan of {plan.problem} "
-                                                              f"({plan.planner}, {len(plan.actions)} actions)")
+        write_plan_file(plan, args.plan_out)
     emit(args, doc, lambda: [*plan.lines, _summary(plan)])
     return 0
+
+
+def write_plan_file(plan: ProblemPlan, path: str | os.PathLike) -> None:
+    """A solved problem's plan as an IPC plan file, in the problem's words, after a comment line that marks it ours."""
+    from csql_sim.core.files.ipc_plan import write_ipc_plan_lines
+    from csql_sim.infra.outputs import PDDL_HEADER
+
+    write_ipc_plan_lines(plan.lines, path, header=f"{PDDL_HEADER} plan of {plan.problem} "
+                                                  f"({plan.planner}, {len(plan.actions)} actions)")
+
+
+def _plan_writer(args: argparse.Namespace):  # noqa: ANN202 - None or a callable taking a ProblemPlan
+    """With ``--plan-out OUTDIR``: a function writing each solved problem's ``<problem>.plan`` there."""
+    if args.plan_out is None:
+        return None
+    from pathlib import Path
+
+    from csql_sim.jobs.execute_batch import plan_file_name
+
+    folder = Path(args.plan_out)
+    folder.mkdir(parents=True, exist_ok=True)
+    return lambda plan: write_plan_file(plan, folder / plan_file_name(Path(plan.problem)))
 
 
 def _summary(plan: ProblemPlan) -> str:
@@ -123,11 +160,13 @@ def _summary(plan: ProblemPlan) -> str:
 
 
 def _folder(args: argparse.Namespace, policy_for) -> int:  # noqa: ANN001 - the closure of cmd_plan_problem
-    plans = plan_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget)
+    plans = plan_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget,
+                        done=_plan_writer(args))
     solved = sum(p.solved for p in plans)
     doc = {"problems": len(plans), "solved": solved, "optimum_budget_s": args.optimum_budget,
-           "rows": [p.row() for p in plans]}
-    emit(args, doc, lambda: _folder_lines(plans))
+           "plan_folder": args.plan_out, "rows": [p.row() for p in plans]}
+    emit(args, doc, lambda: _folder_lines(plans) + ([] if args.plan_out is None else
+                                                    [f"wrote {solved} plan file(s) to {args.plan_out}"]))
     return 0 if solved == len(plans) else 1
 
 

@@ -140,8 +140,12 @@ def _end(start: State, actions: tuple[Action, ...]) -> State:
 
 
 def plan_folder(folder: str | os.PathLike, domain: str | os.PathLike | None, policy_for: PolicyFor,
-                planner: str, budget_s: float, progress: Callable[[str], None] | None = None) -> list[ProblemPlan]:
-    """Every problem of ``folder`` (sorted; domain files skipped): a failed row where one cannot be read or planned."""
+                planner: str, budget_s: float, progress: Callable[[str], None] | None = None,
+                done: Callable[[ProblemPlan], None] | None = None) -> list[ProblemPlan]:
+    """Every problem of ``folder`` (sorted; domain files skipped): a failed row where one cannot be read or planned.
+
+    ``done`` is called with each solved problem's plan as soon as it is made (e.g. to write its plan file).
+    """
     out = []
     for path, unreadable in problem_files(folder):
         if progress is not None:
@@ -153,6 +157,8 @@ def plan_folder(folder: str | os.PathLike, domain: str | os.PathLike | None, pol
             out.append(plan_problem(path, domain, policy_for, planner, budget_s))
         except CsqlError as exc:
             out.append(ProblemPlan(os.fspath(path), None, planner, False, reason=_named(str(exc), path)))
+        if done is not None and out[-1].solved:
+            done(out[-1])
     return out
 
 

@@ -130,7 +130,7 @@ def test_a_domain_that_is_not_the_blocks_world_is_refused(capsys, tmp_path):
 @pytest.mark.parametrize("argv, names", [
     (["--problem", "x.pddl", "--problems", "."], "not both"),
     (["--problem", "x.pddl", "--start", "AB"], "--start"),
-    (["--problems", ".", "--plan-out", "p.plan"], "--plan-out"),
+    (["--problems", ".", "--plan-out", "."], "--plan-out '.' is the folder of the problems"),
     (["--domain", "d.pddl", "--start", "AB", "--goal", "BA"], "--domain goes with"),
 ])
 def test_bad_options_exit_2_in_one_line(capsys, argv, names):
@@ -224,3 +224,27 @@ def test_the_pddl_options_are_parameters_of_pddl_jobs_only(capsys, tmp_path):
     code, out, _ = run(capsys, "plan", "--problem", problem, "--planner", "gn1", "--json")
     parameters = json.loads(out)["provenance"]["parameters"]
     assert code == 0 and parameters["problem"] == str(problem) and parameters["optimum_budget"] == 1.0
+
+
+def test_plan_out_with_a_folder_writes_the_plan_files_evaluate_reads(capsys, tmp_path):
+    from csql_sim.jobs.execute_batch import plan_file
+
+    problems, plans = tmp_path / "problems", tmp_path / "plans"
+    problems.mkdir()
+    domain, tasks = generated(problems, 9, count=3)
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", plans, "--optimum-budget", "0")
+    assert code == 0 and "wrote 3 plan file(s)" in out, err
+    assert sorted(p.name for p in plans.iterdir()) == [t.stem + ".plan" for t in tasks]
+    for task in tasks:
+        bp, steps, end = replayed(task, plan_file(task, plans), domain)  # the file evaluate --plans would read
+        assert bp.goal.satisfied(end) and steps
+    before = {p.name: p.read_text() for p in plans.iterdir()}
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", plans)
+    assert code == 2 and out == "" and err.count("\n") == 1 and "--overwrite" in err
+    assert {p.name: p.read_text() for p in plans.iterdir()} == before
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", plans, "--overwrite",
+                         "--optimum-budget", "0")
+    assert code == 0, err
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", problems)
+    assert code == 2 and "is the folder of the problems" in err and sorted(problems.iterdir()) == sorted(
+        [domain, *tasks])
