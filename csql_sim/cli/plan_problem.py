@@ -114,9 +114,7 @@ def _single(args: argparse.Namespace, plan: ProblemPlan) -> int:
     """Report one problem; 0 when solved."""
     problem = plan.problem_doc
     names = problem.names
-    steps = plan_steps(plan.actions, problem.n)
-    for step, action in zip(steps, plan.actions, strict=True):
-        step["name"] = action.name(names)
+    steps = plan_steps(plan.actions, problem.n, names)
     doc = {**plan.row(), "objects": list(names),
            "start": problem.start.named_notation() if problem.n <= MAX_LARGE_MESSAGE else None,
            "goal": problem.goal.atom_texts(), "plan": steps if plan.solved else None,

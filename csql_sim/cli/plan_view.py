@@ -32,14 +32,21 @@ def select_policy(args: argparse.Namespace, n: int | None) -> Policy | Relationa
     return load_policy(args.rules if planner == "rules" else None, n, progress=show_progress(args))
 
 
-def plan_steps(actions: Sequence[Action], n: int) -> list[dict]:
+def plan_steps(actions: Sequence[Action], n: int, names: Sequence[str] | None = None) -> list[dict]:
     """The JSON of a plan: ``{"code", "name", "message"}`` per action, in the view of n blocks.
 
     Up to six blocks the paper's action code and message; 7..26 the action's index + 1 and
-    the relational message; past 26 the index + 1 and no message (``None``).
+    the relational message; past 26 the index + 1 and no message (``None``). The name is
+    csql-sim's (``unstack(A,B)``), or with ``names`` (a problem's objects) the action in
+    PDDL form in those names, ``(unstack amber pearl)``, whichever planner made the plan.
     """
+    from csql_sim.core.files.ipc_plan import ipc_action
+
+    def name(a: Action) -> str:
+        return a.name() if names is None else ipc_action(a, names)
+
     if n <= MAX_BLOCKS:
-        return [{"code": action_code(a, n), "name": a.name(), "message": format_action_message(a, n)}
+        return [{"code": action_code(a, n), "name": name(a), "message": format_action_message(a, n)}
                 for a in actions]
-    return [{"code": action_index(a, n) + 1, "name": a.name(),
+    return [{"code": action_index(a, n) + 1, "name": name(a),
              "message": format_large_action(a, n) if n <= MAX_LARGE_MESSAGE else None} for a in actions]

@@ -67,7 +67,7 @@ def test_a_generated_problem_is_planned_and_its_plan_file_read_back(capsys, tmp_
     assert code == 0, err
     doc = json.loads(out)
     assert doc["solved"] and doc["blocks"] == 40 and doc["cost"] == len(doc["plan"]) >= doc["lower_bound"] > 0
-    assert doc["plan"][0]["message"] is None and re.fullmatch(r"[a-z]+\(b\d+(,b\d+)?\)", doc["plan"][0]["name"])
+    assert doc["plan"][0]["message"] is None and re.fullmatch(r"\([a-z-]+ b\d+( b\d+)?\)", doc["plan"][0]["name"])
     text = (tmp_path / "p.plan").read_text()
     assert re.search(r"^\((pick-up|unstack) b\d+", text, re.M) and f"; cost = {doc['cost']}" in text
     bp, steps, end = replayed(problem, tmp_path / "p.plan", domain)
@@ -248,3 +248,16 @@ def test_plan_out_with_a_folder_writes_the_plan_files_evaluate_reads(capsys, tmp
     code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", problems)
     assert code == 2 and "is the folder of the problems" in err and sorted(problems.iterdir()) == sorted(
         [domain, *tasks])
+
+
+@pytest.mark.parametrize("init, message", [
+    ("(on b1 b1) (ontable b2) (clear b2)", "block b1 stands on itself"),
+    ("(ontable b1) (on b2 b1) (on b3 b1) (clear b2) (clear b3)", "two blocks stand on block b1"),
+])
+def test_a_broken_initial_state_is_named_in_the_problems_words(capsys, tmp_path, init, message):
+    objects = " ".join(sorted({w for w in init.replace("(", " ").replace(")", " ").split() if w.startswith("b")}))
+    problem = tmp_path / "p.pddl"
+    problem.write_text(f"(define (problem p) (:domain blocks) (:objects {objects}) "
+                       f"(:init (handempty) {init}) (:goal (and (ontable b1))))")
+    code, out, err = run(capsys, "plan", "--problem", problem, "--planner", "gn1")
+    assert code == 2 and out == "" and err.count("\n") == 1 and message in err

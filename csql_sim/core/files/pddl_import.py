@@ -297,7 +297,7 @@ def _start_state(atoms: set[Atom], n: int, source: str, objects: tuple[str, ...]
         raise PddlImportError(f"{source}: the initial state is not a full configuration: {objects[bad]} {what}")
     try:
         support = tuple(where[i][0] for i in range(n))
-        state = State(support)
+        state = State(support, objects)  # its messages name the problem's objects
     except WorldError as exc:
         raise PddlImportError(f"{source}: the initial state is not a configuration ({exc})") from None
     if uses_hand and (("handempty", ()) in atoms) != (state.held is None):
