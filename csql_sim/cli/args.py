@@ -117,6 +117,18 @@ class DeprecatedAlias(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+def add_domain_rules(parser: argparse.ArgumentParser, help_text: str) -> None:
+    """``--domain-rules FILE``: a rule file whose R-classifiers are the world model (``--domain`` is its old spelling).
+
+    ``--domain`` names a PDDL domain file in every other command; here it is a deprecated
+    alias that warns in one line.
+    """
+    parser.add_argument("--domain-rules", dest="domain_rules", type=path_arg, default=None, metavar="FILE",
+                        help=help_text)
+    parser.add_argument("--domain", dest="domain_rules", type=path_arg, action=DeprecatedAlias,
+                        new="--domain-rules FILE", help=argparse.SUPPRESS)
+
+
 ALIASES_UNTIL = "0.3.0"
 """The release that drops the deprecated spellings (the CHANGELOG lists them)."""
 PLANNERS = ("bfs", "rules", "gn1")

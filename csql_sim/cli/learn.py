@@ -9,6 +9,7 @@ from dataclasses import fields
 
 from csql_sim.cli.args import (
     add_backend_arguments,
+    add_domain_rules,
     add_json,
     add_overwrite,
     add_quiet,
@@ -48,7 +49,7 @@ def declare_rule_file(args: argparse.Namespace, outputs: Outputs) -> None:
     """``train`` and ``prune``: one rule file; the rule files and parameters they read are inputs."""
     outputs.file(args.out, "rule file", "rules")
     outputs.input(getattr(args, "rules", None), "rule file")
-    outputs.input(getattr(args, "domain", None), "domain rule file")
+    outputs.input(getattr(args, "domain_rules", None), "domain rule file")
     outputs.input(getattr(args, "params", None), "parameter file")
 
 
@@ -126,15 +127,15 @@ def cmd_train(args: argparse.Namespace) -> int:
         return train_shards.run(args, out)
 
     domain = None
-    if args.domain:
+    if args.domain_rules:
         from csql_sim.core.files.rulebase import load_r_classifiers
 
-        domain = load_r_classifiers(args.domain, args.blocks).classifiers
+        domain = load_r_classifiers(args.domain_rules, args.blocks).classifiers
     began = time.perf_counter()
     learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, train_params(args),
                                   progress=show_progress(args), engine=args.engine, domain=domain)
-    if args.domain:
-        meta["domain"] = str(args.domain)
+    if args.domain_rules:
+        meta["domain"] = str(args.domain_rules)
     trained = time.perf_counter()
     if args.params:
         meta["provenance"]["parameters"]["params_file"] = args.params
@@ -262,8 +263,7 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
     p.add_argument("--engine", choices=("fast", "reference"), default=None,
                    help="engine of cs-ql and lt-ql: fast (their default; cs-ql with the built-in rules, lt-ql up "
                    "to 5 blocks) or reference; the same rule file")
-    p.add_argument("--domain", type=path_arg,
-                   help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
+    add_domain_rules(p, "R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5 (was --domain)")
     p.add_argument("--sweep", choices=("none", "value-iteration"), default=None,
                    help="cs-ql/xcs-ql after the trials: value-iteration (the default; greedy passes over every pair "
                    "through the world model, backing up every candidate for n > 3) or none (learn from trials "

@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import (
+    ALIASES_UNTIL,
     add_json,
     add_quiet,
     add_seed,
@@ -95,7 +96,7 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
         raise CsqlError("--committee needs --features generated")
     read = {} if args.atoms is None else {"atoms": args.atoms}
     params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
-                          domain=args.domain, complexity=args.complexity, **read)
+                          domain=formulation_of(args), complexity=args.complexity, **read)
     rng = np.random.default_rng(args.seed)
     if args.committee > 1:
         warn_workers(args)
@@ -146,12 +147,35 @@ def _atoms(text: str) -> tuple[str, ...]:
 
 
 def _domain(text: str) -> str:
-    """A shipped formulation's name or a readable PDDL domain file."""
+    """A readable PDDL domain file (or, deprecated, a shipped formulation's name: see :class:`_DomainOption`)."""
     from csql_sim.core.features.formulation import BUILTIN
 
     if text in BUILTIN or os.path.isfile(text):
         return text
-    raise argparse.ArgumentTypeError(f"expected {' or '.join(BUILTIN)} or a PDDL domain file, got {text!r}")
+    raise argparse.ArgumentTypeError(f"expected a PDDL domain file, got {text!r} (a shipped formulation is "
+                                     f"--formulation {'|'.join(BUILTIN)})")
+
+
+class _DomainOption(argparse.Action):
+    """``--domain FILE``: a PDDL domain; ``--domain 4op|move``, the old spelling of ``--formulation``, warns once."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:  # noqa: D102
+        from csql_sim.core.features.formulation import BUILTIN
+
+        if values in BUILTIN:
+            print(f"{parser.prog}: warning: --domain {values} is deprecated and goes in {ALIASES_UNTIL}; use "
+                  f"--formulation {values}", file=sys.stderr)
+            namespace.formulation = values
+            return
+        namespace.domain = values
+
+
+def formulation_of(args: argparse.Namespace) -> str:
+    """The formulation trained: ``--formulation`` (default 4op) or the PDDL file of ``--domain``, not both."""
+    if args.domain is not None and args.formulation is not None:
+        raise CsqlError(f"give --formulation {args.formulation} or --domain {args.domain!r} (a PDDL domain), not both")
+    return args.domain or args.formulation or "4op"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -163,7 +187,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--sizes", type=_sizes, default=(5,),
                    help="numbers of blocks of the worlds trained on, a comma list among 3,4,5 (default 5)")
     p.add_argument("--goals", type=int_type(1, 10**6), help="training goals per size (default 40; 200 with "
-                   "--features generated --domain move)")
+                   "--features generated --formulation move)")
     p.add_argument("--features", choices=("given", "generated"), default="given",
                    help="what the classifiers read: hand-written atoms (given, the default; see --atoms) or features "
                         "generated from the domain's predicates")
@@ -171,8 +195,11 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with the given atoms: the ones the classifiers read, a comma list among misplaced,goal-on,"
                         "ready,deadlocked,above-needed,least-stuck,deadlock,holding,cover, or all (default: all but "
                         "least-stuck)")
-    p.add_argument("--domain", type=_domain, default="4op",
-                   help="with --features generated: the formulation, 4op (default), move, or a PDDL domain file")
+    p.add_argument("--formulation", choices=("4op", "move"), default=None,
+                   help="with --features generated: the shipped formulation, 4op (default) or move")
+    p.add_argument("--domain", type=_domain, default=None, action=_DomainOption, metavar="FILE",
+                   help="with --features generated: a PDDL domain file to generate the features from, instead of "
+                        "--formulation")
     p.add_argument("--complexity", type=int_type(1, 10), default=8,
                    help="with --features generated: the feature grammar's complexity bound K (default 8)")
     p.add_argument("--committee", type=int_type(1, 9), default=None,
