@@ -9,6 +9,7 @@ import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from csql_sim.core.files.pddl_import import MAX_DRAWN_BLOCKS
 from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS
 
@@ -40,8 +41,8 @@ non_negative_int = int_type(0)
 blocks_arg = int_type(MIN_BLOCKS, MAX_BLOCKS)
 large_blocks_arg = int_type(MIN_BLOCKS, MAX_LETTERS)
 """``--blocks`` of the commands that take relational states past six blocks: an integer 2..26."""
-drawn_blocks_arg = int_type(MIN_BLOCKS, 1000)
-"""``--blocks`` of drawn problems (``csql-sim problems``): an integer 2..1000."""
+drawn_blocks_arg = int_type(MIN_BLOCKS, MAX_DRAWN_BLOCKS)
+"""``--blocks`` of drawn problems (``csql-sim problems``): an integer 2..MAX_DRAWN_BLOCKS."""
 seed_arg = non_negative_int
 """Seeds are non-negative integers (numpy's SeedSequence refuses negative ones)."""
 

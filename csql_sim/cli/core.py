@@ -22,6 +22,7 @@ from csql_sim.cli.output import emit
 from csql_sim.cli.plan import cmd_plan, declare_plan
 from csql_sim.cli.plan_problem import optimum_budget_arg
 from csql_sim.core.classifiers.r_classifier import r_classifiers
+from csql_sim.core.files.pddl_import import MAX_PLANNED_BLOCKS
 from csql_sim.core.state.message import (
     format_state_message,
 )
@@ -77,11 +78,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = command_parser(sub, "states", "list every state of the n-block world", "csql-sim states --blocks 3")
     p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
     add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_states)
 
     p = command_parser(sub, "rules", "print the R-classifiers (Figure 5 for n=3)", "csql-sim rules --blocks 3")
     p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
     add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_rules)
 
     p = command_parser(sub, "plan", "plan from a start to a goal configuration, or over many pairs",
@@ -108,7 +111,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "--problems DIR a folder (not DIR) that gets <problem>.plan for each solved problem, the "
                         "names 'evaluate --problems DIR --plans' reads")
     p.add_argument("--problem", type=path_arg, default=None, metavar="FILE",
-                   help="plan a blocks-world PDDL problem of any size (up to 2,000 objects; full or partial goal)")
+                   help=f"plan a blocks-world PDDL problem of up to {MAX_PLANNED_BLOCKS:,} objects (full or partial "
+                        "goal)")
     p.add_argument("--problems", type=path_arg, default=None, metavar="DIR",
                    help="plan every PDDL problem of a folder: one row each (cost, time, lower bound, optimum)")
     p.add_argument("--domain", type=path_arg, default=None,

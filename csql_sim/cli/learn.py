@@ -141,13 +141,14 @@ def cmd_train(args: argparse.Namespace) -> int:
         meta["provenance"]["parameters"]["params_file"] = args.params
     path = write_or_keep([(args.out, learner.file_bytes(args.out, meta))])[0]
     r_count, q_count = learner.counts()
-    print(
+    written = time.perf_counter() - trained
+    doc = {"method": args.method, "engine": learner.engine, "blocks": args.blocks, "trials": meta["trials"],
+           "seed": args.seed, "steps": meta["steps"], "training_seconds": round(trained - began, 3),
+           "r_classifiers": r_count, "q_classifiers": q_count, "out": str(path), "phases": meta["phases"]}
+    emit(args, doc, lambda: [
         f"{args.method} ({learner.engine} engine), {args.blocks} blocks: {meta['trials']} trials, seed {args.seed}, "
         f"{meta['steps']} steps in {trained - began:.2f} s; {r_count} R- and {q_count} Q-classifiers written to "
-        f"{path} in {time.perf_counter() - trained:.2f} s"
-    )
-    for line in phase_lines(meta["phases"]):
-        print(f"  {line}")
+        f"{path} in {written:.2f} s", *(f"  {line}" for line in phase_lines(meta["phases"]))])
     return 0
 
 
@@ -211,7 +212,10 @@ def cmd_scaling(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ params
 def cmd_params(args: argparse.Namespace) -> int:
 
-    print(_params_yaml(args.method, args.blocks), end="")
+    import yaml
+
+    text = _params_yaml(args.method, args.blocks)
+    emit(args, {"method": args.method, "blocks": args.blocks, "params": yaml.safe_load(text)}, text.rstrip("\n"))
     return 0
 
 
@@ -277,6 +281,8 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
     add_size_arguments(p)
     add_overwrite(p)
     add_quiet(p)
+    if "--json" not in p._option_string_actions:
+        add_json(p)
     p.set_defaults(func=cmd_train, declare=_declare_train)
 
 
@@ -327,6 +333,8 @@ def _register_params(sub: argparse._SubParsersAction, methods: tuple[str, ...]) 
                        "csql-sim params --method cs-ql --blocks 4 > params.yaml")
     p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
+    add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_params)
 
 

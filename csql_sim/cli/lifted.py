@@ -22,6 +22,7 @@ from csql_sim.cli.args import (
     warn_workers,
 )
 from csql_sim.cli.output import emit
+from csql_sim.core.files.pddl_import import MAX_PLANNED_BLOCKS
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 
@@ -180,7 +181,8 @@ def formulation_of(args: argparse.Namespace) -> str:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``train-lifted`` to the subparsers."""
-    p = command_parser(sub, "train-lifted", "learn lifted Q-classifiers on small worlds (plans for up to 26 blocks)",
+    p = command_parser(sub, "train-lifted", "learn lifted Q-classifiers on small worlds (their plans: up to "
+                       f"{MAX_PLANNED_BLOCKS:,} objects with 'plan --problem')",
                        "csql-sim train-lifted --out lifted.json")
     p.add_argument("--out", type=path_arg, required=True, help="lifted Q-classifier file to write (JSON)")
     p.add_argument("--trials", type=int_type(1, 10**7), default=3000, help="training trials (default 3000)")

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 
 from csql_sim import __version__
-from csql_sim.cli.args import add_domain_rules, add_overwrite, blocks_arg, blocks_help, command_parser, path_arg
+from csql_sim.cli.args import add_domain_rules, add_json, add_quiet, blocks_arg, blocks_help, command_parser, path_arg
+from csql_sim.cli.output import emit
 from csql_sim.cli.plan import read_task
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import PDDL_HEADER, Outputs
@@ -42,7 +43,7 @@ def cmd_pddl(args: argparse.Namespace) -> int:
         start, goal = read_task(args.start, args.goal, n)
         outputs.append((out / "problem.pddl", _headed("problem", problem_text(rules, start, goal))))
     written = write_or_keep(outputs)
-    print("wrote " + " and ".join(str(p) for p in written))
+    emit(args, {"blocks": n, "files": [str(p) for p in written]}, "wrote " + " and ".join(str(p) for p in written))
     return 0
 
 
@@ -61,7 +62,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--start", help="start configuration, e.g. CBA (writes problem.pddl with --goal)")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
     p.add_argument("--out", type=path_arg, required=True, help="folder for domain.pddl and problem.pddl")
-    add_overwrite(p)
+    add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_pddl, declare=declare_pddl)
 
 

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from csql_sim.cli.args import (
     add_json,
+    add_quiet,
     add_seed,
     blocks_help,
     command_parser,
@@ -16,6 +17,7 @@ from csql_sim.cli.args import (
     sizes_type,
 )
 from csql_sim.cli.output import emit
+from csql_sim.core.files.pddl_import import MAX_DRAWN_BLOCKS
 from csql_sim.core.model.task_draws import DISTRIBUTIONS
 from csql_sim.infra.outputs import Outputs
 
@@ -54,11 +56,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="tall-towers: a random order of the blocks cut after each with probability 1/10 (towers "
                         "about 10 high); uniform: every configuration equally likely (default tall-towers)")
     p.add_argument("--blocks", type=sizes_type(drawn_blocks_arg), default=[25],
-                   help=blocks_help(2, 1000, 25, "; a list such as 25,50,100 gives each size"))
+                   help=blocks_help(2, MAX_DRAWN_BLOCKS, 25, "; a list such as 25,50,100 gives each size"))
     p.add_argument("--count", type=positive_int, default=1, help="problems per size (default 1)")
     add_seed(p, "seed of the one generator that draws every problem")
     p.add_argument("--out", type=path_arg, required=True, help="folder for domain.pddl and the problems")
     add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_problems, declare=declare_problems)
 
 

@@ -144,7 +144,9 @@ def cmd_prune(args: argparse.Namespace) -> int:
     rb = load(args.rules, progress=show_progress(args))
     pruned = prune(rb, args.threshold)
     path = write_or_keep([(args.out, file_bytes(args.out, pruned))])[0]
-    print(f"Q-classifiers: {count_q(rb)} before, {count_q(pruned)} after pruning at {args.threshold:g}; wrote {path}")
+    doc = {"threshold": args.threshold, "q_before": count_q(rb), "q_after": count_q(pruned), "out": str(path)}
+    emit(args, doc, f"Q-classifiers: {doc['q_before']} before, {doc['q_after']} after pruning at "
+                    f"{args.threshold:g}; wrote {path}")
     return 0
 
 
@@ -173,6 +175,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=path_arg, required=True, help="rule file to write (not the rule file read)")
     add_overwrite(p)
     add_quiet(p)
+    add_json(p)
     p.set_defaults(func=cmd_prune, declare=declare_prune)
 
 

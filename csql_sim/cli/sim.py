@@ -12,7 +12,6 @@ from csql_sim.cli.args import (
     RULES_BUILTIN_HELP,
     add_backend_arguments,
     add_json,
-    add_overwrite,
     add_planner,
     add_quiet,
     add_renderer_argument,
@@ -94,12 +93,25 @@ def pairs_arg(text: str) -> str | int:
     return positive_int(text)
 
 
-def print_episode(result: EpisodeResult, n: int) -> None:
-    """Print the legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.control.report.episode_lines`)."""
+def episode_text(result: EpisodeResult, n: int) -> list[str]:
+    """The legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.control.report.episode_lines`)."""
     from csql_sim.sim.control import episode_lines
     from csql_sim.sim.world import legend_line
 
-    print("\n".join([legend_line(n), *episode_lines(result)]))
+    return [legend_line(n), *episode_lines(result)]
+
+
+def print_episode(result: EpisodeResult, n: int) -> None:
+    """Print :func:`episode_text`."""
+    print("\n".join(episode_text(result, n)))
+
+
+def episode_doc(result: EpisodeResult) -> dict:
+    """An episode for a ``--json`` report: the task, the verdict from perception and each action run."""
+    return {"start": result.start, "goal": result.goal, "seed": result.seed, "success": result.success,
+            "reason": result.reason, "length": result.length, "optimal_length": result.optimal_length,
+            "sim_seconds": round(result.sim_seconds, 3),
+            "steps": [{"action": s.action, "predicted": s.predicted, "perceived": s.perceived} for s in result.steps]}
 
 
 def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
@@ -146,10 +158,10 @@ def cmd_render(args: argparse.Namespace) -> int:
                                   provenance_extra={"rules": rules_source(args.rules),
                                                     **({"planner": args.planner} if args.planner else {})},
                                   camera_noise=CameraNoise(*args.camera_noise), renderer=args.renderer)
-    print_episode(result, start.n)
     frames = video_frame_count(result.recording, args.fps) if result.recording else 0
-    print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height}; "
-          f"provenance in {sidecar_path(path)})")
+    doc = {**episode_doc(result), "video": str(path), "frames": frames, "sidecar": str(sidecar_path(path))}
+    emit(args, doc, lambda: [*episode_text(result, start.n), f"wrote {path} ({frames} frames at {args.fps} fps, "
+                             f"{args.width}x{args.height}; provenance in {sidecar_path(path)})"])
     return 0 if result.success else 1
 
 
@@ -191,10 +203,10 @@ def render_discovery(args: argparse.Namespace) -> int:
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
 
-    print(legend_line(args.blocks))
+    lines = [legend_line(args.blocks)]
     for t in result.log:
         name = parse_action_message(t.action, args.blocks).name()
-        print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
+        lines.append(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
     path = write_video(recording, args.out, args.width, args.height, args.fps, args.workers,
                        progress=show_progress(args), renderer=args.renderer)
     frames = video_frame_count(recording, args.fps)
@@ -204,7 +216,9 @@ def render_discovery(args: argparse.Namespace) -> int:
     video = {"file": path.name, "frames": frames, "attempts": result.transitions, "failed": result.failed,
              "legend": cube_legend(args.blocks)}
     sidecar = write_atomic(sidecar_path(path), json.dumps(sidecar_record(record, video), indent=1) + "\n")
-    print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({frames} frames) and {sidecar}")
+    emit(args, {**video, "video": str(path), "sidecar": str(sidecar)},
+         [*lines, f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({frames} frames) and "
+                  f"{sidecar}"])
     return 0
 
 
@@ -313,7 +327,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--blocks", type=blocks_arg, default=None,
                    help=blocks_help(2, MAX_BLOCKS, DISCOVERY_BLOCKS, "; with --discovery only: a task's blocks "
                                     "come from --start"))
-    add_overwrite(p)
+    add_json(p)
     p.set_defaults(func=cmd_render, declare=declare_render)
 
     p = command_parser(sub, "evaluate", "run physical episodes over start/goal pairs and report success",

@@ -52,7 +52,10 @@ from csql_sim.infra.files import read_text_file
 MAX_PDDL_BYTES = 1 << 20
 """The largest PDDL file read (1 MiB)."""
 MAX_PLANNED_BLOCKS = 2000
-"""The most objects read for planning alone (``read_problem(..., max_blocks=MAX_PLANNED_BLOCKS)``)."""
+"""The most objects read for planning alone (``read_problem(..., max_blocks=MAX_PLANNED_BLOCKS)``): the limit of
+``plan --problem``, ``validate`` and the lifted rules' plans, stated from this constant in help, docs and errors."""
+MAX_DRAWN_BLOCKS = 1000
+"""The most blocks ``csql-sim problems`` draws per problem (at most :data:`MAX_PLANNED_BLOCKS`: each one plans)."""
 TABLE_NAME = "table"
 PREDICATE_ALIASES = {"on": "on", "ontable": "ontable", "on-table": "ontable", "on_table": "ontable",
                      "clear": "clear", "holding": "holding", "block": "block",
