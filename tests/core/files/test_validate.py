@@ -7,10 +7,17 @@ import numpy as np
 import pytest
 
 from csql_sim.core.files.validate import validate_plan_file
+from csql_sim.core.policies.loader import load_policy
+from csql_sim.infra.assets import builtin_rules_path
 from csql_sim.infra.errors import CsqlError
 from csql_sim.jobs.plan_problems import plan_problem
 from csql_sim.jobs.problems import drawn_problems
-from csql_sim.learners.gn1 import Gn1Policy
+
+
+def shipped(n):
+    """The shipped lifted rules (``--rules builtin``), the planner whose plans are checked."""
+    return load_policy(builtin_rules_path(), n)
+
 
 up = pytest.importorskip("unified_planning", reason="unified-planning is in the test extra: pip install '.[test]'")
 
@@ -88,7 +95,7 @@ def mutations(lines: list[str], names: list[str], rng: np.random.Generator) -> l
 @pytest.mark.parametrize("seed", [1, 2])
 def test_verdicts_agree_with_unified_planning_on_valid_and_mutated_plans(tmp_path, move, seed):
     domain, problem, names = named_task(tmp_path, 9, seed, move)
-    planned = plan_problem(problem, domain, lambda n: Gn1Policy(), "gn1", 0.0)
+    planned = plan_problem(problem, domain, shipped, "rules", 0.0)
     assert planned.solved and any(name in planned.lines[0] for name in names)
     rng = np.random.default_rng(seed)
     plans = [list(planned.lines), *mutations(list(planned.lines), names, rng)]
@@ -105,7 +112,7 @@ def test_verdicts_agree_with_unified_planning_on_valid_and_mutated_plans(tmp_pat
 
 def test_a_failing_step_is_named_with_its_precondition(tmp_path):
     domain, problem, names = named_task(tmp_path, 9, 5, move=False)
-    planned = plan_problem(problem, domain, lambda n: Gn1Policy(), "gn1", 0.0)
+    planned = plan_problem(problem, domain, shipped, "rules", 0.0)
     lines = list(planned.lines)
     path = tmp_path / "p.plan"
     path.write_text("; a comment line\n" + "\n".join(lines[:2] + lines[3:]) + "\n")  # step 3 dropped
@@ -118,7 +125,7 @@ def test_a_failing_step_is_named_with_its_precondition(tmp_path):
 
 def test_a_plan_that_stops_short_names_each_goal_atom_missed(tmp_path):
     domain, problem, _ = named_task(tmp_path, 9, 6, move=False)
-    planned = plan_problem(problem, domain, lambda n: Gn1Policy(), "gn1", 0.0)
+    planned = plan_problem(problem, domain, shipped, "rules", 0.0)
     path = tmp_path / "p.plan"
     path.write_text("")
     verdict = validate_plan_file(problem, path, domain)
