@@ -31,7 +31,7 @@ from typing import Any, NoReturn
 
 from csql_sim import __version__
 from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, problems_cmd, rulefile, sim
-from csql_sim.cli.args import say
+from csql_sim.cli.args import refuse_ignored, say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
 from csql_sim.infra.outputs import Outputs
@@ -120,6 +120,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             if closed is not None:  # refused before any work: nothing written, nothing lost
                 raise StdoutError("standard output is closed (>&-); send it somewhere, e.g. >/dev/null")
+            refuse_ignored(args)
             outputs = plan_outputs(args)
             status = int(args.func(args) or 0)
             sys.stdout.flush()

@@ -44,6 +44,16 @@ def declare(args: argparse.Namespace, outputs: Outputs) -> None:
     outputs.file(args.out, "lifted Q-classifier file", "rules")
 
 
+def _ignored(args: argparse.Namespace) -> dict[str, str]:
+    """The options of generated features without them, and ``--workers`` with one population."""
+    out = {}
+    if args.features != "generated":
+        out = {"domain": "--features generated", "complexity": "--features generated"}
+    if args.features != "generated" or args.committee == 1:
+        out["workers"] = "--features generated and a committee of two or more (--committee K)"
+    return out
+
+
 DEFAULT_COMMITTEE = 3
 """Populations a run over generated features learns by default (``docs/features.md``: every seed's committee of
 three is above GN1 at n = 20, where one population's median is below it)."""
@@ -94,8 +104,9 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
     if args.committee > 1 and args.features != "generated":
         raise CsqlError("--committee needs --features generated")
     read = {} if args.atoms is None else {"atoms": args.atoms}
+    chosen = {k: getattr(args, k) for k in ("domain", "complexity") if getattr(args, k) is not None}
     params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
-                          domain=args.domain, complexity=args.complexity, **read)
+                          **chosen, **read)
     rng = np.random.default_rng(args.seed)
     if args.committee > 1:
         warn_workers(args)
@@ -171,9 +182,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with the given atoms: the ones the classifiers read, a comma list among misplaced,goal-on,"
                         "ready,deadlocked,above-needed,least-stuck,deadlock,holding,cover, or all (default: all but "
                         "least-stuck)")
-    p.add_argument("--domain", type=_domain, default="4op",
+    p.add_argument("--domain", type=_domain, default=None,
                    help="with --features generated: the formulation, 4op (default), move, or a PDDL domain file")
-    p.add_argument("--complexity", type=int_type(1, 10), default=8,
+    p.add_argument("--complexity", type=int_type(1, 10), default=None,
                    help="with --features generated: the feature grammar's complexity bound K (default 8)")
     p.add_argument("--committee", type=int_type(1, 9), default=None,
                    help="with --features generated: populations learned apart from the seed, whose mean advantage "
@@ -182,4 +193,4 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_seed(p, "seed of the run's one generator")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_train_lifted, declare=declare)
+    p.set_defaults(func=cmd_train_lifted, declare=declare, ignored=_ignored)

@@ -60,8 +60,14 @@ def _lower_text(plan: ProblemPlan) -> str:
     return "not measured" if plan.lower_bound is None else str(plan.lower_bound)
 
 
+DEFAULT_OPTIMUM_BUDGET = 1.0
+"""Seconds per task to measure the optimum after planning, unless ``--optimum-budget`` says."""
+
+
 def cmd_plan_problem(args: argparse.Namespace) -> int:
     """``plan --problem`` or ``plan --problems`` (module docstring)."""
+    if args.optimum_budget is None:
+        args.optimum_budget = DEFAULT_OPTIMUM_BUDGET
     if args.domain is not None and args.problem is None and args.problems is None:
         raise CsqlError("--domain goes with --problem FILE or --problems DIR")
     cache: dict[int, object] = {}

@@ -70,3 +70,30 @@ def judged(work: Path, run_it: Callable[[], Run], outputs: tuple[str, ...] = ())
     changed = {k for k in before.keys() | after.keys() if before.get(k) != after.get(k)}
     assert changed <= set(outputs), sorted(changed)
     return run
+
+
+def replay_4op(plan_text: str, names: list[str]) -> dict[str, str]:
+    """Apply a 4-operator plan to the tower ``names`` (bottom first); the supports it ends with (block -> below).
+
+    An action that is not applicable fails the assertion: this is the test's own simulator.
+    """
+    below = {names[0]: "table", **{b: a for a, b in zip(names, names[1:], strict=False)}}
+    held = None
+
+    def clear(x: str) -> bool:
+        return x != held and x not in below.values()
+
+    for line in plan_text.splitlines():
+        if not line.strip() or line.startswith(";"):
+            continue
+        op, *args = line.strip("()\n ").split()
+        x = args[0]
+        if op in ("pick-up", "unstack"):
+            assert held is None and clear(x) and below[x] == ("table" if op == "pick-up" else args[1]), line
+            held = x
+            del below[x]
+        else:
+            assert held == x and (op == "put-down" or clear(args[1])), line
+            below[x], held = ("table" if op == "put-down" else args[1]), None
+    assert held is None
+    return below
