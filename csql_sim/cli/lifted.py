@@ -42,6 +42,10 @@ def _sizes(text: str) -> tuple[int, ...]:
 def declare(args: argparse.Namespace, outputs: Outputs) -> None:
     """One lifted Q-classifier file written."""
     outputs.file(args.out, "lifted Q-classifier file", "rules")
+    from csql_sim.core.features.formulation import BUILTIN
+
+    if args.domain not in (None, *BUILTIN):
+        outputs.input(args.domain, "PDDL domain")
 
 
 def _ignored(args: argparse.Namespace) -> dict[str, str]:

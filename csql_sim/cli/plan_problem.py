@@ -18,7 +18,7 @@ from csql_sim.cli.plan_view import plan_steps, select_policy
 from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
-from csql_sim.jobs.plan_problems import ProblemPlan, plan_folder, plan_problem
+from csql_sim.jobs.plan_problems import ProblemPlan, iter_folder, plan_problem
 
 PROBLEM_OPTIONS = ("start", "goal", "pairs", "blocks")
 """Options that name another task and do not go with --problem/--problems."""
@@ -45,6 +45,7 @@ def declare_problem(args: argparse.Namespace, outputs: Outputs) -> None:
     if args.problems is not None and args.plan_out is not None:
         raise CsqlError("--plan-out writes the plan of one --problem; with --problems use --json")
     outputs.input(args.problem, "PDDL problem")
+    outputs.input_folder(args.problems, "PDDL problem")
     outputs.input(args.domain, "PDDL domain")
 
 
@@ -115,23 +116,47 @@ def _summary(plan: ProblemPlan) -> str:
 
 
 def _folder(args: argparse.Namespace, policy_for) -> int:  # noqa: ANN001 - the closure of cmd_plan_problem
-    plans = plan_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget)
-    solved = sum(p.solved for p in plans)
-    doc = {"problems": len(plans), "solved": solved, "optimum_budget_s": args.optimum_budget,
-           "rows": [p.row() for p in plans]}
-    emit(args, doc, lambda: _folder_lines(plans))
+    """Every problem of the folder, each row written as it finishes (text, or ``--json`` to stdout).
+
+    With ``--json`` one object is streamed, ``{"format", "version", "optimum_budget_s", "rows":
+    [...], "problems", "solved", "provenance"}``, a row a line, so a stopped run has printed the
+    rows done so far; ``--json FILE`` is still renamed into place whole at the end.
+    """
+    import json
+
+    from csql_sim.cli.output import command_parameters, json_stream, report_format, with_format
+    from csql_sim.infra.provenance import provenance
+
+    rows = iter_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget)
+    plans: list[ProblemPlan] = []
+    with json_stream(args) as out:
+        if out is not None:
+            head = with_format({"optimum_budget_s": args.optimum_budget}, report_format(args))
+            out.write(json.dumps(head)[:-1] + ', "rows": [')
+        else:
+            print(TABLE_HEAD, flush=True)
+        for plan in rows:
+            plans.append(plan)
+            if out is not None:
+                out.write(("" if len(plans) == 1 else ",") + "\n " + json.dumps(plan.row()))
+                out.flush()
+            else:
+                print(_row_line(plan), flush=True)
+        solved = sum(p.solved for p in plans)
+        if out is not None:
+            tail = {"problems": len(plans), "solved": solved, "provenance": provenance(**command_parameters(args))}
+            out.write("\n], " + json.dumps(tail)[1:] + "\n")
+        else:
+            print(f"{solved}/{len(plans)} problems solved")
     return 0 if solved == len(plans) else 1
 
 
-def _folder_lines(plans: list[ProblemPlan]) -> list[str]:
-    solved = sum(p.solved for p in plans)
-    lines = [f"{solved}/{len(plans)} problems solved",
-             f"  {'problem':<28} {'blocks':>6} {'cost':>6} {'time s':>7} {'lower':>6}  optimum"]
-    for p in plans:
-        name = p.problem.rsplit("/", 1)[-1]
-        if not p.solved:
-            lines.append(f"  {name:<28} {p.blocks if p.blocks is not None else '-':>6} FAILED: {p.reason}")
-            continue
-        lines.append(f"  {name:<28} {p.blocks:>6} {len(p.actions):>6} {p.seconds:>7.2f} {_lower_text(p):>6}  "
-                     f"{_optimum_text(p)}")
-    return lines
+TABLE_HEAD = f"  {'problem':<28} {'blocks':>6} {'cost':>6} {'time s':>7} {'lower':>6}  optimum"
+
+
+def _row_line(p: ProblemPlan) -> str:
+    name = p.problem.rsplit("/", 1)[-1]
+    if not p.solved:
+        return f"  {name:<28} {p.blocks if p.blocks is not None else '-':>6} FAILED: {p.reason}"
+    return (f"  {name:<28} {p.blocks:>6} {len(p.actions):>6} {p.seconds:>7.2f} {_lower_text(p):>6}  "
+            f"{_optimum_text(p)}")
