@@ -37,3 +37,34 @@ def test_replay_ratio_in_a_params_file_is_bounded_too(work: Path) -> None:
     csql(work, "train", "--blocks", 3, "--out", "t.yaml", "--trials", 20, "--params", "p.yaml",
          timeout=60).refused("p.yaml", "replay_ratio")
     assert not (work / "t.yaml").exists()
+
+
+def test_gym_unknown_reset_option_is_a_value_error_naming_it() -> None:
+    """gym-n7-options-junk: ``reset(options={"stort": ...})`` was silently ignored."""
+    import gymnasium as gym
+
+    import csql_sim.envs  # noqa: F401 - registers the environments
+
+    env = gym.make("csql_sim/BlocksWorld-v0", blocks=7)
+    with pytest.raises(ValueError, match="stort"):
+        env.reset(options={"stort": "ABCDEFG"})
+    observation, _ = env.reset(seed=0, options={"start": "ABCDEFG", "goal": "GFEDCBA"})
+    assert observation  # the known keys still work
+
+
+def test_rp_r_formulation_4op_with_the_move_domain_is_refused(work: Path) -> None:
+    from sweep4 import committee, tower_problem
+
+    committee(work, "r.json", formulation="4op")  # the embedded domain is the move domain
+    tower_problem(work, "p.pddl", 5)
+    csql(work, "plan", "--problem", "p.pddl", "--rules", "r.json", "--optimum-budget", 0, "--plan-out", "o.plan",
+         timeout=60).refused("r.json", "formulation", "4op")
+    assert not (work / "o.plan").exists()
+
+
+def test_gen_out_tinyfs_leaves_nothing_in_the_temporary_folder(work: Path, tiny_fs: Path) -> None:
+    """gen-out-tinyfs: a full disk is one short line; no copy spills into the temporary folder."""
+    run = csql(work, "problems", "--blocks", 1000, "--count", 50, "--out", tiny_fs / "o", timeout=120)
+    err = run.refused("No space left")
+    assert len(err) < 400
+    assert list((work.parent / f"{work.name}-tmp").iterdir()) == []
