@@ -46,7 +46,7 @@ from dataclasses import dataclass, replace
 from csql_sim.core.model.goal_spec import Atom, GoalError, GoalSpec
 from csql_sim.core.state.state import MAX_LETTERS, default_name
 from csql_sim.core.state.world import HAND, MIN_BLOCKS, TABLE, State, WorldError
-from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.errors import CsqlError, shortened
 from csql_sim.infra.files import read_text_file
 
 MAX_PDDL_BYTES = 1 << 20
@@ -186,17 +186,6 @@ def _parse_text(text: str, kind: str, source: str):  # noqa: ANN202 - a pddl Dom
     except Exception as exc:  # lark and pddl raise many types; any is a file we cannot read
         first = next((line.strip() for line in str(exc).splitlines() if line.strip()), type(exc).__name__)
         raise PddlImportError(f"{source}: not a PDDL {kind} the pddl package can read ({shortened(first)})") from None
-
-
-QUOTED_CHARS = 60
-"""The most characters of a token a message quotes (then ``...``)."""
-
-
-def shortened(text: str, total: int = 200) -> str:
-    """``text`` for a one-line message: each quoted token cut to :data:`QUOTED_CHARS`, the whole to ``total``."""
-    text = re.sub(r"""(['"])([^'"]{""" + str(QUOTED_CHARS + 1) + r""",})\1""",
-                  lambda m: m.group(1) + m.group(2)[:QUOTED_CHARS] + "..." + m.group(1), text)
-    return text if len(text) <= total else text[:total] + "..."
 
 
 def parse_domain_text(text: str, source: str = "domain"):  # noqa: ANN201 - a pddl Domain
