@@ -44,7 +44,7 @@ from csql_sim.cli import (
     sim,
     validate_cmd,
 )
-from csql_sim.cli.args import say
+from csql_sim.cli.args import refuse_ignored, say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
 from csql_sim.infra.outputs import Outputs
@@ -134,6 +134,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             if closed is not None:  # refused before any work: nothing written, nothing lost
                 raise StdoutError("standard output is closed (>&-); send it somewhere, e.g. >/dev/null")
+            refuse_ignored(args)
             outputs = plan_outputs(args)
             status = int(args.func(args) or 0)
             sys.stdout.flush()

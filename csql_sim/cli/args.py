@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 from csql_sim.core.files.pddl_import import MAX_DRAWN_BLOCKS
 from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.infra.errors import CsqlError
 
 if TYPE_CHECKING:
     from csql_sim.infra.backends import Backend
@@ -232,3 +233,19 @@ def add_renderer_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--renderer", choices=("auto", "tiny", "egl"), default="auto",
                         help="video renderer: pybullet's TinyRenderer, its EGL plugin (OpenGL; a GPU where "
                         "there is one), or auto (default): EGL when its plugin loads")
+
+
+def refuse_ignored(args: argparse.Namespace) -> None:
+    """One rule for every command: an option the other options make meaningless is refused, not ignored.
+
+    A command declares ``set_defaults(ignored=f)``, ``f(args)`` giving ``{dest: what it needs}``
+    for the options that do nothing in this run; such an option must default to None, and any
+    that was given is one CsqlError (exit 2) naming it and what it goes with.
+    """
+    ignored = getattr(args, "ignored", None)
+    if ignored is None:
+        return
+    for dest, needs in ignored(args).items():
+        if getattr(args, dest, None) is not None:
+            raise CsqlError(f"--{dest.replace('_', '-')} does nothing here: it goes with {needs}")
+

@@ -118,16 +118,22 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--domain", type=path_arg, default=None,
                    help="with --problem/--problems: their PDDL domain file (optional; its action names are "
                         "the plan file's)")
-    p.add_argument("--optimum-budget", type=optimum_budget_arg, default=1.0, metavar="SECONDS",
+    p.add_argument("--optimum-budget", type=optimum_budget_arg, default=None, metavar="SECONDS",
                    help="with --problem/--problems: seconds per task to measure the optimum after planning "
                         "(default 1; 0: not measured)")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_plan, declare=declare_plan, mode_options=_pddl_options)
+    p.set_defaults(func=cmd_plan, declare=declare_plan, mode_options=_pddl_options, ignored=_pddl_ignored)
 
 
 PDDL_OPTIONS = ("problem", "problems", "domain", "optimum_budget")
 """``plan``'s options for PDDL problems (``--problem``/``--problems``)."""
+
+
+def _pddl_ignored(args: argparse.Namespace) -> dict[str, str]:
+    """``--optimum-budget`` measures PDDL tasks only."""
+    return {"optimum_budget": "--problem FILE or --problems DIR"} if args.problem is None and \
+        args.problems is None else {}
 
 
 def _pddl_options(args: argparse.Namespace) -> tuple[str, ...]:

@@ -44,6 +44,20 @@ def _sizes(text: str) -> tuple[int, ...]:
 def declare(args: argparse.Namespace, outputs: Outputs) -> None:
     """One lifted Q-classifier file written."""
     outputs.file(args.out, "lifted Q-classifier file", "rules")
+    from csql_sim.core.features.formulation import BUILTIN
+
+    if args.domain not in (None, *BUILTIN):
+        outputs.input(args.domain, "PDDL domain")
+
+
+def _ignored(args: argparse.Namespace) -> dict[str, str]:
+    """The options of generated features without them, and ``--workers`` with one population."""
+    out = {}
+    if args.features != "generated":
+        out = {k: "--features generated" for k in ("domain", "formulation", "complexity")}
+    if args.features != "generated" or args.committee == 1:
+        out["workers"] = "--features generated and a committee of two or more (--committee K)"
+    return out
 
 
 DEFAULT_COMMITTEE = 3
@@ -96,8 +110,9 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
     if args.committee > 1 and args.features != "generated":
         raise CsqlError("--committee needs --features generated")
     read = {} if args.atoms is None else {"atoms": args.atoms}
+    chosen = {} if args.complexity is None else {"complexity": args.complexity}
     params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
-                          domain=formulation_of(args), complexity=args.complexity, **read)
+                          domain=formulation_of(args), **chosen, **read)
     rng = np.random.default_rng(args.seed)
     if args.committee > 1:
         warn_workers(args)
@@ -202,7 +217,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--domain", type=_domain, default=None, action=_DomainOption, metavar="FILE",
                    help="with --features generated: a PDDL domain file to generate the features from, instead of "
                         "--formulation")
-    p.add_argument("--complexity", type=int_type(1, 10), default=8,
+    p.add_argument("--complexity", type=int_type(1, 10), default=None,
                    help="with --features generated: the feature grammar's complexity bound K (default 8)")
     p.add_argument("--committee", type=int_type(1, 9), default=None,
                    help="with --features generated: populations learned apart from the seed, whose mean advantage "
@@ -211,4 +226,4 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_seed(p, "seed of the run's one generator")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_train_lifted, declare=declare)
+    p.set_defaults(func=cmd_train_lifted, declare=declare, ignored=_ignored)

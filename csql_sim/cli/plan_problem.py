@@ -19,7 +19,7 @@ from csql_sim.cli.plan_view import plan_steps, select_policy
 from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
-from csql_sim.jobs.plan_problems import ProblemPlan, plan_folder, plan_problem
+from csql_sim.jobs.plan_problems import ProblemPlan, iter_folder, plan_problem
 
 PROBLEM_OPTIONS = ("start", "goal", "pairs", "blocks")
 """Options that name another task and do not go with --problem/--problems."""
@@ -44,6 +44,7 @@ def declare_problem(args: argparse.Namespace, outputs: Outputs) -> None:
         if getattr(args, name) is not None:
             raise CsqlError(f"--{name} names another task; --problem and --problems read theirs from PDDL")
     outputs.input(args.problem, "PDDL problem")
+    outputs.input_folder(args.problems, "PDDL problem")
     outputs.input(args.domain, "PDDL domain")
     if args.problems is not None and args.plan_out is not None:
         declare_plan_folder(args, outputs)
@@ -92,8 +93,14 @@ def _lower_text(plan: ProblemPlan) -> str:
     return "not measured" if plan.lower_bound is None else str(plan.lower_bound)
 
 
+DEFAULT_OPTIMUM_BUDGET = 1.0
+"""Seconds per task to measure the optimum after planning, unless ``--optimum-budget`` says."""
+
+
 def cmd_plan_problem(args: argparse.Namespace) -> int:
     """``plan --problem`` or ``plan --problems`` (module docstring)."""
+    if args.optimum_budget is None:
+        args.optimum_budget = DEFAULT_OPTIMUM_BUDGET
     if args.domain is not None and args.problem is None and args.problems is None:
         raise CsqlError("--domain goes with --problem FILE or --problems DIR")
     default_to_builtin_rules(args)
@@ -158,25 +165,53 @@ def _summary(plan: ProblemPlan) -> str:
 
 
 def _folder(args: argparse.Namespace, policy_for) -> int:  # noqa: ANN001 - the closure of cmd_plan_problem
-    plans = plan_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget,
-                        done=_plan_writer(args))
-    solved = sum(p.solved for p in plans)
-    doc = {"problems": len(plans), "solved": solved, "optimum_budget_s": args.optimum_budget,
-           "plan_folder": args.plan_out, "rows": [p.row() for p in plans]}
-    emit(args, doc, lambda: _folder_lines(plans) + ([] if args.plan_out is None else
-                                                    [f"wrote {solved} plan file(s) to {args.plan_out}"]))
+    """Every problem of the folder, each row written as it finishes (text, or ``--json`` to stdout).
+
+    With ``--json`` one object is streamed, ``{"format", "version", "optimum_budget_s", "rows":
+    [...], "problems", "solved", "provenance"}``, a row a line, so a stopped run has printed the
+    rows done so far; ``--json FILE`` is still renamed into place whole at the end.
+    """
+    import json
+
+    from csql_sim.cli.output import command_parameters, json_stream, report_format, with_format
+    from csql_sim.infra.provenance import provenance
+
+    write = _plan_writer(args)
+    rows = iter_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget)
+    plans: list[ProblemPlan] = []
+    with json_stream(args) as out:
+        if out is not None:
+            head = with_format({"optimum_budget_s": args.optimum_budget, "plan_folder": args.plan_out},
+                               report_format(args))
+            out.write(json.dumps(head)[:-1] + ', "rows": [')
+        else:
+            print(TABLE_HEAD, flush=True)
+        for plan in rows:
+            plans.append(plan)
+            if write is not None and plan.solved:
+                write(plan)
+            if out is not None:
+                out.write(("" if len(plans) == 1 else ",") + "\n " + json.dumps(plan.row()))
+                out.flush()
+            else:
+                print(_row_line(plan), flush=True)
+        solved = sum(p.solved for p in plans)
+        if out is not None:
+            tail = {"problems": len(plans), "solved": solved, "provenance": provenance(**command_parameters(args))}
+            out.write("\n], " + json.dumps(tail)[1:] + "\n")
+        else:
+            print(f"{solved}/{len(plans)} problems solved")
+            if args.plan_out is not None:
+                print(f"wrote {solved} plan file(s) to {args.plan_out}")
     return 0 if solved == len(plans) else 1
 
 
-def _folder_lines(plans: list[ProblemPlan]) -> list[str]:
-    solved = sum(p.solved for p in plans)
-    lines = [f"{solved}/{len(plans)} problems solved",
-             f"  {'problem':<28} {'blocks':>6} {'cost':>6} {'time s':>7} {'lower':>6}  optimum"]
-    for p in plans:
-        name = p.problem.rsplit("/", 1)[-1]
-        if not p.solved:
-            lines.append(f"  {name:<28} {p.blocks if p.blocks is not None else '-':>6} FAILED: {p.reason}")
-            continue
-        lines.append(f"  {name:<28} {p.blocks:>6} {len(p.actions):>6} {p.seconds:>7.2f} {_lower_text(p):>6}  "
-                     f"{_optimum_text(p)}")
-    return lines
+TABLE_HEAD = f"  {'problem':<28} {'blocks':>6} {'cost':>6} {'time s':>7} {'lower':>6}  optimum"
+
+
+def _row_line(p: ProblemPlan) -> str:
+    name = p.problem.rsplit("/", 1)[-1]
+    if not p.solved:
+        return f"  {name:<28} {p.blocks if p.blocks is not None else '-':>6} FAILED: {p.reason}"
+    return (f"  {name:<28} {p.blocks:>6} {len(p.actions):>6} {p.seconds:>7.2f} {_lower_text(p):>6}  "
+            f"{_optimum_text(p)}")

@@ -135,6 +135,8 @@ def declare_evaluate(args: argparse.Namespace, outputs: Outputs) -> None:
         outputs.file(args.plot, "plot", "png", option="--plot")
     outputs.input(args.rules, "rule file")
     outputs.input(args.domain, "domain file")
+    outputs.input_folder(getattr(args, "problems", None), "PDDL problem")
+    outputs.input_folder(getattr(args, "plans", None), "plan file", "*")
 
 
 def cmd_render(args: argparse.Namespace) -> int:

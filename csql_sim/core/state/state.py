@@ -220,9 +220,9 @@ def _validate_support(support: tuple[int, ...], names: tuple[str, ...] | None = 
             grounded[k] = True
 
 
-@functools.lru_cache(maxsize=64)
+@functools.lru_cache(maxsize=16)
 def _validate_names(names: tuple[str, ...], n: int) -> None:
-    """Raise WorldError unless ``names`` name n blocks (cached: every successor of a named state carries them)."""
+    """Raise WorldError unless ``names`` are ``n`` distinct words (remembered: every successor repeats them)."""
     if len(names) != n:
         raise WorldError(f"{len(names)} names for {n} blocks")
     seen: set[str] = set()
