@@ -18,13 +18,14 @@ from hostile_cli import csql, digest
 
 @pytest.mark.parametrize(("argv", "named"), [
     (("train-lifted", "--out", "l.json", "--complexity", 3, "--trials", 2), ("--complexity", "--features generated")),
-    (("train-lifted", "--out", "l.json", "--domain", "move", "--trials", 2), ("--domain", "--features generated")),
+    (("train-lifted", "--out", "l.json", "--formulation", "move", "--trials", 2),
+     ("--formulation", "--features generated")),
     (("train-lifted", "--out", "l.json", "--trials", 2, "--workers", 2), ("--workers", "--features generated")),
     (("train-lifted", "--out", "l.json", "--trials", 2, "--features", "generated", "--committee", 1, "--workers", 2),
      ("--workers", "--committee")),
     (("plan", "--start", "CBA", "--goal", "ABC", "--optimum-budget", 5), ("--optimum-budget", "--problem")),
     (("train", "--blocks", 3, "--out", "t.yaml", "--trials", 20, "--replay", "1e308"), ("--replay", "1e308")),
-], ids=["tl-complexity-given", "tl-domain-given", "tl-workers-without-committee", "tl-workers-committee-1",
+], ids=["tl-complexity-given", "tl-formulation-given", "tl-workers-without-committee", "tl-workers-committee-1",
         "ob-without-problem", "tr-replay-1e308"])
 def test_an_option_that_does_nothing_or_overflows_is_refused(work: Path, argv: tuple, named: tuple) -> None:
     run = csql(work, *argv, timeout=60)

@@ -224,10 +224,13 @@ def check_agreement(domain, problem, domain_source: str, source: str) -> None:  
             raise PddlImportError(f"{domain_source}: declares {name} with {arity} argument(s); the blocks world's "
                                   f"{name} takes {ARITY[canonical]}")
     goal_pos, goal_neg = _goal_atoms(problem.goal, source)
-    for name, args in [*(_atom(a, source, "initial state") for a in problem.init), *goal_pos, *goal_neg]:
-        if name not in declared:
-            raise PddlImportError(f"{source}: uses ({name}), which the domain {domain_source} does not declare; "
-                                  f"the problem and the domain are of different formulations")
+    atoms = sorted([*(_atom(a, source, "initial state") for a in problem.init), *goal_pos, *goal_neg])
+    unknown = sorted({name for name, _ in atoms if name not in declared})
+    if unknown:
+        used = ", ".join(f"({name})" for name in unknown[:4]) + (", ..." if len(unknown) > 4 else "")
+        raise PddlImportError(f"{source}: uses {used}, which the domain {domain_source} does not declare; "
+                              f"the problem and the domain are of different formulations")
+    for name, args in atoms:
         if declared[name] != len(args):
             raise PddlImportError(f"{source}: ({' '.join([name, *args])}) has {len(args)} argument(s) but the domain "
                                   f"{domain_source} declares {name} with {declared[name]}")
