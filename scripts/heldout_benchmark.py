@@ -143,20 +143,23 @@ def report(path: str) -> None:
     print("| tasks | policy | agreement | tuning: optimal % | tuning: cost / optimum | held-out: optimal % "
           "| held-out: cost / optimum |")
     print("|---|---|---|---|---|---|---|")
-    keys = dict.fromkeys((r["set"], r["n"]) for r in rows)
-    for kind, n in keys:
+    for kind, n in dict.fromkeys((r["set"], r["n"]) for r in rows):
+        proven = {s: min(r["proven"] for r in rows if (r["set"], r["n"], r["split"]) == (kind, n, s))
+                  for s in ("tuning", "held-out")}
+        count = next(r["tasks"] for r in rows if (r["set"], r["n"]) == (kind, n))
+        label = f"{kind} n = {n}, {count} each" + ("" if min(proven.values()) == count else
+                                                    f" (proven: {proven['tuning']} / {proven['held-out']})")
         for name in dict.fromkeys(r["policy"] for r in rows):
             cells = []
             for split in ("tuning", "held-out"):
                 found = [r for r in rows if (r["policy"], r["set"], r["n"], r["split"]) == (name, kind, n, split)]
                 cells += [spread([r["optimal"] for r in found], 1), spread([r["ratio"] for r in found], 3)]
             seeds = sorted({r["seed"] for r in rows if r["policy"] == name and r["seed"] is not None})
-            label = name + (f", seeds {seeds[0]}-{seeds[-1]}" if len(seeds) > 1 else "")
-            agreed = [r["agreement"]["share"] for r in rows if r["policy"] == name and "agreement" in r]
-            share = spread([100 * a for a in agreed], 1) + "%" if agreed else "-"
-            proven = [r["proven"] for r in rows if (r["set"], r["n"]) == (kind, n)]
-            tasks = f"{kind} n = {n} ({rows[0]['tasks'] if kind == 'pairs' else min(proven)}+ proven)"
-            print(f"| {tasks} | {label} | {share} | {' | '.join(cells)} |")
+            who = name + (f", seeds {seeds[0]}-{seeds[-1]}" if len(seeds) > 1 else
+                          f", seed {seeds[0]}" if seeds and name != "shipped lifted.json" else "")
+            agreed = [100 * r["agreement"]["share"] for r in rows if r["policy"] == name and "agreement" in r]
+            share = spread(agreed, 1) + "%" if agreed else "-"
+            print(f"| {label} | {who} | {share} | {' | '.join(cells)} |")
 
 
 def spread(values: list[float], digits: int) -> str:
