@@ -158,7 +158,7 @@ def report(path: str) -> None:
             who = name + (f", seeds {seeds[0]}-{seeds[-1]}" if len(seeds) > 1 else
                           f", seed {seeds[0]}" if seeds and name != "shipped lifted.json" else "")
             agreed = [100 * r["agreement"]["share"] for r in rows if r["policy"] == name and "agreement" in r]
-            share = spread(agreed, 1) + "%" if agreed else "-"
+            share = "the reference" if name == "hand ordering" else spread(agreed, 1) + "%" if agreed else "-"
             print(f"| {label} | {who} | {share} | {' | '.join(cells)} |")
 
 
