@@ -31,7 +31,7 @@ Each (variant, seed) is one JSON line of ``--out``, written when done: a run tha
 resumes where it was. Each row records the policy's agreement with the hand ordering
 (:func:`csql_sim.core.policies.agreement.agreement`). These tasks are tuning tasks
 (:mod:`csql_sim.core.model.task_split`): the learner's K, sweep length, split rule and pick
-rule were chosen on them; ``scripts/heldout_benchmark.py`` measures held-out ones. ``--report``
+rule were chosen on them; ``benchmarks/lifted_heldout.py`` measures held-out ones. ``--report``
 prints the tables (min / median / max over seeds) of every variant in the file.
 """
 

@@ -45,7 +45,6 @@ import numpy as np
 from pddl import parse_problem
 
 from csql_sim.core.measure.bounds import bounded_optimum, cpsat_available, hitting_set_optimum, lower_bound
-from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state import State

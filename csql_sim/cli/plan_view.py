@@ -6,7 +6,6 @@ import argparse
 from collections.abc import Sequence
 
 from csql_sim.cli.args import show_progress
-from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.relational_rollout import RelationalPolicy

@@ -4,14 +4,14 @@
 seeds of :data:`TUNING_SEEDS`:
 
 * the benchmark's pairs: one generator seeded 0 draws 1,000 uniform pairs at each n of
-  :data:`BENCH_SIZES` in turn (``scripts/lifted_benchmark.py``, ``scripts/lifted_seeds.py``,
-  ``scripts/feature_table.py``, ``scripts/lifted_curves.py``, the check pairs of 100 pairs
+  :data:`BENCH_SIZES` in turn (``benchmarks/lifted_benchmark.py``, ``benchmarks/lifted_learning_seeds.py``,
+  ``benchmarks/features_table.py``, ``benchmarks/lifted_learning_curves.py``, the check pairs of 100 pairs
   at n = 20 on which ``early`` = 0.02 was chosen);
-* the tall towers of ``csql-sim problems --seed 0`` (``scripts/blocks_benchmark.py``: 30 per
+* the tall towers of ``csql-sim problems --seed 0`` (``benchmarks/large_problems.py``: 30 per
   size at 25-500 blocks, on whose 100- and 200-block spreads ``least-stuck`` was left out;
-  ``scripts/feature_table.py``'s tall towers, seed 0);
-* ``scripts/table_move_excess.py`` (seed 1: 5-block pairs and the 12-block tall towers
-  against whose optimum ``least-stuck`` was measured), ``scripts/execute_benchmark.py``
+  ``benchmarks/features_table.py``'s tall towers, seed 0);
+* ``benchmarks/features_table_move_excess.py`` (seed 1: 5-block pairs and the 12-block tall towers
+  against whose optimum ``least-stuck`` was measured), ``benchmarks/execute_pddl.py``
   (seed 2026) and the byte-identity runs (seeds 1, 2, 5).
 
 The generated-feature learner's K, sweep length, split rule and pick rule were chosen on the

@@ -5,6 +5,7 @@ from csql_sim.core.measure.bounds import lower_bound
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.search import distance_matrix
 from csql_sim.core.model.task_draws import draw_task
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.gn2 import Gn2Policy, enables_constructive, gn2_block
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.policies.rollout import check_pairs
@@ -12,7 +13,6 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relation_tracker import RelationTracker
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import all_states, successor
-from csql_sim.core.policies.gn1 import Gn1Policy
 
 
 def test_a_hand_worked_deadlock_is_broken_where_it_enables_a_constructive_move():

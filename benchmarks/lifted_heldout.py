@@ -1,9 +1,9 @@
 """The headline figures on tuning tasks and on held-out tasks, side by side, against the exact optimum.
 
-    python scripts/heldout_benchmark.py --out docs/heldout.jsonl [--given-seeds 0-9] [--committee-seeds 0]
+    python benchmarks/lifted_heldout.py --out docs/heldout.jsonl [--given-seeds 0-9] [--committee-seeds 0]
                                         [--pairs 100] [--pair-sizes 10,20,26] [--towers 10]
                                         [--tower-sizes 25,50,100] [--optimum-budget 20]
-    python scripts/heldout_benchmark.py --out docs/heldout.jsonl --report
+    python benchmarks/lifted_heldout.py --out docs/heldout.jsonl --report
 
 Tasks (:mod:`csql_sim.core.model.task_split`): the **tuning** tasks are the first ``--pairs`` of
 the benchmark's pairs (seed 0) at each n of ``--pair-sizes`` and ``--towers`` tall-tower tasks
@@ -41,13 +41,12 @@ from csql_sim.core.measure.bounds import hitting_set_optimum
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model import task_split
 from csql_sim.core.policies.agreement import agreement
+from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.gn2 import Gn2Policy
 from csql_sim.core.policies.hand_ordering import hand_ordering, hand_ordering_without_cover
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.learners.committee import train_committee
-from csql_sim.learners.gn1 import Gn1Policy
-from csql_sim.learners.lifted_ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted import LiftedParams, train_committee, train_lifted
 
 SHIPPED = Path(__file__).resolve().parents[1] / "assets" / "rules" / "lifted.json"
 
