@@ -133,15 +133,16 @@ def add_domain_rules(parser: argparse.ArgumentParser, help_text: str) -> None:
 
 ALIASES_UNTIL = "0.3.0"
 """The release that drops the deprecated spellings (the CHANGELOG lists them)."""
-PLANNERS = ("bfs", "rules", "gn1")
-"""``--planner`` wherever plans are made: BFS (up to 6 blocks), the rules of ``--rules FILE``, or the GN1 baseline."""
+PLANNERS = ("bfs", "rules", "gn1", "gn2")
+"""``--planner`` wherever plans are made: BFS (up to 6 blocks), the rules of ``--rules FILE``, or a named baseline."""
 
 
 def add_planner(parser: argparse.ArgumentParser, blocks: str = "up to 6 blocks") -> None:
-    """``--planner bfs|rules|gn1`` (the same choices in every command that makes plans)."""
+    """``--planner bfs|rules|gn1|gn2`` (the same choices in every command that makes plans)."""
     parser.add_argument("--planner", choices=PLANNERS, default=None,
                         help=f"who plans: bfs (breadth-first search, {blocks}), rules (the greedy policy of "
-                             "--rules FILE) or gn1 (the GN1 baseline); default: rules with --rules, else bfs")
+                             "--rules FILE), gn1 or gn2 (the GN1 and GN2 baselines); default: rules with --rules, "
+                             "else bfs")
 
 
 def command_parser(sub: argparse._SubParsersAction, name: str, summary: str, example: str,

@@ -93,9 +93,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--goal", help="goal configuration, e.g. BAC (default: the goal of a state message --start)")
     p.add_argument("--blocks", type=large_blocks_arg,
                    help=blocks_help(2, 26, "from the configuration, or 3 with --pairs",
-                                    "; past 6 the states are relational and the planner lifted: gn1, or lifted "
+                                    "; past 6 the states are relational and the planner lifted: gn1, gn2, or lifted "
                                     "--rules"))
-    add_planner(p, "up to 6 blocks; gn1 and lifted rules: any n")
+    add_planner(p, "up to 6 blocks; gn1, gn2 and lifted rules: any n")
     p.add_argument("--rules", type=rules_arg,
                    help="a rule base from 'csql-sim train' (plan greedily from its Q-classifiers), a sharded rule "
                         "base, or lifted rules from 'csql-sim train-lifted' (any n)" + RULES_BUILTIN_HELP

@@ -30,7 +30,7 @@ def settle_source(args: argparse.Namespace) -> None:
         return
     args.planner = args.planner or ("rules" if args.rules is not None else None)
     if args.planner is None:
-        raise CsqlError("give --plan FILE, --rules FILE or --planner bfs|gn1")
+        raise CsqlError("give --plan FILE, --rules FILE or --planner bfs|gn1|gn2")
     if (args.planner == "rules") != (args.rules is not None):
         raise CsqlError("--planner rules needs --rules FILE" if args.rules is None else
                         f"--planner {args.planner} does not read --rules {args.rules!r}; give one of them")

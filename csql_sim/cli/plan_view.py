@@ -6,7 +6,6 @@ import argparse
 from collections.abc import Sequence
 
 from csql_sim.cli.args import show_progress
-from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.policies.relational_rollout import RelationalPolicy
@@ -14,21 +13,22 @@ from csql_sim.core.state.message import action_code, format_action_message
 from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE, format_large_action
 from csql_sim.core.state.world import MAX_BLOCKS, Action, action_index
 from csql_sim.infra.errors import CsqlError
+from csql_sim.jobs.baselines import NAMED_POLICIES
 
 
 def select_policy(args: argparse.Namespace, n: int | None) -> Policy | RelationalPolicy:
     """The policy of ``--planner`` and ``--rules`` for a job of ``n`` blocks.
 
-    Past six blocks only lifted rules and ``gn1`` plan: :func:`load_policy` refuses BFS and
-    ground rule files there.
+    Past six blocks only lifted rules and the named baselines (``gn1``, ``gn2``) plan: :func:`load_policy`
+    refuses BFS and ground rule files there.
     """
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
         raise CsqlError("--planner rules needs --rules FILE")
     if planner != "rules" and args.rules:
         raise CsqlError(f"--planner {planner} does not read --rules {args.rules!r}; give one of them")
-    if planner == "gn1":
-        return Gn1Policy()
+    if planner in NAMED_POLICIES:
+        return NAMED_POLICIES[planner]()
     return load_policy(args.rules if planner == "rules" else None, n, progress=show_progress(args))
 
 

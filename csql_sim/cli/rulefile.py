@@ -99,13 +99,17 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
     if args.start is not None or args.goal is not None:
         raise CsqlError(f"{args.rules} is a {kind} file, shown whole; --start/--goal pick the greedy path of a "
                         f"ground rule base (plan a task with 'csql-sim plan --rules {args.rules}')")
+    extra: dict = {}
     if kind == formats.LIFTED_Q:
+        from csql_sim.core.policies.agreement import agreement
         from csql_sim.core.policies.feature_policy import FeaturePolicy
         from csql_sim.core.policies.loader import load_policy
         from csql_sim.core.state.move_relations import ATOMS
 
         policy = load_policy(args.rules)
         meta, field = policy.meta, "classifiers"
+        agreed = agreement(policy)
+        extra = {"agreement": agreed.as_dict()}
         if isinstance(policy, FeaturePolicy):
             lines = _feature_lines(policy)
             head = ["lifted Q-classifiers over features generated from the domain's predicates (1: holds, 0: does "
@@ -119,8 +123,9 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
 
         lines, meta, field = [r.text() for r in load_lifted(args.rules)], {}, "rules"
         head = [f"{len(lines)} lifted R-classifiers (they ground to the R-classifiers of any n)"]
-    doc = {"rules": os.fspath(args.rules), "kind": kind, field: lines, "meta": meta}
-    emit(args, doc, lambda: [*head, *(f"  {line}" for line in lines)])
+    doc = {"rules": os.fspath(args.rules), "kind": kind, field: lines, "meta": meta, **extra}
+    tail = [agreed.describe()] if extra else []
+    emit(args, doc, lambda: [*head, *(f"  {line}" for line in lines), *tail])
     return 0
 
 

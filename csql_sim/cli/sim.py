@@ -43,6 +43,7 @@ from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
+from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.sim.world import MAX_ARM_BLOCKS
 
 DEFAULT_VIDEO = "video.mp4"
@@ -248,13 +249,13 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 
 def _named_planner(args: argparse.Namespace) -> str | None:
-    """``evaluate --planner``: the named baseline to run (``gn1``), or None for ``--rules`` / BFS."""
+    """``evaluate --planner``: the named baseline to run (``gn1``, ``gn2``), or None for ``--rules`` / BFS."""
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
         raise CsqlError("--planner rules needs --rules FILE")
     if planner != "rules" and args.rules:
         raise CsqlError(f"--planner {planner} does not read --rules {args.rules!r}; give one of them")
-    return "gn1" if planner == "gn1" else None
+    return planner if planner in NAMED_POLICIES else None
 
 
 def _evaluate_problems(args: argparse.Namespace) -> int:
@@ -263,8 +264,9 @@ def _evaluate_problems(args: argparse.Namespace) -> int:
 
     if args.problems is None:
         raise CsqlError("--plans and --domain go with --problems DIR")
-    if args.planner == "gn1":
-        raise CsqlError("--planner gn1 plans pairs; with --problems give --plans DIR, --rules FILE or nothing (BFS)")
+    if args.planner in NAMED_POLICIES:
+        raise CsqlError(f"--planner {args.planner} plans pairs; with --problems give --plans DIR, --rules FILE "
+                        "or nothing (BFS)")
     if args.plot is not None:
         raise CsqlError("--plot draws pairs; it does not apply to --problems")
     if args.plans is not None and args.planner is not None:
@@ -309,7 +311,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rules", type=rules_arg,
                    help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)"
                         + RULES_BUILTIN_HELP)
-    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
+    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1, gn2 and lifted rules: any n")
     p.add_argument("--out", type=path_arg, default=None,
                    help=f"output .mp4 or .gif (default {DEFAULT_VIDEO}; an existing one is kept unless --overwrite)")
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
@@ -337,10 +339,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rules", type=rules_arg,
                    help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)"
                         + RULES_BUILTIN_HELP)
-    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
+    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1, gn2 and lifted rules: any n")
     p.add_argument("--blocks", type=arm_blocks_arg, default=None,
                    help=blocks_help(2, MAX_ARM_BLOCKS, 3, f"; past {MAX_BLOCKS} the states are relational and the "
-                                    f"policy lifted: --planner gn1, or lifted --rules"))
+                                    f"policy lifted: --planner gn1|gn2, or lifted --rules"))
     p.add_argument("--pairs", type=pairs_arg, default=None,
                    help=f"'all' (the default up to {MAX_BLOCKS} blocks) or a sample size K (past {MAX_BLOCKS} "
                         f"blocks drawn uniformly by counting; default {LARGE_DEFAULT_PAIRS}, --seed 0)")
