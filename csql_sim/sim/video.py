@@ -14,6 +14,8 @@ import os
 from collections import deque
 from collections.abc import Iterator, Sequence
 from concurrent.futures import Future
+from dataclasses import dataclass
+from functools import cache, lru_cache
 from pathlib import Path
 
 import imageio.v2 as imageio
@@ -24,9 +26,11 @@ from tqdm import tqdm
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file
 from csql_sim.infra.workers import worker_count, worker_pool
-from csql_sim.sim.camera import Camera, capture, render_camera
+from csql_sim.sim.camera import Camera, capture
 from csql_sim.sim.config import SimConfig
-from csql_sim.sim.legend import draw_legend, legend_names
+from csql_sim.sim.framing import goal_camera, top_camera
+from csql_sim.sim.legend import draw_labels, draw_legend, legend_names
+from csql_sim.sim.painter import Painter, Projection
 from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.renderer import close_quietly, resolve_renderer
 from csql_sim.sim.replay import apply_snapshot, replay_scene
@@ -35,12 +39,48 @@ from csql_sim.sim.video_writers import EncoderError, FfmpegWriter, GifWriter
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
 CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
-HOLD_SECONDS = 0.5  # the last frame is repeated this long
+HOLD_SECONDS = 2.0  # the last frame is repeated this long, to be read
+FRAMING_STRIDE = 8  # every 8th frame's cubes are kept in the picture too
 CHUNKS_IN_FLIGHT = 2  # chunks per rendering worker submitted ahead of the one the encoder waits for
 
 
 class VideoError(CsqlError):
     """A video that cannot be written with the given options."""
+
+
+@dataclass(frozen=True)
+class VideoOptions:
+    """How a video is made: one set of options for ``render``, ``execute`` and ``demo``.
+
+    The defaults suit a CPU-only machine: the flat painter (unless EGL runs on a GPU),
+    24 frames per second of video, twice real time.
+
+    Attributes:
+        width: frame width in pixels, 16..3840 (an even number for .mp4).
+        height: frame height in pixels, 16..2160 (an even number for .mp4).
+        fps: frames per second of video, 1..120.
+        speed: simulated seconds per second of video, 0.25..16 (2: a time-lapse at twice real time).
+        renderer: ``"auto"``, ``"flat"``, ``"tiny"`` or ``"egl"`` (:func:`~csql_sim.sim.renderer.resolve_renderer`).
+        workers: rendering processes (None: the cores, at most one per chunk of frames).
+    """
+
+    width: int = 640
+    height: int = 480
+    fps: int = 24
+    speed: float = 2.0
+    renderer: str = "auto"
+    workers: int | None = None
+
+    @property
+    def sample_rate(self) -> float:
+        """Frames recorded per simulated second: ``fps / speed``."""
+        return self.fps / self.speed
+
+    def check(self, path: str | os.PathLike) -> Path:
+        """Validate the options and the output path (:func:`check_video_options`); returns the path."""
+        if not 0.25 <= self.speed <= 16:
+            raise VideoError(f"speed must be 0.25..16 simulated seconds per second of video, got {self.speed:g}")
+        return check_video_options(path, self.width, self.height, self.fps)
 
 
 def check_video_options(path: str | os.PathLike, width: int, height: int, fps: int) -> Path:
@@ -69,23 +109,30 @@ def hold_frames(fps: int) -> int:
 
 
 def caption_image(rgb: np.ndarray, text: str, legend: int | Sequence[str] = 0, full: bool = False) -> np.ndarray:
-    """Draw ``text`` on a dark strip along the bottom, and the cubes' legend along the top.
+    """Draw ``text`` on a dark strip along the bottom (and, if given, the cubes' legend along the top).
 
     ``legend``: the cubes' names in cube order (or a count: the letters A, B, ...); each is
     drawn beside its colour's square, with the colour word when ``full``
-    (:func:`csql_sim.sim.legend.draw_legend`).
+    (:func:`csql_sim.sim.legend.draw_legend`). Videos name the cubes on the cubes instead.
     """
     img = Image.fromarray(rgb)
-    h = img.height
-    strip = max(12, int(h * CAPTION_HEIGHT))
-    draw = ImageDraw.Draw(img)
-    draw.rectangle((0, h - strip, img.width, h), fill=(20, 20, 20))
-    caption_font, text = fit_caption(draw, text, img.width - 12, max(8, int(strip * 0.6)))
-    draw.text((6, h - strip + strip * 0.15), text, fill=(255, 255, 255), font=caption_font)
+    strip = caption_strip(text, img.width, img.height)
+    img.paste(strip, (0, img.height - strip.height))
     names = legend_names(legend) if isinstance(legend, int) else tuple(legend)
     if names:
-        draw_legend(draw, img.width, max(8, strip * 0.6), names, full)
+        draw_legend(ImageDraw.Draw(img), img.width, max(8, strip.height * 0.6), names, full)
     return np.asarray(img)
+
+
+@lru_cache(maxsize=64)
+def caption_strip(text: str, width: int, height: int) -> Image.Image:
+    """The caption strip of a ``width`` x ``height`` frame (drawn once per caption: frames share them)."""
+    strip = max(12, int(height * CAPTION_HEIGHT))
+    img = Image.new("RGB", (width, strip), (20, 20, 20))
+    draw = ImageDraw.Draw(img)
+    caption_font, text = fit_caption(draw, text, width - 12, max(8, int(strip * 0.6)))
+    draw.text((6, strip * 0.15), text, fill=(255, 255, 255), font=caption_font)
+    return img
 
 
 def fit_caption(draw: ImageDraw.ImageDraw, text: str, width: float, size: int,
@@ -96,7 +143,7 @@ def fit_caption(draw: ImageDraw.ImageDraw, text: str, width: float, size: int,
     font; if it still does not fit, it is cut with an ellipsis, never drawn past the frame.
     """
     for points in range(size, smallest - 1, -1):
-        font = ImageFont.load_default(size=points)
+        font = _font(points)
         if draw.textlength(text, font=font) <= width:
             return font, text
     while text and draw.textlength(text + "...", font=font) > width:
@@ -104,51 +151,99 @@ def fit_caption(draw: ImageDraw.ImageDraw, text: str, width: float, size: int,
     return font, text + "..."
 
 
+@dataclass(frozen=True)
+class View:
+    """What every frame of one video is drawn with (the same in every rendering process).
+
+    Attributes:
+        width: frame width in pixels.
+        height: frame height in pixels.
+        camera: the main view (:func:`~csql_sim.sim.framing.goal_camera` of the recording by default).
+        top: the second view, inset in the top right corner (None: none).
+        names: the cubes' names, written on the cubes.
+        total: the episode's actions (K of the captions).
+        captions: the names the captions use (None: the cube letters).
+    """
+
+    width: int
+    height: int
+    camera: Camera
+    top: Camera | None
+    names: tuple[str, ...]
+    total: int
+    captions: tuple[str, ...] | None = None
+
+
+def inset_size(width: int, height: int) -> tuple[int, int]:
+    """The top view's size: a third of the frame's width and height."""
+    return max(8, width // 3), max(8, height // 3)
+
+
+@cache
+def _font(size: int) -> ImageFont.FreeTypeFont | ImageFont.ImageFont:
+    return ImageFont.load_default(size=size)
+
+
 class ReplayRenderer:
-    """Renders captioned frames of recordings; owns one replay scene per (n, config).
+    """Renders captioned frames of recordings; owns one replay scene (and painter) per (n, config).
 
     Each rendering worker process owns exactly one, made by the pool's initializer
     (:func:`_init_render_worker`) and held in that process's ``_WORKER_RENDERER``; it
     lives as long as the worker. In-process rendering makes its own and closes it.
 
     Args:
-        renderer: ``"tiny"`` or ``"egl"`` (resolved: :func:`csql_sim.sim.renderer.resolve_renderer`).
+        renderer: ``"flat"``, ``"tiny"`` or ``"egl"`` (resolved: :func:`csql_sim.sim.renderer.resolve_renderer`).
     """
 
-    def __init__(self, renderer: str = "tiny") -> None:
+    def __init__(self, renderer: str = "flat") -> None:
         self.renderer = renderer
-        self._scenes: dict[tuple[int, SimConfig], Scene] = {}
+        self._scenes: dict[tuple[int, SimConfig], tuple[Scene, Painter]] = {}
 
-    def scene(self, n: int, config: SimConfig) -> Scene:
-        """The replay scene of ``n`` cubes and ``config`` (built on first use)."""
+    def scene(self, n: int, config: SimConfig) -> tuple[Scene, Painter]:
+        """The replay scene of ``n`` cubes and ``config`` and its painter (built on first use)."""
         key = (n, config)
         if key not in self._scenes:
-            self._scenes[key] = replay_scene(n, config, self.renderer)
+            scene = replay_scene(n, config, "tiny" if self.renderer == "flat" else self.renderer)
+            self._scenes[key] = (scene, Painter(scene))
         return self._scenes[key]
 
-    def render(self, n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-               camera: Camera | None = None, total: int = 0, names: Sequence[str] | None = None) -> list[np.ndarray]:
-        """Captioned RGB frames: the replay scene set to each frame's poses, seen by ``camera``.
+    def render(self, n: int, config: SimConfig, frames: list[Frame], view: View) -> list[np.ndarray]:
+        """Captioned RGB frames: each frame's poses seen by ``view.camera``, the cubes named, the top view inset.
 
-        Captions read ``step k/K  <what>  <message>`` with K = ``total`` (the episode's
-        actions); a legend along the top names the ``n`` cubes (``names``, default their
-        letters), with their colour words in the frames before the first action.
+        Captions read ``step k/K  <what>  <message>`` with K = ``view.total``.
         """
-        names = legend_names(n, names)
-        scene = self.scene(n, config)
-        camera = render_camera(n) if camera is None else camera
+        scene, painter = self.scene(n, config)
+        main = Projection.of(view.camera, view.width, view.height)
+        top = None if view.top is None else Projection.of(view.top, *inset_size(view.width, view.height))
+        cube = config.physics.cube_size
         out = []
         for frame in frames:
-            apply_snapshot(scene, frame.poses, frame.joints)
-            rgb, _, _ = capture(scene, camera, width, height)
-            out.append(caption_image(rgb, frame.caption.text(total), legend=names, full=frame.caption.step == 0))
+            if self.renderer == "flat":
+                img = painter.paint(frame.poses, frame.joints, main)
+            else:
+                apply_snapshot(scene, frame.poses, frame.joints)
+                img = Image.fromarray(capture(scene, view.camera, view.width, view.height)[0])
+            xy, depth = main(np.asarray([p.position for p in frame.poses], dtype=float))
+            draw_labels(img, xy, depth, view.names, main.focal * cube / np.maximum(depth, 1e-6))
+            if top is not None:
+                _inset(img, painter.paint(frame.poses, None, top))
+            strip = caption_strip(frame.caption.text(view.total, view.captions), img.width, img.height)
+            img.paste(strip, (0, img.height - strip.height))
+            out.append(np.asarray(img))
         return out
 
     def close(self) -> None:
         """Release every replay scene's physics client."""
-        for scene in self._scenes.values():
+        for scene, _ in self._scenes.values():
             close_quietly(scene)
         self._scenes.clear()
+
+
+def _inset(img: Image.Image, small: Image.Image) -> None:
+    """Paste ``small`` in the top right corner of ``img`` with a thin dark frame."""
+    x = img.width - small.width - 4
+    ImageDraw.Draw(img).rectangle((x - 2, 2, img.width - 2, small.height + 6), fill=(60, 60, 60))
+    img.paste(small, (x, 4))
 
 
 _WORKER_RENDERER: ReplayRenderer | None = None  # the one renderer of a rendering worker process
@@ -159,10 +254,9 @@ def _init_render_worker(renderer: str) -> None:
     _WORKER_RENDERER = ReplayRenderer(renderer)
 
 
-def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-                      camera: Camera, total: int, names: tuple[str, ...] | None) -> list[np.ndarray]:
+def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], view: View) -> list[np.ndarray]:
     assert _WORKER_RENDERER is not None, "rendering worker started without _init_render_worker"
-    return _WORKER_RENDERER.render(n, config, frames, width, height, camera, total, names)
+    return _WORKER_RENDERER.render(n, config, frames, view)
 
 
 def _chunks(frames: list[Frame], size: int) -> list[list[Frame]]:
@@ -176,7 +270,7 @@ def _open_writer(path: Path, fps: int, suffix: str) -> FfmpegWriter | GifWriter:
 
 def write_video(recording: Recording, path: str | os.PathLike, width: int = 640, height: int = 480,
                 fps: int | None = None, workers: int | None = None, camera: Camera | None = None,
-                progress: bool = True, renderer: str = "auto") -> Path:
+                progress: bool = True, renderer: str = "auto", top: bool = True) -> Path:
     """Render ``recording`` and write it atomically (:func:`csql_sim.infra.files.atomic_output`) as .mp4 or .gif.
 
     The video is read back from the temporary file (:func:`verify_video`) before it
@@ -190,25 +284,26 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         height: frame height in pixels.
         fps: playback frame rate (default: the recording's).
         workers: rendering processes (default: every core; at most the cores and one per chunk of frames).
-        camera: the rendering view (default: :func:`~csql_sim.sim.camera.render_camera` of the cube count).
+        camera: the main view (default: :func:`~csql_sim.sim.framing.goal_camera` of the first and last frames).
         progress: show a tqdm bar on stderr.
-        renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
+        renderer: ``"flat"``, ``"tiny"``, ``"egl"`` or ``"auto"`` (:func:`~csql_sim.sim.renderer.resolve_renderer`).
+        top: inset the top view (:func:`~csql_sim.sim.framing.top_camera`) in the top right corner.
 
     Returns:
         The path written.
     """
     fps = fps or recording.fps
-    camera = render_camera(recording.n) if camera is None else camera
     out = check_video_options(path, width, height, fps)
     renderer = resolve_renderer(renderer)
     if not recording.frames:
         raise VideoError("the recording has no frames")
+    view = video_view(recording, width, height, camera, top)
     cores = worker_count(workers, len(recording.frames))  # at most the cores
     chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
     # the bar counts the frames of the file: the recorded ones and the final hold
     bar = tqdm(total=video_frame_count(recording, fps), desc=f"render {out.name}", unit="frame",
                disable=not progress)
-    rendered = _map_chunks(recording, chunks, width, height, camera, worker_count(workers, len(chunks)), renderer)
+    rendered = _map_chunks(recording, chunks, view, worker_count(workers, len(chunks)), renderer)
     suffix = out.suffix.lower()
     try:
         with atomic_output(out) as tmp:
@@ -229,6 +324,18 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         rendered.close()  # ends the rendering workers if the encoder failed
         bar.close()
     return out
+
+
+def video_view(recording: Recording, width: int, height: int, camera: Camera | None = None,
+               top: bool = True) -> View:
+    """The :class:`View` of a recording's video: the goal camera (unless ``camera``), the top view, the names."""
+    first, last = recording.frames[0].poses, recording.frames[-1].poses
+    if camera is None:
+        between = [f.poses for f in recording.frames[::FRAMING_STRIDE]]
+        camera = goal_camera(first, last, recording.config, width, height, between)
+    inset = top_camera(first, last, *inset_size(width, height)) if top else None
+    return View(width, height, camera, inset, legend_names(recording.n, recording.names), recording.actions,
+                recording.names)
 
 
 def _reason(exc: OSError | EncoderError) -> str:
@@ -308,20 +415,20 @@ def _check_mp4_boxes(path: Path) -> None:
         raise VideoError("no moov or mdat box: not a whole mp4 file")
 
 
-def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, height: int, camera: Camera,
-                workers: int, renderer: str) -> Iterator[list[np.ndarray]]:
+def _map_chunks(recording: Recording, chunks: list[list[Frame]], view: View, workers: int,
+                renderer: str) -> Iterator[list[np.ndarray]]:
     """Render chunks in order, in ``workers`` processes (or in-process for one worker).
 
     At most :data:`CHUNKS_IN_FLIGHT` chunks per worker are queued or rendered ahead of the
     encoder (not every frame of the video at once). Futures are never cancelled here: when
     the encoder fails or on Ctrl-C, the pool is stopped (:func:`~csql_sim.infra.workers.stop_pool`).
     """
-    n, config, total, names = recording.n, recording.config, recording.actions, recording.names
+    n, config = recording.n, recording.config
     if workers <= 1:
         replay = ReplayRenderer(renderer)
         try:
             for c in chunks:
-                yield replay.render(n, config, c, width, height, camera, total, names)
+                yield replay.render(n, config, c, view)
         finally:
             replay.close()
         return
@@ -330,7 +437,7 @@ def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, hei
     with worker_pool(workers, _init_render_worker, (renderer,), mp_context=context) as pool:
         pending: deque[Future] = deque()
         for chunk in chunks:
-            pending.append(pool.submit(_render_in_worker, n, config, chunk, width, height, camera, total, names))
+            pending.append(pool.submit(_render_in_worker, n, config, chunk, view))
             if len(pending) >= CHUNKS_IN_FLIGHT * workers:
                 yield pending.popleft().result()
         while pending:
