@@ -24,6 +24,8 @@ ELEVATION = 38.0  # degrees above the table
 FOV = 40.0  # vertical field of view, degrees
 BOX = ((-0.86, -0.74), (0.86, 0.25))  # where the cubes go in the picture (normalised: -1..1, y up), below
 # the top view's inset and above the caption, leaving room for the arm above
+HALF_WIDTH = 0.6  # a tower's half-width on the screen, in cubes (a cube turned by 45 degrees: 0.71)
+MIN_GAP = 0.01  # a clear gap between towers on the screen: 0.5 % of the picture's width
 TOP_HEIGHT = 2.0  # m above the table, the top view's eye
 TOP_MARGIN = 0.08  # m around the cubes in the top view
 
@@ -77,11 +79,16 @@ def _fitted(target: np.ndarray, azimuth: float, points: np.ndarray, aspect: floa
 
 
 def _gap(camera: Camera, columns: list[np.ndarray], aspect: float, cube: float) -> float:
-    """The smallest horizontal gap (in half-widths) between the towers' columns on the screen."""
+    """The smallest horizontal gap (normalised: 2 is the picture's width) between the towers' columns on the screen.
+
+    A column spans its cubes' centres widened by :data:`HALF_WIDTH` cubes on each side.
+    """
+    view, proj = camera.matrices(int(round(480 * aspect)), 480)
+    m = np.asarray(proj).reshape(4, 4, order="F") @ np.asarray(view).reshape(4, 4, order="F")
     spans = []
     for col in columns:
-        x = _ndc(camera, col, aspect)[:, 0]
-        half = float(np.abs(_ndc(camera, col + [cube / 2, cube / 2, 0], aspect)[:, 0] - x).max())
+        clip = col @ m[:, :3].T + m[:, 3]
+        x, half = clip[:, 0] / clip[:, 3], HALF_WIDTH * cube * m[0, 0] / clip[:, 3].min()
         spans.append((float(x.min()) - half, float(x.max()) + half))
     spans.sort()
     return min((b[0] - a[1] for a, b in zip(spans, spans[1:], strict=False)), default=2.0)
@@ -100,10 +107,12 @@ def goal_camera(first: Sequence[Pose], last: Sequence[Pose], config: SimConfig, 
     target = (lo + hi) / 2
     aspect = width / height
     best: tuple[float, Camera] | None = None
-    for azimuth in AZIMUTHS:
+    for azimuth in AZIMUTHS:  # the first (front first) that leaves a clear gap, else the widest
         camera = _fitted(target, azimuth, points, aspect)
         gap = min(_gap(camera, towers(first, cube), aspect, cube), _gap(camera, towers(last, cube), aspect, cube))
-        if best is None or gap > best[0] + 0.01:
+        if gap >= MIN_GAP:
+            return camera
+        if best is None or gap > best[0]:
             best = (gap, camera)
     assert best is not None
     return best[1]

@@ -41,6 +41,7 @@ VIDEO_SUFFIXES = (".mp4", ".gif")
 CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
 HOLD_SECONDS = 2.0  # the last frame is repeated this long, to be read
 FRAMING_STRIDE = 8  # every 8th frame's cubes are kept in the picture too
+PROGRESS_DELAY = 1.0  # seconds before a bar shows: phases under a second stay silent
 CHUNKS_IN_FLIGHT = 2  # chunks per rendering worker submitted ahead of the one the encoder waits for
 
 
@@ -298,12 +299,10 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
     if not recording.frames:
         raise VideoError("the recording has no frames")
     view = video_view(recording, width, height, camera, top)
-    cores = worker_count(workers, len(recording.frames))  # at most the cores
-    chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
     # the bar counts the frames of the file: the recorded ones and the final hold
     bar = tqdm(total=video_frame_count(recording, fps), desc=f"render {out.name}", unit="frame",
-               disable=not progress)
-    rendered = _map_chunks(recording, chunks, view, worker_count(workers, len(chunks)), renderer)
+               disable=not progress, delay=PROGRESS_DELAY)
+    rendered = _rendered_chunks(recording, view, workers, renderer)
     suffix = out.suffix.lower()
     try:
         with atomic_output(out) as tmp:
@@ -413,6 +412,24 @@ def _check_mp4_boxes(path: Path) -> None:
             at += box
     if not {b"moov", b"mdat"} <= kinds:
         raise VideoError("no moov or mdat box: not a whole mp4 file")
+
+
+def render_frames(recording: Recording, view: View, workers: int | None = None,
+                  renderer: str = "flat") -> Iterator[np.ndarray]:
+    """The captioned frames of ``recording`` in order (without the final hold), rendered by ``workers`` processes.
+
+    The frames are the same whatever the number of workers (each is drawn from its own
+    recorded poses, ``view`` and the renderer alone).
+    """
+    for chunk in _rendered_chunks(recording, view, workers, resolve_renderer(renderer)):
+        yield from chunk
+
+
+def _rendered_chunks(recording: Recording, view: View, workers: int | None,
+                     renderer: str) -> Iterator[list[np.ndarray]]:
+    cores = worker_count(workers, len(recording.frames))  # at most the cores
+    chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
+    return _map_chunks(recording, chunks, view, worker_count(workers, len(chunks)), renderer)
 
 
 def _map_chunks(recording: Recording, chunks: list[list[Frame]], view: View, workers: int,
