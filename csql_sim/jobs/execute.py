@@ -263,7 +263,8 @@ def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str
     final = final_state(episode, policy, bp.n)
     reached = bp.goal.satisfied(final)
     reason = "" if reached else episode.reason or _unsatisfied(bp, final)
-    return _result(bp, reached, reason, target, source, policy_reports(episode), final, episode, video, params)
+    return _result(bp, reached, reason, target, source, policy_reports(episode, bp.objects), final, episode, video,
+                   params)
 
 
 def _plan_reason(bp: BlocksProblem, episode: Any, replay: PlanReplay, reports: list[StepReport],
