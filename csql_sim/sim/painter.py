@@ -8,8 +8,8 @@ few milliseconds, with Pillow:
 * the table and the cubes as boxes: their faces that look towards the camera, shaded by
   the angle of a fixed light (flat shading), with darker edges;
 * each Panda link as the silhouette of its collision mesh: the 2-D convex hull of the
-  projected support points of the mesh (the link's pose from forward kinematics on the
-  recorded joints, in a replay scene that is never stepped or rendered);
+  projected support points of the mesh (:class:`ArmShape`), at the link pose recorded
+  with the frame;
 
 far things first (the painter's algorithm, one depth per cube or link). Frames depend only
 on the recorded poses, the camera and the frame size: they are the same whichever process
@@ -18,6 +18,7 @@ paints them.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
 
@@ -25,7 +26,7 @@ import numpy as np
 from PIL import Image, ImageDraw
 
 from csql_sim.sim.camera import Camera
-from csql_sim.sim.config import COLOURS
+from csql_sim.sim.config import COLOURS, SimConfig
 from csql_sim.sim.replay import PANDA_JOINTS
 from csql_sim.sim.scene import Pose, Scene, rotation_matrix
 
@@ -88,28 +89,36 @@ def _transform(pose: Pose, points: np.ndarray) -> np.ndarray:
     return points @ rotation_matrix(pose.orientation).T + np.asarray(pose.position)
 
 
+@dataclass(frozen=True)
 class ArmShape:
-    """The Panda's links as support points of their collision meshes, posed on recorded joints.
+    """The Panda's links as support points of their collision meshes, in each link's centre-of-mass frame.
 
-    ``scene``: a replay scene whose Panda is set to each frame's joints (forward kinematics only).
+    Made once from a scene (:meth:`of`); a recording keeps it with each frame's link poses,
+    so painting needs no physics client.
     """
 
-    def __init__(self, scene: Scene) -> None:
-        self.scene, self.body = scene, scene.bodies["panda"]
-        self.links: list[int] = []
-        self.points: list[np.ndarray] = []
+    links: tuple[int, ...]
+    points: tuple[np.ndarray, ...]
+
+    @classmethod
+    def of(cls, scene: Scene) -> ArmShape:
+        """The shape of ``scene``'s Panda."""
+        body = scene.bodies["panda"]
+        links, points = [], []
         for link in range(-1, len(PANDA_JOINTS)):
             parts = [_transform(pose, _obj_vertices(path) * np.asarray(scale))
-                     for path, scale, pose in scene.mesh_shapes(self.body, link)]
+                     for path, scale, pose in scene.mesh_shapes(body, link)]
             if parts:
-                self.links.append(link)
-                self.points.append(_support_points(np.concatenate(parts)))
+                links.append(link)
+                points.append(_support_points(np.concatenate(parts)))
+        return cls(tuple(links), tuple(points))
 
-    def posed(self, joints: tuple[float, ...]) -> list[np.ndarray]:
-        """World support points of every link for the Panda's ``joints``."""
-        for j, q in enumerate(joints):
-            self.scene.reset_joint(self.body, j, q)
-        frames = self.scene.mass_frames(self.body, self.links)
+    def poses(self, scene: Scene) -> tuple[Pose, ...]:
+        """The world poses of the links' centre-of-mass frames in ``scene`` now (what a frame records)."""
+        return tuple(scene.mass_frames(scene.bodies["panda"], self.links))
+
+    def posed(self, frames: Sequence[Pose]) -> list[np.ndarray]:
+        """World support points of every link, its centre-of-mass frame at ``frames``."""
         return [_transform(pose, pts) for pose, pts in zip(frames, self.points, strict=True)]
 
 
@@ -136,26 +145,25 @@ def _background(width: int, height: int) -> Image.Image:
 
 
 class Painter:
-    """Paints frames of one scene kind (``n`` cubes, its config) with the flat painter."""
+    """Paints frames of one scene kind: ``n`` cubes, the table of ``config``, the Panda of ``arm`` (None: none)."""
 
-    def __init__(self, scene: Scene) -> None:
-        self.scene = scene
-        self.arm = ArmShape(scene)
-        pc = scene.config.physics
+    def __init__(self, n: int, config: SimConfig, arm: ArmShape | None = None) -> None:
+        self.arm = arm
+        pc = config.physics
         self.cube_half = np.full(3, pc.cube_size / 2)
         self.table = (np.asarray(pc.table_half_extents), np.asarray(pc.table_centre))
-        self.cube_rgb = [tuple(int(255 * c) for c in COLOURS[i][:3]) for i in range(scene.n)]
+        self.cube_rgb = [tuple(int(255 * c) for c in COLOURS[i][:3]) for i in range(n)]
         self._grounds: dict[tuple[bytes, int, int], Image.Image] = {}
 
-    def paint(self, poses: tuple[Pose, ...], joints: tuple[float, ...] | None, proj: Projection) -> Image.Image:
-        """The picture of the cubes at ``poses`` and the Panda at ``joints`` (None: no arm, as in a map)."""
+    def paint(self, poses: tuple[Pose, ...], links: Sequence[Pose] | None, proj: Projection) -> Image.Image:
+        """The picture of the cubes at ``poses`` and the Panda's links at ``links`` (None: no arm, as in a map)."""
         img = self._ground(proj).copy()
         draw = ImageDraw.Draw(img)
         n = len(poses)
         centres = np.asarray([p.position for p in poses], dtype=float).reshape(n, 3)
         rots = np.asarray([rotation_matrix(p.orientation) for p in poses]).reshape(n, 3, 3)
         cube_depth = proj(centres)[1] if n else np.zeros(0)
-        links = self.arm.posed(joints) if joints is not None else []
+        links = self.arm.posed(links) if links and self.arm is not None else []
         sizes = [len(p) for p in links]
         link_xy, link_depth = proj(np.concatenate(links)) if links else (np.zeros((0, 2)), np.zeros(0))
         bounds = np.cumsum([0, *sizes])

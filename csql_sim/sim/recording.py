@@ -10,6 +10,7 @@ from csql_sim.core.state.state import State
 from csql_sim.core.state.world import Action
 from csql_sim.sim.arm_state import label
 from csql_sim.sim.config import DEFAULT_CONFIG, SimConfig
+from csql_sim.sim.painter import ArmShape
 from csql_sim.sim.replay import take_snapshot
 from csql_sim.sim.scene import Pose, Scene
 
@@ -57,6 +58,7 @@ class Frame:
     poses: tuple[Pose, ...]
     joints: tuple[float, ...]
     caption: Caption
+    links: tuple[Pose, ...] = ()  # the Panda links' centre-of-mass frames, as the recording's ``arm`` lists them
 
 
 @dataclass
@@ -64,6 +66,7 @@ class Recording:
     """Frames of one episode at ``fps`` frames per simulated second.
 
     ``names``: the cubes' names in the video's legend (PDDL object names; None: the letters).
+    ``arm``: the Panda's shape, whose links each frame's ``links`` pose (the flat painter's).
     """
 
     n: int
@@ -71,6 +74,7 @@ class Recording:
     config: SimConfig = DEFAULT_CONFIG
     frames: list[Frame] = field(default_factory=list)
     names: tuple[str, ...] | None = None
+    arm: ArmShape | None = None
 
     @property
     def actions(self) -> int:
@@ -83,14 +87,16 @@ class Recorder:
 
     def __init__(self, scene: Scene, fps: int, caption: Caption | None = None) -> None:
         self.scene = scene
-        self.recording = Recording(n=scene.n, fps=fps, config=scene.config)
+        self.arm = ArmShape.of(scene)
+        self.recording = Recording(n=scene.n, fps=fps, config=scene.config, arm=self.arm)
         self.every = max(1, round(1.0 / (fps * scene.config.physics.time_step)))
         self.caption = caption or Caption()
         self._capture()
 
     def _capture(self) -> None:
         snap = take_snapshot(self.scene)
-        self.recording.frames.append(Frame(poses=snap.poses, joints=snap.joints, caption=self.caption))
+        self.recording.frames.append(Frame(poses=snap.poses, joints=snap.joints, caption=self.caption,
+                                           links=self.arm.poses(self.scene)))
 
     def __call__(self, scene: Scene) -> None:
         if scene.steps % self.every == 0:

@@ -30,7 +30,7 @@ from csql_sim.sim.camera import Camera, capture
 from csql_sim.sim.config import SimConfig
 from csql_sim.sim.framing import goal_camera, top_camera
 from csql_sim.sim.legend import draw_labels, draw_legend, legend_names
-from csql_sim.sim.painter import Painter, Projection
+from csql_sim.sim.painter import ArmShape, Painter, Projection
 from csql_sim.sim.recording import Frame, Recording
 from csql_sim.sim.renderer import close_quietly, resolve_renderer
 from csql_sim.sim.replay import apply_snapshot, replay_scene
@@ -41,6 +41,7 @@ VIDEO_SUFFIXES = (".mp4", ".gif")
 CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
 HOLD_SECONDS = 2.0  # the last frame is repeated this long, to be read
 FRAMING_STRIDE = 8  # every 8th frame's cubes are kept in the picture too
+FRAMES_PER_WORKER = 150  # the flat painter's frames worth starting a rendering process for (by default)
 PROGRESS_DELAY = 1.0  # seconds before a bar shows: phases under a second stay silent
 CHUNKS_IN_FLIGHT = 2  # chunks per rendering worker submitted ahead of the one the encoder waits for
 
@@ -164,6 +165,7 @@ class View:
         names: the cubes' names, written on the cubes.
         total: the episode's actions (K of the captions).
         captions: the names the captions use (None: the cube letters).
+        arm: the Panda's shape the flat painter draws (the recording's).
     """
 
     width: int
@@ -173,6 +175,7 @@ class View:
     names: tuple[str, ...]
     total: int
     captions: tuple[str, ...] | None = None
+    arm: ArmShape | None = None
 
 
 def inset_size(width: int, height: int) -> tuple[int, int]:
@@ -198,14 +201,13 @@ class ReplayRenderer:
 
     def __init__(self, renderer: str = "flat") -> None:
         self.renderer = renderer
-        self._scenes: dict[tuple[int, SimConfig], tuple[Scene, Painter]] = {}
+        self._scenes: dict[tuple[int, SimConfig], Scene] = {}
 
-    def scene(self, n: int, config: SimConfig) -> tuple[Scene, Painter]:
-        """The replay scene of ``n`` cubes and ``config`` and its painter (built on first use)."""
+    def scene(self, n: int, config: SimConfig) -> Scene:
+        """The replay scene of ``n`` cubes and ``config`` (built on first use; pybullet's renderers only)."""
         key = (n, config)
         if key not in self._scenes:
-            scene = replay_scene(n, config, "tiny" if self.renderer == "flat" else self.renderer)
-            self._scenes[key] = (scene, Painter(scene))
+            self._scenes[key] = replay_scene(n, config, self.renderer)
         return self._scenes[key]
 
     def render(self, n: int, config: SimConfig, frames: list[Frame], view: View) -> list[np.ndarray]:
@@ -213,15 +215,16 @@ class ReplayRenderer:
 
         Captions read ``step k/K  <what>  <message>`` with K = ``view.total``.
         """
-        scene, painter = self.scene(n, config)
+        painter = Painter(n, config, view.arm)
         main = Projection.of(view.camera, view.width, view.height)
         top = None if view.top is None else Projection.of(view.top, *inset_size(view.width, view.height))
         cube = config.physics.cube_size
         out = []
         for frame in frames:
             if self.renderer == "flat":
-                img = painter.paint(frame.poses, frame.joints, main)
+                img = painter.paint(frame.poses, frame.links, main)
             else:
+                scene = self.scene(n, config)
                 apply_snapshot(scene, frame.poses, frame.joints)
                 img = Image.fromarray(capture(scene, view.camera, view.width, view.height)[0])
             xy, depth = main(np.asarray([p.position for p in frame.poses], dtype=float))
@@ -235,7 +238,7 @@ class ReplayRenderer:
 
     def close(self) -> None:
         """Release every replay scene's physics client."""
-        for scene, _ in self._scenes.values():
+        for scene in self._scenes.values():
             close_quietly(scene)
         self._scenes.clear()
 
@@ -334,7 +337,7 @@ def video_view(recording: Recording, width: int, height: int, camera: Camera | N
         camera = goal_camera(first, last, recording.config, width, height, between)
     inset = top_camera(first, last, *inset_size(width, height)) if top else None
     return View(width, height, camera, inset, legend_names(recording.n, recording.names), recording.actions,
-                recording.names)
+                recording.names, recording.arm)
 
 
 def _reason(exc: OSError | EncoderError) -> str:
@@ -427,6 +430,8 @@ def render_frames(recording: Recording, view: View, workers: int | None = None,
 
 def _rendered_chunks(recording: Recording, view: View, workers: int | None,
                      renderer: str) -> Iterator[list[np.ndarray]]:
+    if workers is None and renderer == "flat":  # a process and its replay scene cost about 100 painted frames
+        workers = max(1, len(recording.frames) // FRAMES_PER_WORKER)
     cores = worker_count(workers, len(recording.frames))  # at most the cores
     chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
     return _map_chunks(recording, chunks, view, worker_count(workers, len(chunks)), renderer)

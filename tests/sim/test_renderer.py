@@ -105,7 +105,8 @@ def test_the_flat_painter_draws_the_cubes_where_pybullet_does(recording):
     try:
         apply_snapshot(scene, frame.poses, frame.joints)
         tiny = capture(scene, RENDER_CAMERA, 320, 240)[0].astype(int)
-        flat = np.asarray(Painter(scene).paint(frame.poses, frame.joints, Projection.of(RENDER_CAMERA, 320, 240)))
+        painter = Painter(recording.n, recording.config, recording.arm)
+        flat = np.asarray(painter.paint(frame.poses, frame.links, Projection.of(RENDER_CAMERA, 320, 240)))
     finally:
         close_quietly(scene)
     for rgb in ((217, 38, 38), (38, 178, 51), (38, 76, 217)):  # cubes A, B, C: red, green, blue

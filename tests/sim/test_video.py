@@ -184,11 +184,11 @@ def test_failed_render_keeps_the_old_video_and_leaves_no_temporary(recording, tm
 
 
 def test_replay_renderer_owns_one_scene_per_world_and_closes_them(recording):
-    renderer = ReplayRenderer()
+    renderer = ReplayRenderer("tiny")
     frames = renderer.render(recording.n, recording.config, recording.frames[:2], video_view(recording, 32, 24))
     assert len(frames) == 2 and frames[0].shape == (24, 32, 3)
-    scene, _ = renderer.scene(recording.n, recording.config)
-    assert renderer.scene(recording.n, recording.config)[0] is scene and scene.replay_only
+    scene = renderer.scene(recording.n, recording.config)
+    assert renderer.scene(recording.n, recording.config) is scene and scene.replay_only
     renderer.close()
     assert scene.client == -1
 
