@@ -198,7 +198,7 @@ def test_a_long_caption_stays_inside_the_frame():
     import numpy as np
     from PIL import Image, ImageDraw
 
-    from csql_sim.sim.video import fit_caption
+    from csql_sim.sim.frames import fit_caption
 
     draw = ImageDraw.Draw(Image.new("RGB", (320, 40)))
     long = "step 12/16  stack(F,E)  S0000001edcba0F  FEDCBA -> ABCDEF  perception: camera, nudged"
