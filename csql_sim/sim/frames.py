@@ -48,9 +48,24 @@ def caption_strip(text: str, width: int, height: int) -> Image.Image:
     strip = max(12, int(height * CAPTION_HEIGHT))
     img = Image.new("RGB", (width, strip), (20, 20, 20))
     draw = ImageDraw.Draw(img)
-    caption_font, text = fit_caption(draw, text, width - 12, max(8, int(strip * 0.6)))
-    draw.text((6, strip * 0.15), text, fill=(255, 255, 255), font=caption_font)
+    size = max(8, int(strip * 0.6))
+    caption_font, line = fit_caption(draw, text, width - 12, size)
+    parts = text.split("  ")
+    if caption_font.size < size * 0.75 and len(parts) > 1 and strip >= 24:  # too small on one line: two lines
+        lines = _two_lines(draw, parts, _font(int(strip * 0.4)))
+        half = max(8, int(strip * 0.4))
+        for k, part in enumerate(lines):
+            font, part = fit_caption(draw, part, width - 12, half)
+            draw.text((6, strip * 0.05 + k * strip * 0.47), part, fill=(255, 255, 255), font=font)
+        return img
+    draw.text((6, strip * 0.15), line, fill=(255, 255, 255), font=caption_font)
     return img
+
+
+def _two_lines(draw: ImageDraw.ImageDraw, parts: list[str], font: ImageFont.ImageFont) -> tuple[str, str]:
+    """The caption's parts (split at double spaces) in two lines, the longer as short as can be."""
+    lines = [("  ".join(parts[:k]), "  ".join(parts[k:])) for k in range(1, len(parts))]
+    return min(lines, key=lambda pair: max(draw.textlength(line, font=font) for line in pair))
 
 
 def fit_caption(draw: ImageDraw.ImageDraw, text: str, width: float, size: int,
