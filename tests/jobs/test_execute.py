@@ -197,7 +197,7 @@ def test_the_command_writes_a_video_with_its_provenance(tmp_path, capsys):
 
 
 def test_execute_and_render_share_the_video_options_and_name_the_steps(tmp_path, capsys):
-    """execute takes render's --fps, --speed, --width, --height, --renderer; render takes --problem; names everywhere."""
+    """execute takes render's video options, render takes --problem, the steps are in the problem's names."""
     import imageio.v2 as imageio
 
     from csql_sim.cli import main
