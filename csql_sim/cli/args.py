@@ -16,6 +16,7 @@ from csql_sim.infra.errors import CsqlError
 
 if TYPE_CHECKING:
     from csql_sim.infra.backends import Backend
+    from csql_sim.sim.video import VideoOptions
 
 
 def int_type(minimum: int, maximum: int | None = None) -> Callable[[str], int]:
@@ -229,13 +230,6 @@ def backend_from_args(args: argparse.Namespace) -> Backend:
     return Backend(args.backend, getattr(args, "workers", None), args.address)
 
 
-def add_renderer_argument(parser: argparse.ArgumentParser) -> None:
-    """Add ``--renderer tiny|egl|auto`` (the video renderer) to a subcommand."""
-    parser.add_argument("--renderer", choices=("auto", "tiny", "egl"), default="auto",
-                        help="video renderer: pybullet's TinyRenderer, its EGL plugin (OpenGL; a GPU where "
-                        "there is one), or auto (default): EGL when its plugin loads")
-
-
 def refuse_ignored(args: argparse.Namespace) -> None:
     """One rule for every command: an option the other options make meaningless is refused, not ignored.
 
@@ -250,3 +244,43 @@ def refuse_ignored(args: argparse.Namespace) -> None:
         if getattr(args, dest, None) is not None:
             raise CsqlError(f"--{dest.replace('_', '-')} does nothing here: it goes with {needs}")
 
+
+def speed_arg(text: str) -> float:
+    """``--speed``: simulated seconds per second of video, 0.25..16."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not 0.25 <= value <= 16:
+        raise argparse.ArgumentTypeError(f"must be 0.25..16 (simulated seconds per second of video), got {text}")
+    return value
+
+
+def add_video_options(parser: argparse.ArgumentParser) -> None:
+    """The video options of every command that writes a video (``render``, ``execute``, ``demo``).
+
+    ``--width``, ``--height``, ``--fps``, ``--speed``, ``--renderer`` and ``--workers``, with
+    the defaults of :class:`~csql_sim.sim.video.VideoOptions` (chosen for a CPU-only machine).
+    """
+    from csql_sim.sim.video import VideoOptions
+
+    d = VideoOptions()
+    group = parser.add_argument_group("video")
+    group.add_argument("--width", type=positive_int, default=d.width, help=f"frame width (default {d.width})")
+    group.add_argument("--height", type=positive_int, default=d.height, help=f"frame height (default {d.height})")
+    group.add_argument("--fps", type=positive_int, default=d.fps, help=f"frames per second of video (default {d.fps})")
+    group.add_argument("--speed", type=speed_arg, default=d.speed,
+                       help=f"simulated seconds per second of video (default {d.speed:g}: a time-lapse; 1: real time)")
+    group.add_argument("--renderer", choices=("auto", "flat", "tiny", "egl"), default=d.renderer,
+                       help="flat: csql-sim's fast CPU painter (cubes, table, the arm's silhouettes); tiny: "
+                       "pybullet's TinyRenderer; egl: its EGL plugin (OpenGL); auto (default): egl on a GPU, else flat")
+    group.add_argument("--workers", type=positive_int, default=None,
+                       help="rendering processes (default: the number of cores, at most one per chunk of frames)")
+
+
+def video_options(args: argparse.Namespace) -> VideoOptions:
+    """The :class:`~csql_sim.sim.video.VideoOptions` of a command's arguments."""
+    from csql_sim.sim.video import VideoOptions
+
+    return VideoOptions(width=args.width, height=args.height, fps=args.fps, speed=args.speed,
+                        renderer=args.renderer, workers=args.workers)

@@ -12,8 +12,7 @@ from pathlib import Path
 from csql_sim.cli.args import (
     add_json,
     add_quiet,
-    add_renderer_argument,
-    add_workers,
+    add_video_options,
     blocks_arg,
     blocks_help,
     command_parser,
@@ -22,6 +21,7 @@ from csql_sim.cli.args import (
     seed_arg,
     show_progress,
     threshold_arg,
+    video_options,
     warn_workers,
 )
 from csql_sim.cli.output import default_path, emit, wants_json
@@ -38,12 +38,10 @@ def declare_demo(args: argparse.Namespace, outputs: Outputs) -> None:
     folder the user named, existing files are replaced when they are csql-sim's own.
     """
     from csql_sim.jobs.render import sidecar_path
-    from csql_sim.sim.video import check_video_options
-
     default = default_path(args, "out", DEFAULT_OUT)
     out = outputs.folder(args.out, "output folder", default=default)
     video = out / VIDEO
-    check_video_options(video, args.width, args.height, args.fps)
+    video_options(args).check(video)
     outputs.file(out / "rules.yaml", "rule file", "rules", default=default)
     outputs.file(out / "pruned.yaml", "pruned rule file", "rules", default=default)
     outputs.file(video, "video file", "video", default=default)
@@ -92,7 +90,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
     say(f"[4/4] executing the learned plan on the simulated Panda and rendering {video}")
     result, path = render_episode(start, goal, video, policy, seed=args.seed, width=args.width,
-                                  height=args.height, fps=args.fps, workers=args.workers, progress=progress,
+                                  height=args.height, fps=args.fps, speed=args.speed, workers=args.workers,
+                                  progress=progress,
                                   provenance_extra={"rules": rules_source(out / "pruned.yaml"), "trials": args.trials,
                                                     "threshold": args.threshold},
                                   renderer=args.renderer)
@@ -126,13 +125,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=seed_arg, default=0, help="seed for training and the episode (default 0)")
     p.add_argument("--threshold", type=threshold_arg, default=0.1,
                    help="pruning strength threshold in [0, 1] (default 0.1)")
-    p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
-    p.add_argument("--height", type=positive_int, default=480, help="frame height (default 480)")
-    p.add_argument("--fps", type=positive_int, default=30, help="frames per simulated second (default 30)")
     p.add_argument("--blocks", type=blocks_arg, default=3,
                    help=blocks_help(2, 6, 3, ": the paper's test task CBA -> BAC; see 'experiment'"))
-    add_workers(p, "rendering processes")
+    add_video_options(p)
     add_quiet(p)
-    add_renderer_argument(p)
     add_json(p)
     p.set_defaults(func=cmd_demo, declare=declare_demo)

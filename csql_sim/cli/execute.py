@@ -12,10 +12,12 @@ from csql_sim.cli.args import (
     add_planner,
     add_quiet,
     add_seed,
+    add_video_options,
     command_parser,
     path_arg,
     rules_arg,
     show_progress,
+    video_options,
 )
 from csql_sim.cli.output import emit
 from csql_sim.infra.errors import CsqlError
@@ -44,11 +46,9 @@ def declare_execute(args: argparse.Namespace, outputs: Outputs) -> None:
     outputs.input(args.plan, "plan file")
     outputs.input(args.rules, "rule file")
     if args.video is not None:
-        from csql_sim.jobs.execute import VIDEO_FPS, VIDEO_SIZE
         from csql_sim.jobs.render import sidecar_path
-        from csql_sim.sim.video import check_video_options
 
-        check_video_options(args.video, *VIDEO_SIZE, VIDEO_FPS)
+        video_options(args).check(args.video)
         sidecar = sidecar_path(args.video)
         outputs.file(args.video, "video file", "video")
         outputs.file(sidecar, "video provenance", "json")
@@ -61,7 +61,7 @@ def cmd_execute(args: argparse.Namespace) -> int:
     planner = None if args.planner == "rules" else args.planner
     result = execute_problem(args.problem, args.domain, plan=args.plan, rules=args.rules, planner=planner,
                              seed=args.seed, perception=args.perception, perturb=args.perturb, video=args.video,
-                             progress=show_progress(args))
+                             progress=show_progress(args), video_options=video_options(args))
     emit(args, result.to_dict(), result.lines)
     if result.video is not None:
         print(f"wrote {result.video} (provenance in {result.video}.json)", file=sys.stderr)
@@ -83,12 +83,13 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="a rule base from 'csql-sim train' (or lifted rules) instead of a plan" + RULES_BUILTIN_HELP)
     add_planner(p)
     p.add_argument("--out", dest="video", type=path_arg, metavar="V",
-                   help="write the episode's video (.mp4 or .gif, 640x480) and its provenance <V>.json")
+                   help="write the episode's video (.mp4 or .gif; see the video options) and its provenance <V>.json")
     p.add_argument("--video", dest="video", type=path_arg, metavar="V", action=DeprecatedAlias, new="--out V",
                    help="the same as --out V (deprecated: goes in 0.3.0)")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (default pose)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     add_seed(p, "episode seed")
+    add_video_options(p)
     add_json(p)
     add_quiet(p)
     p.set_defaults(func=cmd_execute, declare=declare_execute)

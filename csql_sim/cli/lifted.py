@@ -66,12 +66,19 @@ three is above GN1 at n = 20, where one population's median is below it)."""
 
 
 def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:
-    """A progress line on stderr after every sweep, unless quiet."""
+    """A bar of the trials on stderr (a terminal, not --quiet), moved after every sweep or finished member."""
     if not show_progress(args):
         return None
+    from tqdm import tqdm
+
+    bars: list[tqdm] = []
 
     def report(done: int, total: int) -> None:
-        print(f"\rtrials {done}/{total}", end="\n" if done == total else "", file=sys.stderr, flush=True)
+        if not bars:
+            bars.append(tqdm(total=total, desc="trials", unit="trial", delay=1.0, leave=False))
+        bars[0].update(done - bars[0].n)
+        if done >= total:
+            bars[0].close()
 
     return report
 

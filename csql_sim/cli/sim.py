@@ -14,7 +14,7 @@ from csql_sim.cli.args import (
     add_json,
     add_planner,
     add_quiet,
-    add_renderer_argument,
+    add_video_options,
     add_workers,
     backend_from_args,
     blocks_arg,
@@ -26,6 +26,7 @@ from csql_sim.cli.args import (
     rules_arg,
     seed_arg,
     show_progress,
+    video_options,
     warn_workers,
 )
 from csql_sim.cli.output import default_path, emit
@@ -118,14 +119,14 @@ def episode_doc(result: EpisodeResult) -> dict:
 def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
     """The video (default ``video.mp4``) and, for an episode, its provenance sidecar ``<video>.json``."""
     from csql_sim.jobs.render import sidecar_path
-    from csql_sim.sim.video import check_video_options
 
     default = default_path(args, "out", DEFAULT_VIDEO)
-    check_video_options(args.out, args.width, args.height, args.fps)
+    video_options(args).check(args.out)
     sidecar = sidecar_path(args.out)
     outputs.file(args.out, "video file", "video", default=default)
     outputs.file(sidecar, "video provenance", "json", default=default)
     outputs.input(args.rules, "rule file")
+    outputs.input(args.problem, "PDDL problem")
 
 
 def declare_evaluate(args: argparse.Namespace, outputs: Outputs) -> None:
@@ -144,20 +145,22 @@ def cmd_render(args: argparse.Namespace) -> int:
     from csql_sim.infra.provenance import rules_source
     from csql_sim.jobs.render import render_episode, sidecar_path
     from csql_sim.sim.perception import CameraNoise
-    from csql_sim.sim.video import check_video_options, video_frame_count
+    from csql_sim.sim.video import video_frame_count
 
     check_render_options(args)
     if args.discovery:
         return render_discovery(args)
+    if args.problem is not None:
+        return render_problem(args)
     if not args.start:
-        raise CsqlError("render needs --start and --goal")
-    check_video_options(args.out, args.width, args.height, args.fps)
+        raise CsqlError("render needs --start and --goal, or --problem")
+    video_options(args).check(args.out)
     warn_workers(args)
     start, goal = read_arm_task(args.start, args.goal, args.rules)
     policy = arm_policy(args, start.n)
     result, path = render_episode(start, goal, args.out, policy, seed=args.seed, width=args.width,
-                                  height=args.height, fps=args.fps, workers=args.workers, perturb=args.perturb,
-                                  perception=args.perception, progress=show_progress(args),
+                                  height=args.height, fps=args.fps, speed=args.speed, workers=args.workers,
+                                  perturb=args.perturb, perception=args.perception, progress=show_progress(args),
                                   provenance_extra={"rules": rules_source(args.rules),
                                                     **({"planner": args.planner} if args.planner else {})},
                                   camera_noise=CameraNoise(*args.camera_noise), renderer=args.renderer)
@@ -166,6 +169,31 @@ def cmd_render(args: argparse.Namespace) -> int:
     emit(args, doc, lambda: [*episode_text(result, start.n), f"wrote {path} ({frames} frames at {args.fps} fps, "
                              f"{args.width}x{args.height}; provenance in {sidecar_path(path)})"])
     return 0 if result.success else 1
+
+
+def render_problem(args: argparse.Namespace) -> int:
+    """``render --problem FILE``: ``execute``'s run of a PDDL problem with a video, in the problem's names.
+
+    The plan comes from ``--rules`` or ``--planner`` (default: BFS up to six blocks, GN1 past six).
+    """
+    from csql_sim.jobs.execute import execute_problem
+
+    if args.start or args.goal:
+        raise CsqlError("render --problem FILE takes its start and goal from the file; give no --start or --goal")
+    if args.camera_noise != NO_NOISE:
+        raise CsqlError("--camera-noise does not apply to render --problem")
+    warn_workers(args)
+    planner = None if args.rules is not None else args.planner
+    if args.rules is None and planner is None:
+        from csql_sim.core.files.pddl_import import read_problem
+
+        planner = "bfs" if read_problem(args.problem).n <= MAX_BLOCKS else "gn1"
+    result = execute_problem(args.problem, rules=args.rules, planner=planner, seed=args.seed,
+                             perception=args.perception, perturb=args.perturb, video=args.out,
+                             progress=show_progress(args), video_options=video_options(args))
+    emit(args, result.to_dict(), result.lines)
+    print(f"wrote {result.video} (provenance in {result.video}.json)", file=sys.stderr)
+    return 0 if result.reached else 1
 
 
 def _rate(text: str) -> float:
@@ -193,18 +221,18 @@ def render_discovery(args: argparse.Namespace) -> int:
     from csql_sim.jobs.discover import record_discovery
     from csql_sim.jobs.job_memory import check_discovery
     from csql_sim.jobs.render import sidecar_path, sidecar_record
-    from csql_sim.sim.video import check_video_options, video_frame_count, write_video
+    from csql_sim.sim.video import video_frame_count, write_video
     from csql_sim.sim.world import cube_legend, legend_line
 
-    if args.start or args.goal or args.rules:
-        raise CsqlError("render --discovery takes no --start, --goal or --rules")
-    out = check_video_options(args.out, args.width, args.height, args.fps)
+    if args.start or args.goal or args.rules or args.problem:
+        raise CsqlError("render --discovery takes no --start, --goal, --rules or --problem")
+    out = video_options(args).check(args.out)
     args.blocks = args.blocks or DISCOVERY_BLOCKS
     args.transitions = args.transitions or DISCOVERY_TRANSITIONS
     check_discovery(args.transitions, args.blocks, args.fps, args.width, args.height, out.suffix.lower() == ".gif")
     warn_workers(args)
-    result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
-                                         args.perturb)
+    result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps / args.speed,
+                                         args.perception, args.perturb)
 
     lines = [legend_line(args.blocks)]
     for t in result.log:
@@ -308,22 +336,21 @@ def register(sub: argparse._SubParsersAction) -> None:
                        "csql-sim render --start CBA --goal BAC --out task.mp4")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
+    p.add_argument("--problem", type=path_arg,
+                   help="a blocks-world PDDL problem instead of --start and --goal (as 'execute' runs it: "
+                   "the plan of --rules or --planner, default bfs up to six blocks, gn1 past six)")
     p.add_argument("--rules", type=rules_arg,
                    help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)"
                         + RULES_BUILTIN_HELP)
     add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1, gn2 and lifted rules: any n")
     p.add_argument("--out", type=path_arg, default=None,
                    help=f"output .mp4 or .gif (default {DEFAULT_VIDEO}; an existing one is kept unless --overwrite)")
-    p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
-    p.add_argument("--height", type=positive_int, default=480, help="frame height (default 480)")
-    p.add_argument("--fps", type=positive_int, default=30, help="frames per simulated second (default 30)")
     p.add_argument("--seed", type=seed_arg, default=0, help="episode seed (default 0)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (default pose)")
     _noise_arg(p)
-    add_workers(p, "render processes")
+    add_video_options(p)
     add_quiet(p)
-    add_renderer_argument(p)
     p.add_argument("--discovery", action="store_true",
                    help="show a discovery episode instead: random attempts, failed ones captioned as such")
     p.add_argument("--transitions", type=positive_int, default=None,

@@ -31,8 +31,9 @@ import hashlib
 import json
 import os
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_plan, read_plan
 from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
@@ -46,9 +47,20 @@ from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.jobs.execute_report import ExecuteResult, StepReport
 from csql_sim.jobs.execute_steps import BEFORE, final_state, policy_reports, replay_reports
 
-VIDEO_SIZE, VIDEO_FPS = (640, 480), 30
+if TYPE_CHECKING:
+    from csql_sim.sim.video import VideoOptions
+
 PlanInput = str | os.PathLike | Sequence[str]
 """A plan: the path of an IPC plan file, or a list of actions (``"(unstack a b)"`` or ``"unstack(A,B)"``)."""
+
+
+@dataclass(frozen=True)
+class VideoOut:
+    """Where and how an episode's video is written."""
+
+    path: str | os.PathLike
+    options: VideoOptions
+    progress: bool = False
 
 
 class PlanReplay:
@@ -113,7 +125,8 @@ class GoalSetPolicy:
 def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = None,
                     plan: PlanInput | None = None, rules: str | os.PathLike | None = None,
                     planner: str | None = None, seed: int = 0, perception: str = "pose", perturb: bool = False,
-                    video: str | os.PathLike | None = None, progress: bool = False) -> ExecuteResult:
+                    video: str | os.PathLike | None = None, progress: bool = False,
+                    video_options: VideoOptions | None = None) -> ExecuteResult:
     """Run a PDDL problem's plan (or a rule base's, or BFS's) on the simulated arm.
 
     Args:
@@ -127,6 +140,7 @@ def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None
         perturb: jitter the start, maybe nudge a cube and drop a carried one.
         video: write the episode's video here (.mp4 or .gif) and its provenance ``<video>.json``.
         progress: progress bars on stderr.
+        video_options: how the video is made (default :class:`~csql_sim.sim.video.VideoOptions`).
 
     Raises:
         CsqlError: one line for bad input (an unrepresentable problem, a step that is not
@@ -135,20 +149,22 @@ def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None
     bp = read_problem(problem, domain)
     files = {"problem": _file(problem), "domain": _file(domain)}
     return execute_blocks(bp, plan=plan, rules=rules, planner=planner, seed=seed, perception=perception,
-                          perturb=perturb, video=video, progress=progress, files=files)
+                          perturb=perturb, video=video, progress=progress, files=files, video_options=video_options)
 
 
 def execute_task(start: str | State, goal: str | State | Sequence[str],
                  plan: PlanInput | None = None, rules: str | os.PathLike | None = None, planner: str | None = None,
                  seed: int = 0, perception: str = "pose", perturb: bool = False,
-                 video: str | os.PathLike | None = None, progress: bool = False) -> ExecuteResult:
+                 video: str | os.PathLike | None = None, progress: bool = False,
+                 video_options: VideoOptions | None = None) -> ExecuteResult:
     """:func:`execute_problem` for a task in csql-sim's notation (objects ``a``, ``b``, ... are cubes A, B, ...).
 
     ``goal`` is a configuration (``"ABC"``) or a list of PDDL atoms (``["(on a b)"]``: a
     partial goal), for 2..10 cubes.
     """
     return execute_blocks(task_problem(start, goal), plan=plan, rules=rules, planner=planner, seed=seed,
-                          perception=perception, perturb=perturb, video=video, progress=progress)
+                          perception=perception, perturb=perturb, video=video, progress=progress,
+                          video_options=video_options)
 
 
 def task_problem(start: str | State, goal: str | State | Sequence[str]) -> BlocksProblem:
@@ -171,16 +187,20 @@ def task_problem(start: str | State, goal: str | State | Sequence[str]) -> Block
 def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str | os.PathLike | None = None,
                    planner: str | None = None, seed: int = 0, perception: str = "pose", perturb: bool = False,
                    video: str | os.PathLike | None = None, progress: bool = False,
-                   files: dict[str, Any] | None = None) -> ExecuteResult:
+                   files: dict[str, Any] | None = None, video_options: VideoOptions | None = None) -> ExecuteResult:
     """Run a read problem on the arm (the body of :func:`execute_problem`); 2..10 cubes."""
     from csql_sim.sim.control import check_perception
-    from csql_sim.sim.video import check_video_options
+    from csql_sim.sim.video import VideoOptions
     from csql_sim.sim.world import check_arm_blocks
 
     check_arm_blocks(bp.n)
     check_perception(perception)
+    options = video_options or VideoOptions()
     if video is not None:
-        check_video_options(video, *VIDEO_SIZE, VIDEO_FPS)
+        from csql_sim.sim.video import resolve_renderer
+
+        options.check(video)
+        resolve_renderer(options.renderer)  # an unusable --renderer fails before any physics runs
     chosen = [k for k, v in (("plan", plan), ("rules", rules), ("planner", planner)) if v is not None]
     if len(chosen) != 1:
         raise CsqlError(f"give exactly one of a plan, a rule file or planner='bfs' (got {', '.join(chosen) or 'none'})")
@@ -188,12 +208,13 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
         raise CsqlError(f"planner must be one of bfs, {', '.join(NAMED_POLICIES)}; got {planner!r}")
     params = {**(files or {}), "objects": bp.mapping, "seed": seed, "perception": perception, "perturb": perturb,
               "video": None if video is None else os.fspath(video)}
+    video_out = None if video is None else VideoOut(video, options, progress)
     if plan is not None:
         steps, source = _plan_steps(bp, plan)
         params["plan"] = source
-        return _run_plan(bp, steps, source, seed, perception, perturb, video, progress, params)
+        return _run_plan(bp, steps, source, seed, perception, perturb, video_out, progress, params)
     params.update(rules=rules_source(rules), planner=planner or "rules")
-    return _run_policy(bp, rules, planner, seed, perception, perturb, video, progress, params)
+    return _run_policy(bp, rules, planner, seed, perception, perturb, video_out, progress, params)
 
 
 def _plan_steps(bp: BlocksProblem, plan: PlanInput) -> tuple[list[PlanStep], dict[str, Any]]:
@@ -207,7 +228,7 @@ def _plan_steps(bp: BlocksProblem, plan: PlanInput) -> tuple[list[PlanStep], dic
 
 
 def _run_plan(bp: BlocksProblem, steps: list[PlanStep], source: dict[str, Any], seed: int, perception: str,
-              perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
+              perturb: bool, video: VideoOut | None, progress: bool, params: dict) -> ExecuteResult:
     """Check the plan symbolically, then replay it on the arm."""
     where = source["file"] or "plan"
     trace = check_plan(bp.start, steps, bp.objects, where)
@@ -224,7 +245,7 @@ def _run_plan(bp: BlocksProblem, steps: list[PlanStep], source: dict[str, Any], 
 
 
 def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str | None, seed: int, perception: str,
-                perturb: bool, video: str | os.PathLike | None, progress: bool, params: dict) -> ExecuteResult:
+                perturb: bool, video: VideoOut | None, progress: bool, params: dict) -> ExecuteResult:
     """Follow a rule base, BFS or a named baseline (GN1) to the goal on the arm."""
     from csql_sim.core.policies.loader import load_policy
     from csql_sim.sim.world import check_arm_policy
@@ -242,7 +263,8 @@ def _run_policy(bp: BlocksProblem, rules: str | os.PathLike | None, planner: str
     final = final_state(episode, policy, bp.n)
     reached = bp.goal.satisfied(final)
     reason = "" if reached else episode.reason or _unsatisfied(bp, final)
-    return _result(bp, reached, reason, target, source, policy_reports(episode), final, episode, video, params)
+    return _result(bp, reached, reason, target, source, policy_reports(episode, bp.objects), final, episode, video,
+                   params)
 
 
 def _plan_reason(bp: BlocksProblem, episode: Any, replay: PlanReplay, reports: list[StepReport],
@@ -267,19 +289,20 @@ def _unsatisfied(bp: BlocksProblem, final: State | None, prefix: str = "") -> st
 
 
 def _episode(start: State, target: State, policy: Policy, seed: int, perception: str, perturb: bool,
-             video: str | os.PathLike | None, progress: bool, cap: int | None) -> Any:
+             video: VideoOut | None, progress: bool, cap: int | None) -> Any:
     from tqdm import tqdm
 
     from csql_sim.sim.control import run_physical_episode
 
     with tqdm(desc="executing", unit="action", disable=not progress, delay=1.0, leave=False) as bar:
         return run_physical_episode(start, target, policy, seed=seed, record=video is not None, perturb=perturb,
-                                    perception=perception, max_actions=cap, fps=VIDEO_FPS,
+                                    perception=perception, max_actions=cap,
+                                    fps=30 if video is None else video.options.sample_rate,
                                     on_action=lambda _k: bar.update())
 
 
 def _result(bp: BlocksProblem, reached: bool, reason: str, target: State, source: dict, reports: list[StepReport],
-            final: State | None, episode: Any, video: str | os.PathLike | None, params: dict) -> ExecuteResult:
+            final: State | None, episode: Any, video: VideoOut | None, params: dict) -> ExecuteResult:
     result = ExecuteResult(reached=reached, reason=reason, problem=bp.name, objects=bp.objects,
                            start=bp.start.notation(), goal=bp.goal, target=target.notation(), source=source,
                            steps=reports, final=None if final is None else final.notation(), episode=episode,
@@ -289,17 +312,20 @@ def _result(bp: BlocksProblem, reached: bool, reason: str, target: State, source
     return result
 
 
-def _write_video(episode: Any, video: str | os.PathLike, params: dict) -> Path:
+def _write_video(episode: Any, video: VideoOut, params: dict) -> Path:
     """The episode's video and its provenance sidecar (as ``csql-sim render`` writes them)."""
     from csql_sim.jobs.render import sidecar_path, sidecar_record
-    from csql_sim.sim.video import video_frame_count, write_video
+    from csql_sim.sim.video import resolve_renderer, video_frame_count, write_video
     from csql_sim.sim.world import cube_legend
 
     names = tuple(params["objects"])
     episode.recording.names = names  # the legend: PDDL object names, each with its cube's colour
-    path = write_video(episode.recording, video, *VIDEO_SIZE, VIDEO_FPS, progress=False)
-    record = provenance(command="execute", **params)
-    info = {"file": path.name, "frames": video_frame_count(episode.recording, VIDEO_FPS), "actions": episode.length,
+    o = video.options
+    path = write_video(episode.recording, video.path, o.width, o.height, o.fps, o.workers, progress=video.progress,
+                       renderer=o.renderer)
+    record = provenance(command="execute", **params, width=o.width, height=o.height, fps=o.fps, speed=o.speed,
+                        renderer=resolve_renderer(o.renderer))
+    info = {"file": path.name, "frames": video_frame_count(episode.recording, o.fps), "actions": episode.length,
             "success": episode.success, "reason": episode.reason, "legend": cube_legend(len(names), names)}
     write_or_keep([(sidecar_path(path), json.dumps(sidecar_record(record, info), indent=1) + "\n")])
     return path

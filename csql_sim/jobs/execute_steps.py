@@ -13,7 +13,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-from csql_sim.core.files.ipc_plan import PlanStep
+from csql_sim.core.files.ipc_plan import PlanStep, ipc_action
+from csql_sim.core.state.notation import parse_action_name
 from csql_sim.core.state.world import State, WorldError, action_name
 from csql_sim.jobs.execute_report import StepReport
 from csql_sim.sim.world import parse_arm_state
@@ -77,16 +78,30 @@ def replay_reports(steps: Sequence[PlanStep], trace: Sequence[State], episode: A
             for k, ((step, action), row) in enumerate(zip(flat, rows, strict=True))]
 
 
-def policy_reports(episode: Any) -> list[StepReport]:
-    """One report per action a planner or rule base chose (recoveries included)."""
+def policy_reports(episode: Any, names: Sequence[str] | None = None) -> list[StepReport]:
+    """One report per action a planner or rule base chose (recoveries included).
+
+    ``names``: the problem's object names; each action's ``text`` is then written with them
+    in IPC form, ``(unstack amber pearl)``, as a plan file's line would be (the cube action
+    keeps the letters).
+    """
     out = []
     for k, rec in enumerate(episode.steps):
+        text = rec.action if rec.recovery or names is None else _named(rec.action, names)
         if rec.recovery:
             status, detail = "recovery", rec.message
         elif not rec.status.ok:
             status, detail = "failed", rec.status.reason
         else:
             status, detail = ("mismatch", f"predicted {rec.predicted}") if rec.mismatch else ("ok", "")
-        out.append(StepReport(step=k + 1, line=None, text=rec.action, action=rec.action,
+        out.append(StepReport(step=k + 1, line=None, text=text, action=rec.action,
                               expected=rec.predicted or None, perceived=rec.perceived, status=status, detail=detail))
     return out
+
+
+def _named(action: str, names: Sequence[str]) -> str:
+    """A cube action (``unstack(A,B)``) in IPC form with the objects' names; as it is if it is not one."""
+    try:
+        return ipc_action(parse_action_name(action, len(names)), names)
+    except WorldError:
+        return action

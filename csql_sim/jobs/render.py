@@ -11,7 +11,7 @@ from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance
 from csql_sim.sim.control import EpisodeResult, run_physical_episode
 from csql_sim.sim.perception import NO_NOISE, CameraNoise
-from csql_sim.sim.video import check_video_options, resolve_renderer, video_frame_count, write_video
+from csql_sim.sim.video import VideoOptions, resolve_renderer, video_frame_count, write_video
 from csql_sim.sim.world import ArmState, cube_legend
 
 SIDECAR_FORMAT = "csql-sim video provenance"
@@ -19,11 +19,11 @@ SIDECAR_VERSION = 1
 
 
 def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, policy: Policy | None = None,
-                   seed: int = 0, width: int = 640, height: int = 480, fps: int = 30,
+                   seed: int = 0, width: int = 640, height: int = 480, fps: int = 24,
                    workers: int | None = None, perturb: bool = False, perception: str = "pose",
                    progress: bool = True, provenance_extra: dict | None = None,
                    camera_noise: CameraNoise = NO_NOISE, renderer: str = "auto",
-                   names: tuple[str, ...] | None = None) -> tuple[EpisodeResult, Path]:
+                   names: tuple[str, ...] | None = None, speed: float = 2.0) -> tuple[EpisodeResult, Path]:
     """Run one recorded episode, write its video and the video's provenance sidecar (``<video>.json``).
 
     The sidecar (:func:`sidecar_record`) is written after the video; a failed write of it is
@@ -37,21 +37,23 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
         seed: the episode's seed.
         width: frame width in pixels.
         height: frame height in pixels.
-        fps: frames per simulated second.
+        fps: frames per second of video.
         workers: rendering processes (default: the cores, capped by the frames).
         perturb: jitter the start, nudge a cube, drop a carried cube.
         perception: ``"pose"`` or ``"camera"``.
         progress: show progress bars on stderr.
         provenance_extra: further parameters to record in the sidecar (e.g. the rule file).
         camera_noise: sensor noise of camera perception.
-        renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
-        names: the cubes' names in the legend (default: their letters); the sidecar's
+        renderer: ``"flat"``, ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL on a GPU, else flat).
+        names: the cubes' names written on them (default: their letters); the sidecar's
             ``video.legend`` maps each to its colour.
+        speed: simulated seconds per second of video (a time-lapse past 1).
 
     Returns:
         The episode result and the path of the video (written even if the episode failed).
     """
-    check_video_options(out, width, height, fps)
+    options = VideoOptions(width, height, fps, speed, renderer, workers)
+    options.check(out)
     renderer = resolve_renderer(renderer)  # an unusable --renderer fails before the episode runs
     from tqdm import tqdm
 
@@ -60,13 +62,14 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
     with tqdm(total=arm_optimal_length(start, goal), desc="executing", unit="action", disable=not progress, delay=1.0,
               leave=False) as bar:
         result = run_physical_episode(start, goal, policy, seed=seed, record=True, perturb=perturb,
-                                      perception=perception, fps=fps, on_action=lambda _k: bar.update(),
+                                      perception=perception, fps=options.sample_rate, on_action=lambda _k: bar.update(),
                                       camera_noise=camera_noise)
     assert result.recording is not None
     result.recording.names = names
     path = write_video(result.recording, out, width, height, fps, workers, progress=progress, renderer=renderer)
     record = provenance(start=start.notation(), goal=goal.notation(), policy=getattr(policy, "name", "bfs"),
-                        seed=seed, width=width, height=height, fps=fps, perturb=perturb, perception=perception,
+                        seed=seed, width=width, height=height, fps=fps, speed=speed, perturb=perturb,
+                        perception=perception,
                         camera_noise=[camera_noise.depth, camera_noise.colour],
                         renderer=renderer,
                         **(provenance_extra or {}))

@@ -20,7 +20,8 @@ import pytest
 from hostile_cli import start
 from video_cases import only_fixtures_left, put_fixtures
 
-EXECUTE = ("execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--out", "v.mp4")
+EXECUTE = ("execute", "--quiet", "--problem", "ok3.pddl", "--plan", "good.plan", "--out", "v.mp4", "--workers", "2")
+# --workers 2: rendering workers even for a short video (the flat painter paints fewer than 150 frames in-process)
 HANG_GUARD = 240.0  # seconds for the child process to appear; only against a hang
 IMPORTING_SECONDS = 0.3  # into a spawned worker's start-up: still importing, SIGINT not yet ignored
 STOP_SECONDS = 10.0  # a Ctrl-C stops the command within this (a second or two when the machine is idle)
@@ -116,7 +117,7 @@ def test_ex_video_sigint_reaching_a_starting_worker_is_ignored(work):
     (Before, the worker died with a KeyboardInterrupt traceback, and the pool with it.)
     """
     proc = start(work, "render", "--quiet", "--start", "CBA", "--goal", "BAC", "--out", "v.mp4", "--width", 64,
-                 "--height", 48, "--fps", 5)
+                 "--height", 48, "--fps", 5, "--workers", 2)
     os.kill(_wait_for(proc, _render_worker), signal.SIGINT)
     _, err = proc.communicate(timeout=HANG_GUARD)
     assert proc.returncode == 0, err

@@ -196,6 +196,33 @@ def test_the_command_writes_a_video_with_its_provenance(tmp_path, capsys):
                 str(tmp_path)]) == 2  # a folder is refused before any work
 
 
+def test_execute_and_render_share_the_video_options_and_name_the_steps(tmp_path, capsys):
+    """execute takes render's video options, render takes --problem, the steps are in the problem's names."""
+    import imageio.v2 as imageio
+
+    from csql_sim.cli import main
+
+    problem = Path(__file__).resolve().parents[1] / "data" / "large" / "blocks8-names.pddl"
+    out, report = tmp_path / "run.gif", tmp_path / "run.json"
+    assert cli(["execute", "--problem", str(problem), "--planner", "gn1", "--out", str(out), "--json", str(report),
+                "--fps", "6", "--speed", "8", "--width", "96", "--height", "72", "--renderer", "flat",
+                "--quiet"]) == 0
+    doc, sidecar = json.loads(report.read_text()), json.loads((tmp_path / "run.gif.json").read_text())
+    assert {k: sidecar["parameters"][k] for k in ("fps", "speed", "width", "height", "renderer")} == {
+        "fps": 6, "speed": 8.0, "width": 96, "height": 72, "renderer": "flat"}
+    # 6 frames per video second at 8 simulated seconds each: 0.75 frames per simulated second, 2 s held
+    assert abs(sidecar["video"]["frames"] - (0.75 * doc["sim_seconds"] + 12)) <= 3
+    assert imageio.mimread(out)[0].shape == (72, 96, 3)
+    steps = doc["steps"]
+    assert steps[0]["action"].startswith("(") and steps[0]["cube_action"][0].islower()
+    names = {"amber_1", "b2", "b10", "ivory", "jade", "ruby", "slate", "x-ray"}
+    assert all(set(s["action"].strip("()").split()[1:]) <= names for s in steps)
+    video = tmp_path / "render.gif"
+    assert main(["render", "--problem", str(problem), "--out", str(video), "--fps", "4", "--speed", "16",
+                 "--width", "64", "--height", "48", "--quiet"]) == 0
+    assert json.loads((tmp_path / "render.gif.json").read_text())["video"]["legend"]["x-ray"] == "magenta"
+
+
 def test_past_six_blocks_a_partial_goal_aims_at_a_fixed_target_and_stops_once_satisfied():
     from csql_sim.core.policies.gn1 import Gn1Policy
     from csql_sim.core.state.notation import parse_config

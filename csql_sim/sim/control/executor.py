@@ -210,8 +210,8 @@ class Episode:
         self.on_action = on_action
         self.recorder: Recorder | None = None
         if fps is not None:
-            first = Caption(0, f"start {task.start.notation()}, goal {task.goal.notation()}",
-                            self.messages.state(task.start))
+            first = Caption(0, message=self.messages.state(task.start), states=(("start", task.start),
+                                                                                  ("goal", task.goal)))
             self.recorder = Recorder(world.scene, fps, first)
             world.add_step_hook(self.recorder)
 
@@ -234,7 +234,7 @@ class Episode:
             return False
         message = self.messages.state(state)
         if result.steps:
-            self._caption(Caption(len(result.steps), f"perceived {state.notation()}", message))
+            self._caption(Caption(len(result.steps), message=message, states=(("perceived", state),)))
         if self.world.reached(perceived, self.task.goal):
             result.success = True
             return False
@@ -283,7 +283,7 @@ class Episode:
         world, result, pert = self.world, self.result, self.perturbation
         k = len(result.steps)
         hook = drop_hook(world, action, pert, result.events) if pert and k == self.plan.drop_at else None
-        self._caption(Caption(k + 1, label(action), self.messages.state(state, action)))
+        self._caption(Caption(k + 1, message=message, action=action))  # the message the policy saw, as reported
         attempt = self._attempt(action)
         if action.is_pick and attempt >= BLOCKED_PICK_TRIES and "collision" in result.steps[-1].status.reason:
             fix = _recover(world, self.perceived, blocked_pick=action.block)  # make room around it
@@ -313,8 +313,12 @@ class Episode:
         result.sim_seconds = result.loop_steps * self.world.config.physics.time_step
         result.final_poses = self.world.final_poses()
         if self.recorder is not None:
-            outcome = f"goal {self.task.goal.notation()} reached" if result.success else f"FAILED: {result.reason}"
-            self.recorder.caption = Caption(len(result.steps), outcome, self.recorder.caption.message)
+            last = self.recorder.caption
+            if result.success:
+                done = Caption(len(result.steps), "reached", last.message, states=(("goal", self.task.goal),))
+            else:
+                done = Caption(len(result.steps), f"FAILED: {result.reason}", last.message)
+            self.recorder.caption = done
             result.recording = self.recorder.finish()
         return result
 

@@ -1,9 +1,11 @@
 """Off-screen rendering of recorded episodes into captioned .mp4 or .gif videos.
 
 Poses are recorded during simulation (see :mod:`csql_sim.sim.video.recording`); frames are
-rendered afterwards by worker processes, each with its own DIRECT client and a replay
-scene whose bodies are set to the recorded poses, drawn by the TinyRenderer or pybullet's
-EGL plugin (:mod:`csql_sim.sim.video.renderer`). The frames are encoded by the writers of
+drawn afterwards (:mod:`csql_sim.sim.video.frames`: by the flat painter, or by the TinyRenderer
+or pybullet's EGL plugin in replay scenes, :mod:`csql_sim.sim.video.renderer`), in this process
+or in worker processes, from the recorded poses alone: the frames are the same whatever
+the number of workers. The view is framed from the recording
+(:mod:`csql_sim.sim.video.framing`). The frames are encoded by the writers of
 :mod:`csql_sim.sim.video.encoders` (ffmpeg with timeouts, Pillow), whose failures are one line.
 """
 
@@ -12,35 +14,79 @@ from __future__ import annotations
 import multiprocessing
 import os
 from collections import deque
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator
 from concurrent.futures import Future
+from dataclasses import dataclass
 from pathlib import Path
 
 import imageio.v2 as imageio
 import numpy as np
-from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import atomic_output, check_output_file
 from csql_sim.infra.workers import worker_count, worker_pool
-from csql_sim.sim.perception.camera import Camera, capture, render_camera
+from csql_sim.sim.perception.camera import Camera
 from csql_sim.sim.video.encoders import EncoderError, FfmpegWriter, GifWriter
+from csql_sim.sim.video.frames import (  # noqa: F401 - caption_image, CAPTION_HEIGHT: used from here by scripts and tests
+    CAPTION_HEIGHT,
+    ReplayRenderer,
+    View,
+    caption_image,
+    inset_size,
+)
+from csql_sim.sim.video.framing import goal_camera, top_camera
 from csql_sim.sim.video.recording import Frame, Recording
-from csql_sim.sim.video.renderer import close_quietly, resolve_renderer
-from csql_sim.sim.video.replay import apply_snapshot, replay_scene
+from csql_sim.sim.video.renderer import resolve_renderer
 from csql_sim.sim.world.config import SimConfig
-from csql_sim.sim.world.legend import draw_legend, legend_names
-from csql_sim.sim.world.scene import Scene
+from csql_sim.sim.world.legend import legend_names
 
 VIDEO_SUFFIXES = (".mp4", ".gif")
-CAPTION_HEIGHT = 0.09  # caption strip height as a fraction of the frame height
-HOLD_SECONDS = 0.5  # the last frame is repeated this long
+HOLD_SECONDS = 2.0  # the last frame is repeated this long, to be read
+FRAMING_STRIDE = 8  # every 8th frame's cubes are kept in the picture too
+FRAMES_PER_WORKER = 150  # the flat painter's frames worth starting a rendering process for (by default)
+PROGRESS_DELAY = 1.0  # seconds before a bar shows: phases under a second stay silent
 CHUNKS_IN_FLIGHT = 2  # chunks per rendering worker submitted ahead of the one the encoder waits for
 
 
 class VideoError(CsqlError):
     """A video that cannot be written with the given options."""
+
+
+@dataclass(frozen=True)
+class VideoOptions:
+    """How a video is made: one set of options for ``render``, ``execute`` and ``demo``.
+
+    The defaults suit a CPU-only machine: the flat painter (unless EGL runs on a GPU),
+    24 frames per second of video, twice real time.
+
+    Attributes:
+        width: frame width in pixels, 16..3840 (an even number for .mp4).
+        height: frame height in pixels, 16..2160 (an even number for .mp4).
+        fps: frames per second of video, 1..120.
+        speed: simulated seconds per second of video, 0.25..16 (2: a time-lapse at twice real time).
+        renderer: ``"auto"``, ``"flat"``, ``"tiny"`` or ``"egl"``
+            (:func:`~csql_sim.sim.video.renderer.resolve_renderer`).
+        workers: rendering processes (None: the cores, at most one per chunk of frames).
+    """
+
+    width: int = 640
+    height: int = 480
+    fps: int = 24
+    speed: float = 2.0
+    renderer: str = "auto"
+    workers: int | None = None
+
+    @property
+    def sample_rate(self) -> float:
+        """Frames recorded per simulated second: ``fps / speed``."""
+        return self.fps / self.speed
+
+    def check(self, path: str | os.PathLike) -> Path:
+        """Validate the options and the output path (:func:`check_video_options`); returns the path."""
+        if not 0.25 <= self.speed <= 16:
+            raise VideoError(f"speed must be 0.25..16 simulated seconds per second of video, got {self.speed:g}")
+        return check_video_options(path, self.width, self.height, self.fps)
 
 
 def check_video_options(path: str | os.PathLike, width: int, height: int, fps: int) -> Path:
@@ -68,89 +114,6 @@ def hold_frames(fps: int) -> int:
     return max(1, round(HOLD_SECONDS * fps))
 
 
-def caption_image(rgb: np.ndarray, text: str, legend: int | Sequence[str] = 0, full: bool = False) -> np.ndarray:
-    """Draw ``text`` on a dark strip along the bottom, and the cubes' legend along the top.
-
-    ``legend``: the cubes' names in cube order (or a count: the letters A, B, ...); each is
-    drawn beside its colour's square, with the colour word when ``full``
-    (:func:`csql_sim.sim.world.legend.draw_legend`).
-    """
-    img = Image.fromarray(rgb)
-    h = img.height
-    strip = max(12, int(h * CAPTION_HEIGHT))
-    draw = ImageDraw.Draw(img)
-    draw.rectangle((0, h - strip, img.width, h), fill=(20, 20, 20))
-    caption_font, text = fit_caption(draw, text, img.width - 12, max(8, int(strip * 0.6)))
-    draw.text((6, h - strip + strip * 0.15), text, fill=(255, 255, 255), font=caption_font)
-    names = legend_names(legend) if isinstance(legend, int) else tuple(legend)
-    if names:
-        draw_legend(draw, img.width, max(8, strip * 0.6), names, full)
-    return np.asarray(img)
-
-
-def fit_caption(draw: ImageDraw.ImageDraw, text: str, width: float, size: int,
-                smallest: int = 8) -> tuple[ImageFont.ImageFont, str]:
-    """A font (``size`` or smaller, down to ``smallest``) and text that fit ``width`` pixels.
-
-    A long caption (a 6-block tower's state, a long failure reason) first gets a smaller
-    font; if it still does not fit, it is cut with an ellipsis, never drawn past the frame.
-    """
-    for points in range(size, smallest - 1, -1):
-        font = ImageFont.load_default(size=points)
-        if draw.textlength(text, font=font) <= width:
-            return font, text
-    while text and draw.textlength(text + "...", font=font) > width:
-        text = text[:-1]
-    return font, text + "..."
-
-
-class ReplayRenderer:
-    """Renders captioned frames of recordings; owns one replay scene per (n, config).
-
-    Each rendering worker process owns exactly one, made by the pool's initializer
-    (:func:`_init_render_worker`) and held in that process's ``_WORKER_RENDERER``; it
-    lives as long as the worker. In-process rendering makes its own and closes it.
-
-    Args:
-        renderer: ``"tiny"`` or ``"egl"`` (resolved: :func:`csql_sim.sim.video.renderer.resolve_renderer`).
-    """
-
-    def __init__(self, renderer: str = "tiny") -> None:
-        self.renderer = renderer
-        self._scenes: dict[tuple[int, SimConfig], Scene] = {}
-
-    def scene(self, n: int, config: SimConfig) -> Scene:
-        """The replay scene of ``n`` cubes and ``config`` (built on first use)."""
-        key = (n, config)
-        if key not in self._scenes:
-            self._scenes[key] = replay_scene(n, config, self.renderer)
-        return self._scenes[key]
-
-    def render(self, n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-               camera: Camera | None = None, total: int = 0, names: Sequence[str] | None = None) -> list[np.ndarray]:
-        """Captioned RGB frames: the replay scene set to each frame's poses, seen by ``camera``.
-
-        Captions read ``step k/K  <what>  <message>`` with K = ``total`` (the episode's
-        actions); a legend along the top names the ``n`` cubes (``names``, default their
-        letters), with their colour words in the frames before the first action.
-        """
-        names = legend_names(n, names)
-        scene = self.scene(n, config)
-        camera = render_camera(n) if camera is None else camera
-        out = []
-        for frame in frames:
-            apply_snapshot(scene, frame.poses, frame.joints)
-            rgb, _, _ = capture(scene, camera, width, height)
-            out.append(caption_image(rgb, frame.caption.text(total), legend=names, full=frame.caption.step == 0))
-        return out
-
-    def close(self) -> None:
-        """Release every replay scene's physics client."""
-        for scene in self._scenes.values():
-            close_quietly(scene)
-        self._scenes.clear()
-
-
 _WORKER_RENDERER: ReplayRenderer | None = None  # the one renderer of a rendering worker process
 
 
@@ -159,10 +122,9 @@ def _init_render_worker(renderer: str) -> None:
     _WORKER_RENDERER = ReplayRenderer(renderer)
 
 
-def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], width: int, height: int,
-                      camera: Camera, total: int, names: tuple[str, ...] | None) -> list[np.ndarray]:
+def _render_in_worker(n: int, config: SimConfig, frames: list[Frame], view: View) -> list[np.ndarray]:
     assert _WORKER_RENDERER is not None, "rendering worker started without _init_render_worker"
-    return _WORKER_RENDERER.render(n, config, frames, width, height, camera, total, names)
+    return _WORKER_RENDERER.render(n, config, frames, view)
 
 
 def _chunks(frames: list[Frame], size: int) -> list[list[Frame]]:
@@ -176,7 +138,7 @@ def _open_writer(path: Path, fps: int, suffix: str) -> FfmpegWriter | GifWriter:
 
 def write_video(recording: Recording, path: str | os.PathLike, width: int = 640, height: int = 480,
                 fps: int | None = None, workers: int | None = None, camera: Camera | None = None,
-                progress: bool = True, renderer: str = "auto") -> Path:
+                progress: bool = True, renderer: str = "auto", top: bool = True) -> Path:
     """Render ``recording`` and write it atomically (:func:`csql_sim.infra.files.atomic_output`) as .mp4 or .gif.
 
     The video is read back from the temporary file (:func:`verify_video`) before it
@@ -190,25 +152,25 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         height: frame height in pixels.
         fps: playback frame rate (default: the recording's).
         workers: rendering processes (default: every core; at most the cores and one per chunk of frames).
-        camera: the rendering view (default: :func:`~csql_sim.sim.perception.camera.render_camera` of the cube count).
+        camera: the main view (default: :func:`~csql_sim.sim.video.framing.goal_camera` of the first and last frames).
         progress: show a tqdm bar on stderr.
-        renderer: ``"tiny"``, ``"egl"`` or ``"auto"`` (EGL where its plugin loads).
+        renderer: ``"flat"``, ``"tiny"``, ``"egl"`` or ``"auto"``
+            (:func:`~csql_sim.sim.video.renderer.resolve_renderer`).
+        top: inset the top view (:func:`~csql_sim.sim.video.framing.top_camera`) in the top right corner.
 
     Returns:
         The path written.
     """
     fps = fps or recording.fps
-    camera = render_camera(recording.n) if camera is None else camera
     out = check_video_options(path, width, height, fps)
     renderer = resolve_renderer(renderer)
     if not recording.frames:
         raise VideoError("the recording has no frames")
-    cores = worker_count(workers, len(recording.frames))  # at most the cores
-    chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
+    view = video_view(recording, width, height, camera, top)
     # the bar counts the frames of the file: the recorded ones and the final hold
     bar = tqdm(total=video_frame_count(recording, fps), desc=f"render {out.name}", unit="frame",
-               disable=not progress)
-    rendered = _map_chunks(recording, chunks, width, height, camera, worker_count(workers, len(chunks)), renderer)
+               disable=not progress, delay=PROGRESS_DELAY)
+    rendered = _rendered_chunks(recording, view, workers, renderer)
     suffix = out.suffix.lower()
     try:
         with atomic_output(out) as tmp:
@@ -229,6 +191,18 @@ def write_video(recording: Recording, path: str | os.PathLike, width: int = 640,
         rendered.close()  # ends the rendering workers if the encoder failed
         bar.close()
     return out
+
+
+def video_view(recording: Recording, width: int, height: int, camera: Camera | None = None,
+               top: bool = True) -> View:
+    """The :class:`View` of a recording's video: the goal camera (unless ``camera``), the top view, the names."""
+    first, last = recording.frames[0].poses, recording.frames[-1].poses
+    if camera is None:
+        between = [f.poses for f in recording.frames[::FRAMING_STRIDE]]
+        camera = goal_camera(first, last, recording.config, width, height, between)
+    inset = top_camera(first, last, *inset_size(width, height)) if top else None
+    return View(width, height, camera, inset, legend_names(recording.n, recording.names), recording.actions,
+                recording.names, recording.arm)
 
 
 def _reason(exc: OSError | EncoderError) -> str:
@@ -308,20 +282,40 @@ def _check_mp4_boxes(path: Path) -> None:
         raise VideoError("no moov or mdat box: not a whole mp4 file")
 
 
-def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, height: int, camera: Camera,
-                workers: int, renderer: str) -> Iterator[list[np.ndarray]]:
+def render_frames(recording: Recording, view: View, workers: int | None = None,
+                  renderer: str = "flat") -> Iterator[np.ndarray]:
+    """The captioned frames of ``recording`` in order (without the final hold), rendered by ``workers`` processes.
+
+    The frames are the same whatever the number of workers (each is drawn from its own
+    recorded poses, ``view`` and the renderer alone).
+    """
+    for chunk in _rendered_chunks(recording, view, workers, resolve_renderer(renderer)):
+        yield from chunk
+
+
+def _rendered_chunks(recording: Recording, view: View, workers: int | None,
+                     renderer: str) -> Iterator[list[np.ndarray]]:
+    if workers is None and renderer == "flat":  # a process and its replay scene cost about 100 painted frames
+        workers = max(1, len(recording.frames) // FRAMES_PER_WORKER)
+    cores = worker_count(workers, len(recording.frames))  # at most the cores
+    chunks = _chunks(recording.frames, max(1, min(16, len(recording.frames) // (4 * cores) or 1)))
+    return _map_chunks(recording, chunks, view, worker_count(workers, len(chunks)), renderer)
+
+
+def _map_chunks(recording: Recording, chunks: list[list[Frame]], view: View, workers: int,
+                renderer: str) -> Iterator[list[np.ndarray]]:
     """Render chunks in order, in ``workers`` processes (or in-process for one worker).
 
     At most :data:`CHUNKS_IN_FLIGHT` chunks per worker are queued or rendered ahead of the
     encoder (not every frame of the video at once). Futures are never cancelled here: when
     the encoder fails or on Ctrl-C, the pool is stopped (:func:`~csql_sim.infra.workers.stop_pool`).
     """
-    n, config, total, names = recording.n, recording.config, recording.actions, recording.names
+    n, config = recording.n, recording.config
     if workers <= 1:
         replay = ReplayRenderer(renderer)
         try:
             for c in chunks:
-                yield replay.render(n, config, c, width, height, camera, total, names)
+                yield replay.render(n, config, c, view)
         finally:
             replay.close()
         return
@@ -330,7 +324,7 @@ def _map_chunks(recording: Recording, chunks: list[list[Frame]], width: int, hei
     with worker_pool(workers, _init_render_worker, (renderer,), mp_context=context) as pool:
         pending: deque[Future] = deque()
         for chunk in chunks:
-            pending.append(pool.submit(_render_in_worker, n, config, chunk, width, height, camera, total, names))
+            pending.append(pool.submit(_render_in_worker, n, config, chunk, view))
             if len(pending) >= CHUNKS_IN_FLIGHT * workers:
                 yield pending.popleft().result()
         while pending:

@@ -258,6 +258,24 @@ class PhysicsClient:
         st = pybullet.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=self.client)
         return st[4], st[5], None
 
+    def mass_frames(self, body: int, links: Sequence[int]) -> list[Pose]:
+        """World poses of links' centre-of-mass frames (-1: the base), forward kinematics recomputed."""
+        cid = self.client
+        out = []
+        for link in links:
+            if link < 0:
+                pos, orn = pybullet.getBasePositionAndOrientation(body, physicsClientId=cid)
+            else:
+                pos, orn = pybullet.getLinkState(body, link, computeForwardKinematics=True, physicsClientId=cid)[:2]
+            out.append(Pose(tuple(pos), tuple(orn)))
+        return out
+
+    def mesh_shapes(self, body: int, link: int) -> list[tuple[str, Vec3, Pose]]:
+        """A link's collision meshes: (file, scale, pose in the link's centre-of-mass frame) each."""
+        shapes = pybullet.getCollisionShapeData(body, link, physicsClientId=self.client)
+        return [(s[4].decode() if isinstance(s[4], bytes) else s[4], tuple(s[3]), Pose(tuple(s[5]), tuple(s[6])))
+                for s in shapes if s[2] == pybullet.GEOM_MESH]
+
     def joint_positions(self, body: int, joints: Sequence[int]) -> list[float]:
         """Current positions of the given joints, in order (rad or m)."""
         cid = self.client

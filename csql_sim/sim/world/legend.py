@@ -11,13 +11,15 @@ carry :func:`cube_legend` as their ``"legend"`` field.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import cache, lru_cache
 from typing import TYPE_CHECKING
 
 from csql_sim.core.state.world import LETTERS
 from csql_sim.sim.world.config import COLOUR_NAMES, COLOURS
 
 if TYPE_CHECKING:
-    from PIL import ImageDraw
+    import numpy as np
+    from PIL import Image, ImageDraw, ImageFont
 
 
 def legend_names(n: int, names: Sequence[str] | None = None) -> tuple[str, ...]:
@@ -69,4 +71,45 @@ def draw_legend(draw: ImageDraw.ImageDraw, width: int, size: float, names: Seque
         x += span
 
 
-__all__ = ["cube_legend", "draw_legend", "legend_line", "legend_names"]
+def draw_labels(img: Image.Image, xy: np.ndarray, depth: np.ndarray, names: Sequence[str],
+                pixels: np.ndarray) -> None:
+    """Write each cube's name on the cube, at its projected centre ``xy[i]`` (white on a dark outline).
+
+    Args:
+        img: the frame.
+        xy: the cubes' centres in pixels (n, 2).
+        depth: their depths along the view axis (n,); a cube at depth <= 0 is not labelled.
+        names: the cubes' names, in cube order.
+        pixels: each cube's edge on the screen in pixels (n,): the text is about half that tall.
+
+    Far cubes are labelled first, so a near cube's name is written over a far one's.
+    """
+    for i in sorted(range(len(names)), key=lambda k: (-float(depth[k]), k)):
+        if depth[i] <= 0:
+            continue
+        sprite = _label(names[i], int(min(16, max(10, pixels[i] * 0.5))))
+        img.paste(sprite, (int(round(xy[i][0])) - sprite.width // 2, int(round(xy[i][1])) - sprite.height // 2),
+                  sprite)
+
+
+@lru_cache(maxsize=1024)
+def _label(name: str, size: int) -> Image.Image:
+    """The name in white on a dark outline, on a transparent ground just large enough."""
+    from PIL import Image, ImageDraw
+
+    font = _font(size)
+    left, top, right, bottom = font.getbbox(name, stroke_width=2)
+    img = Image.new("RGBA", (right - left + 2, bottom - top + 2), (0, 0, 0, 0))
+    ImageDraw.Draw(img).text((1 - left, 1 - top), name, fill=(255, 255, 255, 255), font=font, stroke_width=2,
+                             stroke_fill=(0, 0, 0, 255))
+    return img
+
+
+@cache
+def _font(size: int) -> ImageFont.FreeTypeFont:
+    from PIL import ImageFont
+
+    return ImageFont.load_default(size=size)
+
+
+__all__ = ["cube_legend", "draw_labels", "draw_legend", "legend_line", "legend_names"]

@@ -9,7 +9,7 @@ import pytest
 from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relational_message import format_large_message, parse_large_message
-from csql_sim.core.state.world import HAND, Action, ActionKind, State
+from csql_sim.core.state.world import HAND, State
 from csql_sim.sim.control.executor import run_physical_episode
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.control.primitives import OFFSETS
@@ -144,20 +144,21 @@ def test_states_take_the_arms_kind_for_their_size():
 
 
 def test_a_seven_cube_episode_is_captioned_with_letters_past_f(tmp_path):
-    from csql_sim.sim.video.writing import ReplayRenderer
+    from csql_sim.sim.video.writing import ReplayRenderer, video_view
 
     start, goal = parse_config("A,B,C,D,E,F,G"), parse_config("A,B,C,D,E,GF")
     result = run_physical_episode(start, goal, Gn1Policy(), seed=0, record=True, fps=10)
     assert result.success and [s.action for s in result.steps] == ["pickup(F)", "stack(F,G)"]
     assert result.optimal_length == 2 and result.steps[0].message == format_large_message(start, goal)
     captions = {f.caption.text(result.length) for f in result.recording.frames}
-    stack = Action(ActionKind.STACK, 5, 6)
-    assert f"step 2/2  stack(F,G)  {format_large_message(parse_config('A,B,C,D,E,G+F'), goal, stack)}" in captions
-    assert any(c.startswith("step 2/2  goal A,B,C,D,E,GF reached") for c in captions)
+    # the message the policy saw before stacking, the one the step table prints
+    assert result.steps[1].message == format_large_message(parse_config("A,B,C,D,E,G+F"), goal)
+    assert f"step 2/2  stack(F,G)  {result.steps[1].message}" in captions
+    assert any(c.startswith("step 2/2  goal A,B,C,D,E,GF  reached") for c in captions)
     renderer = ReplayRenderer("tiny")
     try:
-        frames = renderer.render(7, result.recording.config, result.recording.frames[-1:], 160, 120,
-                                 total=result.length)
+        frames = renderer.render(7, result.recording.config, result.recording.frames[-1:],
+                                 video_view(result.recording, 160, 120))
     finally:
         renderer.close()
     assert frames[0].shape == (120, 160, 3)

@@ -8,7 +8,14 @@ import pytest
 from csql_sim.core.state.notation import parse_config
 from csql_sim.sim.control.executor import run_physical_episode
 from csql_sim.sim.perception.camera import RENDER_CAMERA, capture
-from csql_sim.sim.video.renderer import RendererError, close_quietly, egl_available, egl_plugin_path, resolve_renderer
+from csql_sim.sim.video.renderer import (
+    RendererError,
+    close_quietly,
+    egl_available,
+    egl_on_gpu,
+    egl_plugin_path,
+    resolve_renderer,
+)
 from csql_sim.sim.video.replay import apply_snapshot, replay_scene
 from csql_sim.sim.video.writing import CAPTION_HEIGHT, video_frame_count, write_video
 
@@ -28,7 +35,8 @@ def recording():
 
 def test_resolve_renderer():
     assert resolve_renderer("tiny") == "tiny"
-    assert resolve_renderer("auto") == ("egl" if egl_available() else "tiny")
+    assert resolve_renderer("flat") == "flat"
+    assert resolve_renderer("auto") == ("egl" if egl_on_gpu() else "flat")
     with pytest.raises(RendererError, match="--renderer must be one of"):
         resolve_renderer("vulkan")
 
@@ -86,3 +94,29 @@ def test_egl_and_tiny_frame_the_scene_alike(recording):
     rows = [np.nonzero(m)[0].mean() for m in masks]
     cols = [np.nonzero(m)[1].mean() for m in masks]
     assert abs(rows[0] - rows[1]) < 3 and abs(cols[0] - cols[1]) < 3
+
+
+def test_the_flat_painter_draws_the_cubes_where_pybullet_does(recording):
+    """The painter's projection and poses agree with the TinyRenderer's: each cube's pixels in the same place."""
+    from csql_sim.sim.video.painter import Painter, Projection
+
+    frame = recording.frames[len(recording.frames) // 2]
+    scene = replay_scene(recording.n, recording.config, "tiny")
+    try:
+        apply_snapshot(scene, frame.poses, frame.joints)
+        tiny = capture(scene, RENDER_CAMERA, 320, 240)[0].astype(int)
+        painter = Painter(recording.n, recording.config, recording.arm)
+        flat = np.asarray(painter.paint(frame.poses, frame.links, Projection.of(RENDER_CAMERA, 320, 240)))
+    finally:
+        close_quietly(scene)
+    for rgb in ((217, 38, 38), (38, 178, 51), (38, 76, 217)):  # cubes A, B, C: red, green, blue
+        masks = []
+        for img in (tiny, flat.astype(int)):
+            hue = np.abs(img - np.asarray(rgb)).sum(axis=2)
+            near = hue < 0.5 * np.abs(np.asarray(rgb) - np.asarray(rgb).mean()).sum() + 60
+            dominant = np.argmax(img, axis=2) == int(np.argmax(rgb))
+            masks.append(near & dominant & (img.max(axis=2) - img.min(axis=2) > 60))
+        assert masks[0].sum() > 20 and masks[1].sum() > 20
+        for axis in (0, 1):
+            a, b = (np.nonzero(m)[axis].mean() for m in masks)
+            assert abs(a - b) < 3, (rgb, axis, a, b)

@@ -1,3 +1,5 @@
+from dataclasses import replace
+
 import imageio.v2 as imageio
 import pytest
 
@@ -8,7 +10,9 @@ from csql_sim.sim.video.writing import (
     ReplayRenderer,
     caption_image,
     check_video_options,
+    render_frames,
     video_frame_count,
+    video_view,
     write_video,
 )
 
@@ -32,10 +36,22 @@ def test_recording_in_simulated_time(recording):
 
     start_message = format_state_message(parse_config("A,B,C"), BlocksWorld.of(3).state_index(parse_config("AB,C")))
     texts = [f.caption.text(total) for f in recording.frames]
-    assert texts[0] == f"step 0/2  start A,B,C, goal AB,C  {start_message}"
-    assert texts[-1].startswith("step 2/2  goal AB,C reached  S")
+    assert texts[0] == f"step 0/2  start A,B,C  goal AB,C  {start_message}"
+    assert texts[-1].startswith("step 2/2  goal AB,C  reached  S")
     assert all(t.startswith("step ") and f"/{total}  " in t for t in texts)
-    assert {"pickup(B)", "stack(B,A)"} <= {f.caption.what for f in recording.frames}
+    assert {"step 1/2  pickup(B)", "step 2/2  stack(B,A)"} <= {t[:20].rstrip() for t in texts}
+    named = {f.caption.text(total, ("ruby", "jade", "b2")) for f in recording.frames}
+    assert any(t.startswith("step 2/2  (stack jade ruby)  S") for t in named)
+    assert any(t.startswith("step 0/2  start ruby, jade, b2  goal ruby jade, b2  S") for t in named)
+
+
+def test_the_caption_shows_the_message_the_step_table_prints():
+    """During an action the caption's message is the one the policy saw: the step record's, not another."""
+    r = run_physical_episode(parse_config("CBA"), parse_config("ABC"), seed=0, record=True, fps=5)
+    assert r.success and r.length >= 4
+    for k, step in enumerate(r.steps):
+        shown = {f.caption.message for f in r.recording.frames if f.caption.step == k + 1 and f.caption.action}
+        assert shown == {step.message}
 
 
 def test_mp4_frames_and_size(recording, tmp_path):
@@ -87,22 +103,45 @@ def test_caption_changes_pixels():
     assert green_at[0] < green_at[1] < green_at[2]
 
 
-def test_frames_name_the_cubes_with_colour_words_before_the_first_action(recording):
-    first, later = recording.frames[0], recording.frames[-1]
-    assert (first.caption.step, later.caption.step) == (0, 2)
-    replay = ReplayRenderer("tiny")
+def _changed_near(changed, xy, radius=8):
+    """Changed pixels within ``radius`` of each point."""
+    return [int(changed[max(0, int(y) - radius):int(y) + radius, max(0, int(x) - radius):int(x) + radius].sum())
+            for x, y in xy]
+
+
+@pytest.mark.parametrize("renderer", ["flat", "tiny"])
+def test_frames_name_each_cube_where_it_is_seen(recording, renderer):
+    import numpy as np
+
+    from csql_sim.sim.video.painter import Projection
+
+    frame = recording.frames[-1]
+    replay = ReplayRenderer(renderer)
     try:
-        plain = replay.render(3, recording.config, [first, later], 320, 240, total=2)
-        named = replay.render(3, recording.config, [first, later], 320, 240, total=2, names=("ruby", "jade", "b2"))
+        view = video_view(recording, 320, 240, top=False)
+        named = replay.render(3, recording.config, [frame], replace(view, names=("ruby", "jade", "b2")))[0]
+        blank = replay.render(3, recording.config, [frame], replace(view, names=("", "", "")))[0]
     finally:
         replay.close()
-    green = (38, 178, 51)  # cube B's square, after A's label
+    changed = (named != blank).any(axis=2)
+    xy, _ = Projection.of(view.camera, 320, 240)(np.asarray([p.position for p in frame.poses]))
+    assert min(_changed_near(changed, xy)) >= 10, "every cube's name is written on it"
+    far = changed.sum() - sum(_changed_near(changed, xy, radius=30))
+    assert far <= 0, "and nowhere else"
 
-    def green_at(img):
-        return [tuple(p) for p in img[6]].index(green)
 
-    assert green_at(plain[1]) < green_at(named[1]) < green_at(named[0])  # "A" < "ruby (A)" < "ruby (A) = red"
-    assert green_at(plain[1]) < green_at(plain[0])  # letters too get their colour words first
+def test_one_worker_and_two_write_the_same_frames_and_file(recording, tmp_path):
+    """Frames depend on the recording alone, not on how many processes render them."""
+    one = write_video(recording, tmp_path / "one.mp4", 160, 120, workers=1, progress=False, renderer="flat")
+    two = write_video(recording, tmp_path / "two.mp4", 160, 120, workers=2, progress=False, renderer="flat")
+    frames_one, frames_two = imageio.mimread(one, memtest=False), imageio.mimread(two, memtest=False)
+    assert len(frames_one) == len(frames_two) == video_frame_count(recording)
+    assert all((a == b).all() for a, b in zip(frames_one, frames_two, strict=True))
+    raw = [list(render_frames(recording, video_view(recording, 160, 120), workers=w, renderer="flat"))
+           for w in (1, 2)]
+    assert len(raw[0]) == len(recording.frames)
+    assert all(a.tobytes() == b.tobytes() for a, b in zip(*raw, strict=True))
+    assert one.read_bytes() == two.read_bytes()
 
 
 def test_render_camera_sees_the_whole_arm(recording):
@@ -145,8 +184,8 @@ def test_failed_render_keeps_the_old_video_and_leaves_no_temporary(recording, tm
 
 
 def test_replay_renderer_owns_one_scene_per_world_and_closes_them(recording):
-    renderer = ReplayRenderer()
-    frames = renderer.render(recording.n, recording.config, recording.frames[:2], 32, 24)
+    renderer = ReplayRenderer("tiny")
+    frames = renderer.render(recording.n, recording.config, recording.frames[:2], video_view(recording, 32, 24))
     assert len(frames) == 2 and frames[0].shape == (24, 32, 3)
     scene = renderer.scene(recording.n, recording.config)
     assert renderer.scene(recording.n, recording.config) is scene and scene.replay_only
@@ -159,7 +198,7 @@ def test_a_long_caption_stays_inside_the_frame():
     import numpy as np
     from PIL import Image, ImageDraw
 
-    from csql_sim.sim.video.writing import fit_caption
+    from csql_sim.sim.video.frames import fit_caption
 
     draw = ImageDraw.Draw(Image.new("RGB", (320, 40)))
     long = "step 12/16  stack(F,E)  S0000001edcba0F  FEDCBA -> ABCDEF  perception: camera, nudged"

@@ -86,16 +86,20 @@ def test_render_under_a_file_size_limit_fails_with_one_line_and_keeps_the_old_vi
 def test_rendering_workers_are_capped_at_the_cores_and_chunks(recording, tmp_path, monkeypatch):
     started, real = [], video._map_chunks
 
-    def spy(rec, chunks, width, height, camera, workers, renderer):
+    def spy(rec, chunks, view, workers, renderer):
         started.append((len(chunks), workers))
-        return real(rec, chunks, width, height, camera, 1, renderer)
+        return real(rec, chunks, view, 1, renderer)
 
     monkeypatch.setattr("os.cpu_count", lambda: 2)
     monkeypatch.setattr(video, "_map_chunks", spy)
     write_video(recording, tmp_path / "v.gif", 32, 24, workers=1000, progress=False)
     assert len(started) == 1 and started[0][0] > 2 and started[0][1] == 2
-    write_video(recording, tmp_path / "v.gif", 32, 24, workers=None, progress=False)
+    write_video(recording, tmp_path / "v.gif", 32, 24, workers=None, progress=False, renderer="tiny")
     assert started[1][1] == 2
+    # the flat painter starts a process per FRAMES_PER_WORKER frames: a short recording is painted here
+    assert len(recording.frames) < video.FRAMES_PER_WORKER
+    write_video(recording, tmp_path / "v.gif", 32, 24, workers=None, progress=False, renderer="flat")
+    assert started[2][1] == 1
 
 
 def test_bad_options_still_fail_before_rendering(recording, tmp_path):
