@@ -332,6 +332,11 @@ def _noise_arg(p: argparse.ArgumentParser) -> None:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``render`` and ``evaluate`` to the subparsers."""
+    _register_render(sub)
+    _register_evaluate(sub)
+
+
+def _register_render(sub: argparse._SubParsersAction) -> None:
     p = command_parser(sub, "render", "execute a plan on the simulated Panda and write a captioned video",
                        "csql-sim render --start CBA --goal BAC --out task.mp4")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
@@ -361,6 +366,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_json(p)
     p.set_defaults(func=cmd_render, declare=declare_render)
 
+
+def _register_evaluate(sub: argparse._SubParsersAction) -> None:
     p = command_parser(sub, "evaluate", "run physical episodes over start/goal pairs and report success",
                        "csql-sim evaluate --blocks 3 --rules rules.yaml")
     p.add_argument("--rules", type=rules_arg,
