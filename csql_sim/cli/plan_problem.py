@@ -4,7 +4,7 @@ One problem: the plan in the problem's words (``--plan-out`` writes it as an IPC
 file), the lower bound and the optimum; exit 0 when solved, 1 when not. A folder: one row
 per problem (cost, time, lower bound, optimum or "not measured"); a problem not solved or
 not readable is a failed row naming its file, and the exit status is 1. Bad options exit 2.
-The work is :mod:`csql_sim.jobs.plan_problems`.
+One problem is :func:`csql_sim.api.plan`, a folder :func:`csql_sim.jobs.plan_problems.plan_folder`.
 """
 
 from __future__ import annotations
@@ -12,13 +12,13 @@ from __future__ import annotations
 import argparse
 import math
 
-from csql_sim.cli.args import say
+from csql_sim.cli.args import say, show_progress
 from csql_sim.cli.output import emit
-from csql_sim.cli.plan_view import plan_steps, select_policy
+from csql_sim.cli.plan_view import check_planner, plan_steps
 from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
-from csql_sim.jobs.plan_problems import ProblemPlan, plan_folder, plan_problem
+from csql_sim.jobs.plan_problems import ProblemPlan, plan_folder
 
 PROBLEM_OPTIONS = ("start", "goal", "pairs", "blocks")
 """Options that name another task and do not go with --problem/--problems."""
@@ -48,10 +48,6 @@ def declare_problem(args: argparse.Namespace, outputs: Outputs) -> None:
     outputs.input(args.domain, "PDDL domain")
 
 
-def _planner(args: argparse.Namespace) -> str:
-    return args.planner or ("rules" if args.rules else "bfs")
-
-
 def _optimum_text(plan: ProblemPlan) -> str:
     return "not measured" if plan.optimum is None else plan.optimum.text()
 
@@ -64,17 +60,14 @@ def cmd_plan_problem(args: argparse.Namespace) -> int:
     """``plan --problem`` or ``plan --problems`` (module docstring)."""
     if args.domain is not None and args.problem is None and args.problems is None:
         raise CsqlError("--domain goes with --problem FILE or --problems DIR")
-    cache: dict[int, object] = {}
-
-    def policy_for(n: int):  # noqa: ANN202 - a Policy or a RelationalPolicy
-        if n not in cache:
-            cache[n] = select_policy(args, n)
-        return cache[n]
-
+    planner = check_planner(args)
     if args.problems is not None:
-        return _folder(args, policy_for)
-    plan = plan_problem(args.problem, args.domain, policy_for, _planner(args), args.optimum_budget)
-    return _single(args, plan)
+        return _folder(args, planner)
+    from csql_sim.api import plan
+
+    report = plan(args.problem, args.domain, rules=args.rules, planner=planner, optimum_budget=args.optimum_budget,
+                  progress=show_progress(args)).report
+    return _single(args, report)
 
 
 def _single(args: argparse.Namespace, plan: ProblemPlan) -> int:
@@ -108,8 +101,11 @@ def _summary(plan: ProblemPlan) -> str:
             f"{_lower_text(plan)}, optimum {_optimum_text(plan)}{measured}")
 
 
-def _folder(args: argparse.Namespace, policy_for) -> int:  # noqa: ANN001 - the closure of cmd_plan_problem
-    plans = plan_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget)
+def _folder(args: argparse.Namespace, planner: str) -> int:
+    from csql_sim.api.planning import policy_maker
+
+    plans = plan_folder(args.problems, args.domain, policy_maker(args.rules, planner, show_progress(args)), planner,
+                        args.optimum_budget)
     solved = sum(p.solved for p in plans)
     doc = {"problems": len(plans), "solved": solved, "optimum_budget_s": args.optimum_budget,
            "rows": [p.row() for p in plans]}
