@@ -16,7 +16,8 @@ The problem is written as PDDL by UP's own :class:`~unified_planning.io.PDDLWrit
 by :func:`csql_sim.api.planning.read_blocks`; the shipped lifted rules plan it
 (:func:`csql_sim.api.plan`), up to
 :data:`~csql_sim.core.files.pddl_import.MAX_PLANNED_BLOCKS` blocks, and the plan is mapped
-back to the problem's actions and objects. Its plans are not guaranteed optimal: the
+back to the problem's actions and objects (a ``heuristic`` or a ``timeout`` is ignored, with a
+warning, as UP asks of planners that do not use them). Its plans are not guaranteed optimal: the
 status is ``SOLVED_SATISFICING``. Anything that is not a blocks world (other predicates
 or actions, other effects, too many blocks) gets the status ``UNSUPPORTED_PROBLEM``, with
 the reason in the result's log; before a plan is returned, UP's own sequential simulator
@@ -28,6 +29,7 @@ from __future__ import annotations
 
 import re
 import time
+import warnings
 from collections.abc import Callable
 from typing import IO, Any
 
@@ -86,6 +88,8 @@ class CsqlSimPlanner(Engine, OneshotPlannerMixin):
                timeout: float | None = None, output_stream: IO[str] | None = None) -> PlanGenerationResult:
         from csql_sim.api import plan
 
+        if heuristic is not None or timeout is not None:
+            warnings.warn(f"{ENGINE_NAME} ignores the heuristic and the timeout", stacklevel=3)
         began = time.perf_counter()
         writer = up.io.PDDLWriter(problem)
         try:

@@ -193,3 +193,10 @@ def test_register_is_idempotent_and_the_engine_is_not_optimal():
     from unified_planning.engines.mixins.oneshot_planner import OptimalityGuarantee
 
     assert not CsqlSimPlanner.satisfies(OptimalityGuarantee.SOLVED_OPTIMALLY)
+
+
+def test_a_timeout_is_ignored_with_a_warning_and_the_plan_still_comes():
+    problem = _blocks_world(["a", "b"], [["a", "b"]], [("a", "b")])
+    with OneshotPlanner(name=ENGINE_NAME) as planner, pytest.warns(UserWarning, match=ENGINE_NAME):
+        result = planner.solve(problem, timeout=30)
+    assert result.status in SOLVED and _valid(problem, result.plan)
