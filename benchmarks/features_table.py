@@ -1,4 +1,4 @@
-"""LQ-CS over given atoms and over generated features, both formulations, beside GN1 and the hand ordering.
+"""LQ-CS over given atoms and over generated features, both formulations, beside GN1, GN2 and the hand ordering.
 
 Regenerates docs/features.md, the table of LQ-CS over given atoms and generated features.
 
@@ -28,7 +28,11 @@ executed as a pick and a put, and only its own (hand-empty) states count as revi
 Figures come from trials and the learner's sweeps through its world model; none from search.
 
 Each (variant, seed) is one JSON line of ``--out``, written when done: a run that is stopped
-resumes where it was. ``--report`` prints the tables (min / median / max over seeds) of every variant in the file.
+resumes where it was. Each row records the policy's agreement with the hand ordering
+(:func:`csql_sim.core.policies.agreement.agreement`). These tasks are tuning tasks
+(:mod:`csql_sim.core.model.task_split`): the learner's K, sweep length, split rule and pick
+rule were chosen on them; ``benchmarks/lifted_heldout.py`` measures held-out ones. ``--report``
+prints the tables (min / median / max over seeds) of every variant in the file.
 """
 
 from __future__ import annotations
@@ -41,13 +45,15 @@ import time
 from pathlib import Path
 
 import numpy as np
-from lifted_learning_seeds import hand_ordering  # the script beside this one
 
 from csql_sim.core.features.move_features import literal_values
 from csql_sim.core.measure.bounds import bounded_optimum, cpsat_optimum
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.task_draws import draw_task
+from csql_sim.core.policies.agreement import agreement
 from csql_sim.core.policies.gn1 import Gn1Policy
+from csql_sim.core.policies.gn2 import Gn2Policy
+from csql_sim.core.policies.hand_ordering import hand_ordering
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.move_relations import ATOMS, MoveRelations, target_goal
@@ -60,6 +66,8 @@ VARIANTS = {"given": {}, "generated-4op": {"features": "generated", "domain": "4
             "generated-move": {"features": "generated", "domain": "move"},
             "committee-4op": {"features": "generated", "domain": "4op", "committee": 3},
             "committee-move": {"features": "generated", "domain": "move", "committee": 3}}
+FIXED = {"gn1": Gn1Policy, "gn2": Gn2Policy, "hand ordering": hand_ordering}
+"""The fixed comparators: the named baselines and the hand ordering over the given atoms, ``cover`` included."""
 DEFAULT_VARIANTS = ("given", "generated-4op", "generated-move", "committee-4op", "committee-move")
 
 
@@ -112,7 +120,7 @@ def run_all(args: argparse.Namespace) -> None:
     if Path(args.out).exists():
         done = {(r["variant"], r["seed"]) for r in map(json.loads, Path(args.out).read_text().splitlines())}
     data = tasks(args)
-    jobs = [(name, None) for name in ("gn1", "hand ordering")] + \
+    jobs = [(name, None) for name in FIXED] + \
         [(v, seed) for v in args.variants for seed in args.seeds]
     if args.policy_file:  # trained files, each measured as the run of its variant and seed
         jobs = [(args.variants[0], seed) for seed in (args.seeds if "{seed}" in args.policy_file else args.seeds[:1])]
@@ -127,7 +135,7 @@ def run_all(args: argparse.Namespace) -> None:
             hand = getattr(getattr(policy, "form", None), "hand", True)
             row.update(file=path, classifiers=classifiers(policy))
         elif seed is None:
-            policy, hand = (Gn1Policy() if variant == "gn1" else hand_ordering()), True
+            policy, hand = FIXED[variant](), True
         else:
             options = dict(VARIANTS[variant])
             size = options.pop("committee", 1)
@@ -142,6 +150,7 @@ def run_all(args: argparse.Namespace) -> None:
                                  for lit in getattr(m, "literals", ())],
                        features=[m.features for m in members] if size > 1 else run.features)
         row["results"] = measure(policy, data, hand)
+        row["agreement"] = agreement(policy).as_dict()
         with open(args.out, "a") as f:
             f.write(json.dumps(row) + "\n")
 
@@ -198,10 +207,10 @@ def report(args: argparse.Namespace) -> None:
     """The tables: per label and variant, solved, optimal, length / optimum (min / median / max over seeds)."""
     rows = [json.loads(x) for x in Path(args.out).read_text().splitlines()]
     labels = list(rows[0]["results"])
-    print("| tasks | policy | seeds | solved % | optimal % | length / optimum |")
-    print("|---|---|---|---|---|---|")
+    print("| tasks | policy | seeds | agreement | solved % | optimal % | length / optimum |")
+    print("|---|---|---|---|---|---|---|")
     for label in labels:
-        for variant in dict.fromkeys(["gn1", "hand ordering", *VARIANTS, *(r["variant"] for r in rows)]):
+        for variant in dict.fromkeys([*FIXED, *VARIANTS, *(r["variant"] for r in rows)]):
             mine = [r for r in rows if r["variant"] == variant and label in r["results"]]
             if not mine:
                 continue
@@ -210,7 +219,9 @@ def report(args: argparse.Namespace) -> None:
             bound = "" if all(x["proven"] for x in res) else " (bound)"
             ratios = [x["ratio"] for x in res if x["solved"]]  # over the solved tasks: none solved, no ratio
             ratio = spread(ratios, "{:.3f}") + bound if ratios else "-"
-            print(f"| {label} | {variant} | {seeds} | {spread([x['solved'] for x in res])} | "
+            shares = [100 * r["agreement"]["share"] for r in mine if "agreement" in r]
+            agreed = spread(shares) + "%" if shares else "-"
+            print(f"| {label} | {variant} | {seeds} | {agreed} | {spread([x['solved'] for x in res])} | "
                   f"{spread([x['optimal'] for x in res])} | {ratio} |")
 
 

@@ -45,11 +45,11 @@ import numpy as np
 from pddl import parse_problem
 
 from csql_sim.core.measure.bounds import bounded_optimum, cpsat_available, hitting_set_optimum, lower_bound
-from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state import State
 from csql_sim.core.state.world import TABLE
+from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.jobs.problems import drawn_problems
 
 DISTRIBUTION = "tall-towers"
@@ -72,8 +72,8 @@ def read_task(path: Path) -> tuple[State, State]:
 
 
 def plan_ours(name: str, path: Path, rules: str) -> tuple[bool, int | None]:
-    """Parse and plan one task with the lifted rules or GN1; (solved, cost)."""
-    policy = load_lifted_policy(rules) if name == "rules" else Gn1Policy()
+    """Parse and plan one task with the lifted rules or a named baseline (GN1, GN2); (solved, cost)."""
+    policy = load_lifted_policy(rules) if name == "rules" else NAMED_POLICIES[name]()
     start, goal = read_task(path)
     run = rollout_relational(policy, start, goal)
     return run.reached, run.length
@@ -153,11 +153,11 @@ def stage_plan(args: argparse.Namespace, tasks: dict[int, list[Path]], timing_on
     log = Path(args.out) / "plans.jsonl"
     done = _done(log, ("planner", "task"))
     first = tasks[min(tasks)][0]
-    for name in ("rules", "gn1"):
+    for name in ("rules", *NAMED_POLICIES):
         plan_ours(name, first, args.rules)  # warm-up: numba compiles (or loads its cache) here
     domain = Path(args.out) / "problems" / "domain.pddl"
     for n in sorted(tasks):
-        for name in ("rules", "gn1", "fd"):
+        for name in ("rules", *NAMED_POLICIES, "fd"):
             chosen = tasks[n][:fd_tasks(args, n)] if name == "fd" else tasks[n]
             if name == "fd" and n in timing_only:
                 continue

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-PLANNERS = {"rules": "lifted rules", "gn1": "GN1", "fd": "Fast Downward"}
+PLANNERS = {"rules": "lifted rules", "gn1": "GN1", "gn2": "GN2", "fd": "Fast Downward"}
 
 
 def _rows(path: Path) -> list[dict]:

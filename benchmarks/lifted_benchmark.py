@@ -16,8 +16,10 @@ the policy's wall time; the optimum's time is reported per n.
 
 Policies, on the same pairs: ``lq-cs``, the lifted Q-classifiers learned on five blocks by
 ``csql-sim train-lifted`` (the rule file given, by default the shipped
-``assets/rules/lifted.json``), and ``gn1``, the hand-written baseline
-(:mod:`csql_sim.core.policies.gn1`).
+``assets/rules/lifted.json``); ``gn1`` and ``gn2``, the hand-written baselines
+(:mod:`csql_sim.core.policies.gn1`, :mod:`csql_sim.core.policies.gn2`); and the ``hand ordering``
+over the same atoms as the rules, ``cover`` included (:mod:`csql_sim.core.policies.hand_ordering`).
+These pairs (seed 0) are tuning tasks (:mod:`csql_sim.core.model.task_split`).
 """
 
 from __future__ import annotations
@@ -30,6 +32,8 @@ import numpy as np
 
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.gn1 import Gn1Policy
+from csql_sim.core.policies.gn2 import Gn2Policy
+from csql_sim.core.policies.hand_ordering import hand_ordering
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state_count import sample_pairs
@@ -37,7 +41,8 @@ from csql_sim.core.state.state_count import sample_pairs
 
 def policies(rules: str) -> dict:
     """The policies measured, by name."""
-    return {"lq-cs": load_lifted_policy(rules), "gn1": Gn1Policy()}
+    return {"lq-cs": load_lifted_policy(rules), "gn1": Gn1Policy(), "gn2": Gn2Policy(),
+            "hand ordering": hand_ordering()}
 
 
 def measure(n: int, k: int, rng: np.random.Generator, rules: str) -> tuple[list[str], float]:

@@ -1,4 +1,4 @@
-"""LQ-CS over many seeds: solved and optimal % per seed on the benchmark's pairs, beside GN1 and a hand ordering.
+"""LQ-CS over many seeds: solved and optimal % per seed on the benchmark's pairs, beside GN1, GN2 and the hand ordering.
 
 Regenerates docs/lifted_learning.md, the table of seeds.
 
@@ -13,14 +13,16 @@ exact optimum of each pair is computed once (a yardstick only). For every seed o
 ``--seeds`` the learner trains with its defaults (``--trials`` aside) from
 ``np.random.default_rng(seed)``; its training seconds, lifted classifiers and, per n, solved
 and optimal % are printed, then minimum / median / maximum over the seeds beside two fixed
-policies on the same pairs: ``gn1`` (:mod:`csql_sim.core.policies.gn1`) and ``hand``, the hand
-ordering of the atoms written as lifted classifiers (:func:`hand_ordering`).
+policies on the same pairs: ``gn1`` (:mod:`csql_sim.core.policies.gn1`), ``gn2``
+(:mod:`csql_sim.core.policies.gn2`), the ``hand ordering`` (six ranks over the given atoms,
+``cover`` included: :mod:`csql_sim.core.policies.hand_ordering`) and ``hand-without-cover``
+(the older ordering, which leaves ``cover`` out). These pairs are tuning tasks
+(:mod:`csql_sim.core.model.task_split`); ``benchmarks/lifted_heldout.py`` measures held-out ones.
 """
 
 from __future__ import annotations
 
 import argparse
-import itertools
 import json
 import statistics
 import sys
@@ -31,27 +33,11 @@ import numpy as np
 
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.gn1 import Gn1Policy
-from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier
+from csql_sim.core.policies.gn2 import Gn2Policy
+from csql_sim.core.policies.hand_ordering import hand_ordering, hand_ordering_without_cover
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.core.state.move_relations import ATOMS, KINDS
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
-
-
-def hand_ordering() -> LiftedPolicy:
-    """The fixed priority: the goal move, then least-stuck, then deadlocked, then above-needed.
-
-    One fully specific classifier per relation pattern and kind, its advantage the rank of the
-    first priority the move meets (0: misplaced, goal-on and ready; 1: least-stuck; 2: deadlocked;
-    3: above-needed; 4: any other move of a misplaced block; 5: a well-placed block). Atoms past
-    the first seven (``holding``) do not change the rank.
-    """
-    out = []
-    for bits in itertools.product((0, 1), repeat=len(ATOMS)):
-        misplaced, goal_on, ready, stuck, above, least = bits[:6]
-        rank = 5 if not misplaced else 0 if goal_on and ready else 1 if least else 2 if stuck else 3 if above else 4
-        out.extend(LiftedQClassifier("".join(map(str, bits)), kind, float(rank)) for kind in KINDS)
-    return LiftedPolicy(out, {"method": "hand ordering"})
 
 
 def score(policy, pairs: list, optima: list[int]) -> tuple[float, float]:
@@ -102,8 +88,8 @@ def main(argv: list[str] | None = None) -> int:
                         default=[6, 7, 8, 10, 15, 20, 26], help="the benchmark's sizes, drawn in turn "
                         "(default 6,7,8,10,15,20,26)")
     parser.add_argument("--optima", help="JSON file of the pairs' exact optima: read if it exists, written after")
-    parser.add_argument("--no-fixed", action="store_true", help="measure the learned seeds only, not gn1 and the "
-                        "hand ordering")
+    parser.add_argument("--no-fixed", action="store_true", help="measure the learned seeds only, not gn1, gn2 "
+                        "and the hand orderings")
     args = parser.parse_args(argv)
     a, _, b = args.seeds.partition("-")
     seeds = list(range(int(a), int(b) + 1)) if b else [int(x) for x in args.seeds.split(",")]
@@ -127,7 +113,9 @@ def main(argv: list[str] | None = None) -> int:
     for n in args.sizes:
         solved, optimal = zip(*results[n], strict=True)
         print(f"| {n} | lq-cs, seeds {args.seeds} | {spread(list(solved))} | {spread(list(optimal))} |")
-        for name, fixed in () if args.no_fixed else (("gn1", Gn1Policy()), ("hand ordering", hand_ordering())):
+        fixed_policies = (("gn1", Gn1Policy()), ("gn2", Gn2Policy()), ("hand ordering", hand_ordering()),
+                          ("hand-without-cover", hand_ordering_without_cover()))
+        for name, fixed in () if args.no_fixed else fixed_policies:
             s, o = score(fixed, *data[n])
             print(f"| {n} | {name} | {s:.1f} | {o:.1f} |", flush=True)
     return 0

@@ -1,11 +1,13 @@
 """``plan`` and ``validate``: a blocks-world PDDL problem, from a path or its text, to a plan and a verdict.
 
 A problem (and a domain) is a path or the PDDL text itself (:func:`read_blocks`). The
-default planner is the shipped lifted rules (``rules="builtin"``, the file
-``assets/rules/lifted.json``), which plan up to
-:data:`~csql_sim.core.files.pddl_import.MAX_PLANNED_BLOCKS` objects; a rule file from
-``csql-sim train-lifted``, ``planner="bfs"`` (up to six blocks) or ``planner="gn1"`` (the
-baseline) plan instead when asked. The work is :func:`csql_sim.jobs.plan_problems.plan_problem`.
+default planner is the shipped lifted rules (``rules="builtin"``, the file of
+:func:`csql_sim.infra.assets.builtin_rules_path`, as ``--rules builtin`` on the command line),
+which plan up to :data:`~csql_sim.core.files.pddl_import.MAX_PLANNED_BLOCKS` objects; a rule
+file from ``csql-sim train-lifted``, ``planner="bfs"`` (up to six blocks) or a named baseline
+(``"gn1"``, ``"gn2"``: :data:`csql_sim.jobs.baselines.NAMED_POLICIES`) plan instead when asked.
+The work is :func:`csql_sim.jobs.plan_problems.plan_problem`; the verdict of :func:`validate`
+is :func:`csql_sim.core.files.validate.validate_plan`'s, as ``csql-sim validate`` gives it.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ import os
 from collections.abc import Callable, Sequence
 
 from csql_sim.api.results import ActionTuple, LiftedRules, Plan, Validation, action_line, action_tuple
-from csql_sim.core.files.ipc_plan import PlanError, check_plan, parse_plan
+from csql_sim.core.files.ipc_plan import parse_plan
 from csql_sim.core.files.pddl_import import (
     MAX_PDDL_BYTES,
     MAX_PLANNED_BLOCKS,
@@ -22,24 +24,34 @@ from csql_sim.core.files.pddl_import import (
     parse_problem_text,
     read_problem,
 )
+from csql_sim.core.files.validate import validate_plan
 from csql_sim.core.policies.contract import Policy
-from csql_sim.infra.assets import asset_text
+from csql_sim.infra.assets import BUILTIN_RULES, builtin_rules_path
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_text_file
+from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.jobs.plan_problems import plan_problem
 
 Source = str | os.PathLike
 """A path, or (a string holding a parenthesis) the text itself."""
 PlanSource = Source | Sequence[str] | Sequence[ActionTuple] | Plan
 """A plan: a plan file, its text, a list of lines ``"(unstack a b)"`` or tuples ``("unstack", "a", "b")``, a Plan."""
-BUILTIN = "builtin"
-"""The name of the shipped lifted rules (``rules="builtin"``)."""
-PLANNERS = ("builtin", "rules", "bfs", "gn1")
+BUILTIN = BUILTIN_RULES
+"""The name of the shipped lifted rules (``rules="builtin"``, ``--rules builtin``)."""
+PLANNERS = (BUILTIN, "rules", "bfs", *NAMED_POLICIES)
+"""Who may plan: the shipped rules, a rule file, breadth-first search, or a named baseline (gn1, gn2)."""
 
 
 def is_text(source: object) -> bool:
     """Whether ``source`` is PDDL (or plan) text rather than a path: a string with a parenthesis."""
     return isinstance(source, str) and "(" in source
+
+
+def path_source(path: str | os.PathLike | None) -> Source | None:
+    """A path given as a string (on a command line), as the API takes it: a Path where it would read as text."""
+    from pathlib import Path
+
+    return Path(path) if is_text(path) else path
 
 
 def read_blocks(problem: Source, domain: Source | None = None, max_blocks: int = MAX_PLANNED_BLOCKS) -> BlocksProblem:
@@ -53,13 +65,6 @@ def read_blocks(problem: Source, domain: Source | None = None, max_blocks: int =
     return parse_problem_text(text, source, domain_text, max_blocks=max_blocks)
 
 
-def builtin_policy() -> Policy:
-    """The shipped lifted rules (any number of blocks)."""
-    from csql_sim.core.policies.committee_policy import loads_lifted_file
-
-    return loads_lifted_file(asset_text("rules", "lifted.json"), "the built-in lifted rules")
-
-
 def planner_of(rules: Source | LiftedRules | None, planner: str | None) -> str:
     """Who plans, from ``rules`` and ``planner`` (see :func:`plan`); a CsqlError for a contradiction."""
     if planner is not None and planner not in PLANNERS:
@@ -68,7 +73,7 @@ def planner_of(rules: Source | LiftedRules | None, planner: str | None) -> str:
         return BUILTIN if rules is None or rules == BUILTIN else "rules"
     if planner == "rules" and rules is None:
         raise CsqlError("planner 'rules' needs rules (a rule file or 'builtin')")
-    if planner in ("bfs", "gn1") and rules is not None:
+    if (planner == "bfs" or planner in NAMED_POLICIES) and rules is not None:
         raise CsqlError(f"planner {planner!r} reads no rules; give rules or the planner, not both")
     return BUILTIN if planner == "rules" and rules == BUILTIN else planner
 
@@ -76,21 +81,19 @@ def planner_of(rules: Source | LiftedRules | None, planner: str | None) -> str:
 def policy_maker(rules: Source | LiftedRules | None, planner: str, progress: bool = False) -> Callable[[int], Policy]:
     """The planner's policy for a problem of n blocks (loaded once; CsqlError where it cannot plan n)."""
     from csql_sim.core.policies.committee_policy import loads_lifted_file
-    from csql_sim.core.policies.gn1 import Gn1Policy
     from csql_sim.core.policies.loader import load_policy
 
     cache: dict[int, Policy] = {}
 
     def make(n: int) -> Policy:
         if n not in cache:
-            if planner == BUILTIN:
-                cache[n] = builtin_policy()
-            elif isinstance(rules, LiftedRules):
+            if isinstance(rules, LiftedRules):
                 cache[n] = loads_lifted_file(rules.text, "the rules of train_lifted")
-            elif planner == "gn1":
-                cache[n] = Gn1Policy()
+            elif planner in NAMED_POLICIES:
+                cache[n] = NAMED_POLICIES[planner]()
             else:
-                cache[n] = load_policy(rules if planner == "rules" else None, n, progress=progress)
+                path = builtin_rules_path() if planner == BUILTIN else rules if planner == "rules" else None
+                cache[n] = load_policy(path, n, progress=progress)
         return cache[n]
 
     return make
@@ -106,8 +109,8 @@ def plan(problem: Source, domain: Source | None = None, rules: Source | LiftedRu
         rules: a rule file (lifted rules plan any n; ground ones up to six blocks), the rules
             :func:`~csql_sim.api.running.train_lifted` returned, or ``"builtin"`` (the default: the
             shipped lifted rules).
-        planner: ``"builtin"``, ``"rules"`` (``rules``), ``"bfs"`` (optimal, up to six blocks)
-            or ``"gn1"`` (the GN1 baseline); default: ``rules``, else the built-in rules.
+        planner: ``"builtin"``, ``"rules"`` (``rules``), ``"bfs"`` (optimal, up to six blocks),
+            ``"gn1"`` or ``"gn2"`` (the named baselines); default: ``rules``, else the built-in rules.
         optimum_budget: seconds to bound the optimum past six blocks (0: not measured); up to six
             blocks the optimum is exact by breadth-first search.
         progress: a bar on stderr while a large rule file is read.
@@ -126,9 +129,11 @@ def plan(problem: Source, domain: Source | None = None, rules: Source | LiftedRu
         (True, 4, 4)
     """
     chosen = planner_of(rules, planner)
-    blocks = read_blocks(problem, domain)
-    report = plan_problem(_shown(problem), domain, policy_maker(rules, chosen, progress), chosen, optimum_budget,
-                          blocks=blocks)
+    # a file is read by the job (its time counted, as the CLI reports it); a text is read here
+    given = read_blocks(problem, domain) if is_text(problem) or is_text(domain) else None
+    report = plan_problem(_shown(problem), None if given is not None else domain, policy_maker(rules, chosen, progress),
+                          chosen, optimum_budget, blocks=given)
+    blocks = report.problem_doc
     optimum = report.optimum
     return Plan(problem=blocks.name, objects=blocks.names, actions=tuple(action_tuple(x) for x in report.lines),
                 solved=report.solved, planner=chosen,
@@ -157,16 +162,21 @@ def plan_lines(plan_: PlanSource) -> tuple[list[str], str]:
 def validate(problem: Source, plan: PlanSource, domain: Source | None = None) -> Validation:
     """Check a plan symbolically from the problem's start: every step applicable, the goal reached.
 
+    The verdict is :func:`csql_sim.core.files.validate.validate_plan`'s, the one ``csql-sim
+    validate`` prints.
+
     Args:
         problem: the problem file, or its PDDL text.
         plan: a plan file, its text, a list of lines or of tuples, or a :class:`Plan`.
-        domain: the domain file or text (optional); with it, actions outside it are errors.
+        domain: the domain file or text (optional); with it, actions outside it are refused.
 
     Returns:
-        The verdict: ``valid``, and one line per error naming the step and what fails.
+        The verdict: ``valid``, and one line per error: the first step whose precondition fails
+        (its number, its line and the precondition), or each goal atom that does not hold at the end.
 
     Raises:
-        CsqlError: one line when the problem or the plan file cannot be read.
+        CsqlError: one line when the problem or the plan file cannot be read, or a plan line is not
+            an action of the problem (an unknown action or object, a wrong number of arguments).
 
     Example:
         >>> import csql_sim
@@ -182,19 +192,10 @@ def validate(problem: Source, plan: PlanSource, domain: Source | None = None) ->
     """
     blocks = read_blocks(problem, domain)
     lines, source = plan_lines(plan)
-    count = sum(1 for line in lines if line.split(";", 1)[0].strip())
-    try:
-        steps = parse_plan(lines, blocks.index, blocks.n, source, blocks.actions)
-        end = check_plan(blocks.start, steps, blocks.objects, source)[-1]
-    except PlanError as exc:
-        return Validation(False, count, (str(exc),))
-    final = end.named(blocks.names).named_notation()
-    missing = blocks.goal.unsatisfied(end)
-    if missing:
-        return Validation(False, count, (f"{source}: the plan ends in {final}, which misses {' '.join(missing)}",),
-                          final)
-    return Validation(True, count, (), final)
+    verdict = validate_plan(blocks, parse_plan(lines, blocks.index, blocks.n, source, blocks.actions))
+    return Validation(verdict.valid, verdict.steps, verdict.errors, verdict.applied, verdict.end.named_notation(),
+                      verdict)
 
 
-__all__ = ["BUILTIN", "PLANNERS", "builtin_policy", "plan", "plan_lines", "planner_of", "policy_maker",
+__all__ = ["BUILTIN", "PLANNERS", "path_source", "plan", "plan_lines", "planner_of", "policy_maker",
            "read_blocks", "validate"]

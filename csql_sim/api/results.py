@@ -87,16 +87,20 @@ class Validation:
 
     Attributes:
         valid: every step is applicable and the plan ends in a goal state.
-        steps: the number of plan lines read.
-        errors: one line per error, naming the step and what fails (empty when valid): the
-            first step whose precondition fails, or the goal atoms the end state misses.
-        final: the end state in the problem's names (``""`` if a step failed).
+        steps: the plan's steps (its action lines).
+        errors: one line per error (empty when valid): the first step whose precondition fails
+            (its number, its line, the precondition and why), or each goal atom that does not
+            hold at the end.
+        applied: how many steps applied before the first that does not (all of them when none fails).
+        final: the state after the steps that applied, in the problem's names.
     """
 
     valid: bool
     steps: int
     errors: tuple[str, ...] = ()
+    applied: int = 0
     final: str = ""
+    report: Any = field(default=None, repr=False, compare=False)
 
     def __bool__(self) -> bool:
         return self.valid

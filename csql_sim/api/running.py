@@ -83,7 +83,8 @@ def execution_of(result, names: Sequence[str]) -> Execution:  # noqa: ANN001 - a
 
 
 def train_lifted(out: str | os.PathLike | None = None, trials: int = 3000, sizes: Sequence[int] = (5,),
-                 goals: int | None = None, features: str = "given", domain: str = "4op", complexity: int = 8,
+                 goals: int | None = None, features: str = "given", formulation: str | None = None,
+                 domain: str | os.PathLike | None = None, complexity: int | None = None,
                  committee: int | None = None, atoms: Sequence[str] | None = None, seed: int = 0,
                  workers: int | None = 1, progress: Callable[[int, int], None] | None = None) -> LiftedRules:
     """Learn lifted Q-classifiers on small worlds (LQ-CS); they plan any number of blocks.
@@ -94,7 +95,9 @@ def train_lifted(out: str | os.PathLike | None = None, trials: int = 3000, sizes
         sizes: numbers of blocks trained on, among 3, 4, 5 (default 5).
         goals: training goals per size (default 40; 200 with generated features in the move domain).
         features: ``"given"`` (hand-written atoms) or ``"generated"`` (from the domain's predicates).
-        domain: with generated features: ``"4op"``, ``"move"`` or a PDDL domain file.
+        formulation: with generated features: the shipped formulation, ``"4op"`` (default) or ``"move"``.
+        domain: with generated features: a PDDL domain file to generate the features from, instead
+            of ``formulation`` (not both).
         complexity: with generated features: the grammar's bound K, 1..10 (default 8).
         committee: with generated features: populations learned (default 3); else 1.
         atoms: with given atoms: the ones read (default: all but least-stuck).
@@ -121,9 +124,12 @@ def train_lifted(out: str | os.PathLike | None = None, trials: int = 3000, sizes
     size = committee if committee is not None else DEFAULT_COMMITTEE if features == "generated" else 1
     if size > 1 and features != "generated":
         raise CsqlError("a committee needs generated features")
+    if formulation is not None and domain is not None:
+        raise CsqlError(f"give formulation {formulation!r} or domain {os.fspath(domain)!r} (a PDDL domain), not both")
     read = {} if atoms is None else {"atoms": tuple(atoms)}
-    params = LiftedParams(trials=trials, sizes=tuple(sizes), goals=goals, features=features, domain=domain,
-                          complexity=complexity, **read)
+    chosen = {} if complexity is None else {"complexity": complexity}
+    params = LiftedParams(trials=trials, sizes=tuple(sizes), goals=goals, features=features,
+                          domain=os.fspath(domain) if domain is not None else formulation or "4op", **chosen, **read)
     rng = np.random.default_rng(seed)
     if size > 1:
         runs = train_committee(params, rng, size, progress=progress, workers=workers).members

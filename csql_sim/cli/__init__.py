@@ -30,8 +30,21 @@ from contextlib import contextmanager
 from typing import Any, NoReturn
 
 from csql_sim import __version__
-from csql_sim.cli import core, demo, discover, execute, generalize, learn, lifted, pddl_cmd, problems_cmd, rulefile, sim
-from csql_sim.cli.args import say
+from csql_sim.cli import (
+    core,
+    demo,
+    discover,
+    execute,
+    generalize,
+    learn,
+    lifted,
+    pddl_cmd,
+    problems_cmd,
+    rulefile,
+    sim,
+    validate_cmd,
+)
+from csql_sim.cli.args import refuse_ignored, say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
 from csql_sim.infra.outputs import Outputs
@@ -87,7 +100,8 @@ class _ClosedStdout(io.TextIOBase):
         raise io.UnsupportedOperation("standard output is closed")
 
 
-SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, problems_cmd, execute, generalize)
+SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, problems_cmd, execute, generalize,
+                      validate_cmd)
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -120,6 +134,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             if closed is not None:  # refused before any work: nothing written, nothing lost
                 raise StdoutError("standard output is closed (>&-); send it somewhere, e.g. >/dev/null")
+            refuse_ignored(args)
             outputs = plan_outputs(args)
             status = int(args.func(args) or 0)
             sys.stdout.flush()

@@ -9,8 +9,10 @@ import textwrap
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from csql_sim.core.files.pddl_import import MAX_DRAWN_BLOCKS
 from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS
+from csql_sim.infra.errors import CsqlError
 
 if TYPE_CHECKING:
     from csql_sim.infra.backends import Backend
@@ -40,8 +42,8 @@ non_negative_int = int_type(0)
 blocks_arg = int_type(MIN_BLOCKS, MAX_BLOCKS)
 large_blocks_arg = int_type(MIN_BLOCKS, MAX_LETTERS)
 """``--blocks`` of the commands that take relational states past six blocks: an integer 2..26."""
-drawn_blocks_arg = int_type(MIN_BLOCKS, 1000)
-"""``--blocks`` of drawn problems (``csql-sim problems``): an integer 2..1000."""
+drawn_blocks_arg = int_type(MIN_BLOCKS, MAX_DRAWN_BLOCKS)
+"""``--blocks`` of drawn problems (``csql-sim problems``): an integer 2..MAX_DRAWN_BLOCKS."""
 seed_arg = non_negative_int
 """Seeds are non-negative integers (numpy's SeedSequence refuses negative ones)."""
 
@@ -117,17 +119,30 @@ class DeprecatedAlias(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+def add_domain_rules(parser: argparse.ArgumentParser, help_text: str) -> None:
+    """``--domain-rules FILE``: a rule file whose R-classifiers are the world model (``--domain`` is its old spelling).
+
+    ``--domain`` names a PDDL domain file in every other command; here it is a deprecated
+    alias that warns in one line.
+    """
+    parser.add_argument("--domain-rules", dest="domain_rules", type=path_arg, default=None, metavar="FILE",
+                        help=help_text)
+    parser.add_argument("--domain", dest="domain_rules", type=path_arg, action=DeprecatedAlias,
+                        new="--domain-rules FILE", help=argparse.SUPPRESS)
+
+
 ALIASES_UNTIL = "0.3.0"
 """The release that drops the deprecated spellings (the CHANGELOG lists them)."""
-PLANNERS = ("bfs", "rules", "gn1")
-"""``--planner`` wherever plans are made: BFS (up to 6 blocks), the rules of ``--rules FILE``, or the GN1 baseline."""
+PLANNERS = ("bfs", "rules", "gn1", "gn2")
+"""``--planner`` wherever plans are made: BFS (up to 6 blocks), the rules of ``--rules FILE``, or a named baseline."""
 
 
 def add_planner(parser: argparse.ArgumentParser, blocks: str = "up to 6 blocks") -> None:
-    """``--planner bfs|rules|gn1`` (the same choices in every command that makes plans)."""
+    """``--planner bfs|rules|gn1|gn2`` (the same choices in every command that makes plans)."""
     parser.add_argument("--planner", choices=PLANNERS, default=None,
                         help=f"who plans: bfs (breadth-first search, {blocks}), rules (the greedy policy of "
-                             "--rules FILE) or gn1 (the GN1 baseline); default: rules with --rules, else bfs")
+                             "--rules FILE), gn1 or gn2 (the GN1 and GN2 baselines); default: rules with --rules, "
+                             "else bfs")
 
 
 def command_parser(sub: argparse._SubParsersAction, name: str, summary: str, example: str,
@@ -149,6 +164,19 @@ def path_arg(text: str) -> str:
     if not text:
         raise argparse.ArgumentTypeError("empty path; give a file name")
     return text
+
+
+def rules_arg(text: str) -> str:
+    """Argparse type of every ``--rules``: a rule file's path, or ``builtin`` for the shipped lifted rules."""
+    from csql_sim.infra.assets import BUILTIN_RULES, builtin_rules_path
+
+    if text == BUILTIN_RULES:
+        return os.fspath(builtin_rules_path())
+    return path_arg(text)
+
+
+RULES_BUILTIN_HELP = "; 'builtin': the shipped lifted rules (any number of blocks)"
+"""What every ``--rules`` help ends with."""
 
 
 def add_overwrite(parser: argparse.ArgumentParser) -> None:
@@ -206,3 +234,19 @@ def add_renderer_argument(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--renderer", choices=("auto", "tiny", "egl"), default="auto",
                         help="video renderer: pybullet's TinyRenderer, its EGL plugin (OpenGL; a GPU where "
                         "there is one), or auto (default): EGL when its plugin loads")
+
+
+def refuse_ignored(args: argparse.Namespace) -> None:
+    """One rule for every command: an option the other options make meaningless is refused, not ignored.
+
+    A command declares ``set_defaults(ignored=f)``, ``f(args)`` giving ``{dest: what it needs}``
+    for the options that do nothing in this run; such an option must default to None, and any
+    that was given is one CsqlError (exit 2) naming it and what it goes with.
+    """
+    ignored = getattr(args, "ignored", None)
+    if ignored is None:
+        return
+    for dest, needs in ignored(args).items():
+        if getattr(args, dest, None) is not None:
+            raise CsqlError(f"--{dest.replace('_', '-')} does nothing here: it goes with {needs}")
+

@@ -6,10 +6,11 @@ The README's first quick-start command runs it with its defaults.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from csql_sim.cli.args import (
-    add_overwrite,
+    add_json,
     add_quiet,
     add_renderer_argument,
     add_workers,
@@ -23,7 +24,7 @@ from csql_sim.cli.args import (
     threshold_arg,
     warn_workers,
 )
-from csql_sim.cli.output import default_path
+from csql_sim.cli.output import default_path, emit, wants_json
 from csql_sim.infra.outputs import Outputs
 
 DEFAULT_OUT = "out"
@@ -50,7 +51,7 @@ def declare_demo(args: argparse.Namespace, outputs: Outputs) -> None:
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    from csql_sim.cli.sim import print_episode
+    from csql_sim.cli.sim import episode_doc, episode_text
     from csql_sim.core.files.rulebase import dumps
     from csql_sim.core.model.task import test_task
     from csql_sim.core.policies.policy import QPolicy
@@ -73,7 +74,8 @@ def cmd_demo(args: argparse.Namespace) -> int:
     start, goal = task.start, task.goal
     progress = show_progress(args)
 
-    print(f"[1/4] training CS-QL: {args.blocks} blocks, {args.trials} trials, seed {args.seed}")
+    say = _narrator(args)
+    say(f"[1/4] training CS-QL: {args.blocks} blocks, {args.trials} trials, seed {args.seed}")
     learned = train("cs-ql", trials=args.trials, seed=args.seed, n=args.blocks, progress=progress)
     pruned = prune(learned, args.threshold)
     write_or_keep([(out / "rules.yaml", dumps(learned)), (out / "pruned.yaml", dumps(pruned))])
@@ -81,26 +83,36 @@ def cmd_demo(args: argparse.Namespace) -> int:
     policy = QPolicy.from_rulebase(pruned)
     results = check_all_pairs(policy, pruned.blocks, progress=progress)
     optimal = sum(r.optimal for r in results)
-    print(f"[2/4] pruning at strength {args.threshold}: {before} -> {after} Q-classifiers; "
+    say(f"[2/4] pruning at strength {args.threshold}: {before} -> {after} Q-classifiers; "
           f"the pruned rules plan {optimal}/{len(results)} start/goal pairs optimally "
           f"(rule files: {out / 'rules.yaml'}, {out / 'pruned.yaml'})")
 
-    print(f"[3/4] the test task's Q-classifiers ({start.notation()} -> {goal.notation()}), as in Figure 6:")
-    print(figure6_table(pruned, start, goal))
+    say(f"[3/4] the test task's Q-classifiers ({start.notation()} -> {goal.notation()}), as in Figure 6:")
+    say(figure6_table(pruned, start, goal))
 
-    print(f"[4/4] executing the learned plan on the simulated Panda and rendering {video}")
+    say(f"[4/4] executing the learned plan on the simulated Panda and rendering {video}")
     result, path = render_episode(start, goal, video, policy, seed=args.seed, width=args.width,
                                   height=args.height, fps=args.fps, workers=args.workers, progress=progress,
                                   provenance_extra={"rules": rules_source(out / "pruned.yaml"), "trials": args.trials,
                                                     "threshold": args.threshold},
                                   renderer=args.renderer)
-    print_episode(result, start.n)
-    print(f"video: {path}")
-    if result.success:
-        print(f"goal reached physically: yes (the perceived state is {goal.notation()} and the scene has settled)")
-        return 0
-    print(f"goal reached physically: NO ({result.reason})")
-    return 1
+    verdict = (f"goal reached physically: yes (the perceived state is {goal.notation()} and the scene has settled)"
+               if result.success else f"goal reached physically: NO ({result.reason})")
+    doc = {"blocks": args.blocks, "trials": args.trials, "seed": args.seed, "threshold": args.threshold,
+           "q_before": before, "q_after": after, "optimal_pairs": optimal, "pairs": len(results),
+           "rules": str(out / "rules.yaml"), "pruned": str(out / "pruned.yaml"), "video": str(path),
+           "episode": episode_doc(result)}
+    emit(args, doc, lambda: [*episode_text(result, start.n), f"video: {path}", verdict])
+    return 0 if result.success else 1
+
+
+def _narrator(args: argparse.Namespace):  # noqa: ANN202 - a function taking one line
+    """How the demo tells its steps: on stdout, or with ``--json`` on stderr (nothing with ``--quiet``)."""
+    if not wants_json(args):
+        return print
+    if args.quiet:
+        return lambda text: None
+    return lambda text: print(text, file=sys.stderr)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -122,5 +134,5 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_workers(p, "rendering processes")
     add_quiet(p)
     add_renderer_argument(p)
-    add_overwrite(p)
+    add_json(p)
     p.set_defaults(func=cmd_demo, declare=declare_demo)

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from csql_sim.cli.args import (
+    RULES_BUILTIN_HELP,
     DeprecatedAlias,
     add_json,
     add_planner,
@@ -13,6 +14,7 @@ from csql_sim.cli.args import (
     add_seed,
     command_parser,
     path_arg,
+    rules_arg,
     show_progress,
 )
 from csql_sim.cli.output import emit
@@ -28,7 +30,7 @@ def settle_source(args: argparse.Namespace) -> None:
         return
     args.planner = args.planner or ("rules" if args.rules is not None else None)
     if args.planner is None:
-        raise CsqlError("give --plan FILE, --rules FILE or --planner bfs|gn1")
+        raise CsqlError("give --plan FILE, --rules FILE or --planner bfs|gn1|gn2")
     if (args.planner == "rules") != (args.rules is not None):
         raise CsqlError("--planner rules needs --rules FILE" if args.rules is None else
                         f"--planner {args.planner} does not read --rules {args.rules!r}; give one of them")
@@ -55,11 +57,12 @@ def declare_execute(args: argparse.Namespace, outputs: Outputs) -> None:
 def cmd_execute(args: argparse.Namespace) -> int:
     """Check the plan symbolically, run it closed-loop on the arm, report per step; 0 reached, 1 not."""
     from csql_sim.api import execute
+    from csql_sim.api.planning import path_source
 
     planner = None if args.planner == "rules" else args.planner
-    result = execute(args.problem, args.plan, args.domain, video=args.video, rules=args.rules, planner=planner,
-                     seed=args.seed, perception=args.perception, perturb=args.perturb,
-                     progress=show_progress(args)).report
+    result = execute(path_source(args.problem), path_source(args.plan), path_source(args.domain), video=args.video,
+                     rules=args.rules, planner=planner, seed=args.seed, perception=args.perception,
+                     perturb=args.perturb, progress=show_progress(args)).report
     emit(args, result.to_dict(), result.lines)
     if result.video is not None:
         print(f"wrote {result.video} (provenance in {result.video}.json)", file=sys.stderr)
@@ -77,8 +80,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="here its PDDL domain (optional): the 4-operator blocks domain or a move variant")
     p.add_argument("--plan", type=path_arg,
                    help="an IPC plan file: one action per line, e.g. (unstack a b); ';' starts a comment")
-    p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train' (or lifted rules) instead of a plan")
+    p.add_argument("--rules", type=rules_arg,
+                   help="a rule base from 'csql-sim train' (or lifted rules) instead of a plan" + RULES_BUILTIN_HELP)
     add_planner(p)
     p.add_argument("--out", dest="video", type=path_arg, metavar="V",
                    help="write the episode's video (.mp4 or .gif, 640x480) and its provenance <V>.json")

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from csql_sim.cli.args import add_overwrite, add_quiet, command_parser, path_arg, show_progress
+from csql_sim.cli.args import add_json, add_overwrite, add_quiet, command_parser, path_arg, rules_arg, show_progress
+from csql_sim.cli.output import emit
 from csql_sim.infra.outputs import Outputs
 
 
@@ -34,9 +35,12 @@ def cmd_generalize(args: argparse.Namespace) -> int:
     rulebase = generalize(args.rules, args.detectors, progress=show_progress(args))
     path = write_or_keep([(args.out, file_bytes(args.out, rulebase))])[0]
     meta = rulebase.meta
-    print(f"{meta['source']['q_classifiers']} Q-classifiers ({rulebase.blocks} blocks, {meta['pairs_decided']} pairs "
-          f"decided) compacted into {len(rulebase.classifiers)} goal-form Q-classifiers "
-          f"(detectors: {','.join(meta['detectors']) or 'none'}); wrote {path}")
+    doc = {"blocks": rulebase.blocks, "q_before": meta["source"]["q_classifiers"],
+           "pairs_decided": meta["pairs_decided"], "q_after": len(rulebase.classifiers),
+           "detectors": list(meta["detectors"]), "out": str(path)}
+    emit(args, doc, f"{doc['q_before']} Q-classifiers ({rulebase.blocks} blocks, {meta['pairs_decided']} pairs "
+                    f"decided) compacted into {doc['q_after']} goal-form Q-classifiers "
+                    f"(detectors: {','.join(meta['detectors']) or 'none'}); wrote {path}")
     return 0
 
 
@@ -45,10 +49,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = command_parser(sub, "generalize", "compact a trained rule base into a default hierarchy of # "
                        "Q-classifiers over the goal form of the message",
                        "csql-sim generalize --rules rules.yaml --out general.yaml")
-    p.add_argument("--rules", type=path_arg, required=True, help="a trained rule file (index form, YAML or npz)")
+    p.add_argument("--rules", type=rules_arg, required=True, help="a trained rule file (index form, YAML or npz)")
     p.add_argument("--out", type=path_arg, required=True, help="rule file to write: *.npz (compact) or YAML")
     p.add_argument("--detectors", type=_detectors, default=None,
                    help="comma list of detector fields in the message: home, placed, ready (default all), or none")
     add_overwrite(p)
     add_quiet(p)
+    add_json(p)
     p.set_defaults(func=cmd_generalize, declare=declare)

@@ -9,6 +9,7 @@ from dataclasses import fields
 
 from csql_sim.cli.args import (
     add_backend_arguments,
+    add_domain_rules,
     add_json,
     add_overwrite,
     add_quiet,
@@ -48,7 +49,7 @@ def declare_rule_file(args: argparse.Namespace, outputs: Outputs) -> None:
     """``train`` and ``prune``: one rule file; the rule files and parameters they read are inputs."""
     outputs.file(args.out, "rule file", "rules")
     outputs.input(getattr(args, "rules", None), "rule file")
-    outputs.input(getattr(args, "domain", None), "domain rule file")
+    outputs.input(getattr(args, "domain_rules", None), "domain rule file")
     outputs.input(getattr(args, "params", None), "parameter file")
 
 
@@ -126,27 +127,28 @@ def cmd_train(args: argparse.Namespace) -> int:
         return train_shards.run(args, out)
 
     domain = None
-    if args.domain:
+    if args.domain_rules:
         from csql_sim.core.files.rulebase import load_r_classifiers
 
-        domain = load_r_classifiers(args.domain, args.blocks).classifiers
+        domain = load_r_classifiers(args.domain_rules, args.blocks).classifiers
     began = time.perf_counter()
     learner, meta = train_learner(args.method, args.trials, args.seed, args.blocks, train_params(args),
                                   progress=show_progress(args), engine=args.engine, domain=domain)
-    if args.domain:
-        meta["domain"] = str(args.domain)
+    if args.domain_rules:
+        meta["domain"] = str(args.domain_rules)
     trained = time.perf_counter()
     if args.params:
         meta["provenance"]["parameters"]["params_file"] = args.params
     path = write_or_keep([(args.out, learner.file_bytes(args.out, meta))])[0]
     r_count, q_count = learner.counts()
-    print(
+    written = time.perf_counter() - trained
+    doc = {"method": args.method, "engine": learner.engine, "blocks": args.blocks, "trials": meta["trials"],
+           "seed": args.seed, "steps": meta["steps"], "training_seconds": round(trained - began, 3),
+           "r_classifiers": r_count, "q_classifiers": q_count, "out": str(path), "phases": meta["phases"]}
+    emit(args, doc, lambda: [
         f"{args.method} ({learner.engine} engine), {args.blocks} blocks: {meta['trials']} trials, seed {args.seed}, "
         f"{meta['steps']} steps in {trained - began:.2f} s; {r_count} R- and {q_count} Q-classifiers written to "
-        f"{path} in {time.perf_counter() - trained:.2f} s"
-    )
-    for line in phase_lines(meta["phases"]):
-        print(f"  {line}")
+        f"{path} in {written:.2f} s", *(f"  {line}" for line in phase_lines(meta["phases"]))])
     return 0
 
 
@@ -210,7 +212,10 @@ def cmd_scaling(args: argparse.Namespace) -> int:
 # ------------------------------------------------------------------ params
 def cmd_params(args: argparse.Namespace) -> int:
 
-    print(_params_yaml(args.method, args.blocks), end="")
+    import yaml
+
+    text = _params_yaml(args.method, args.blocks)
+    emit(args, {"method": args.method, "blocks": args.blocks, "params": yaml.safe_load(text)}, text.rstrip("\n"))
     return 0
 
 
@@ -262,8 +267,7 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
     p.add_argument("--engine", choices=("fast", "reference"), default=None,
                    help="engine of cs-ql and lt-ql: fast (their default; cs-ql with the built-in rules, lt-ql up "
                    "to 5 blocks) or reference; the same rule file")
-    p.add_argument("--domain", type=path_arg,
-                   help="R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5")
+    add_domain_rules(p, "R-classifiers from this rule file (e.g. from 'discover') instead of Figure 5 (was --domain)")
     p.add_argument("--sweep", choices=("none", "value-iteration"), default=None,
                    help="cs-ql/xcs-ql after the trials: value-iteration (the default; greedy passes over every pair "
                    "through the world model, backing up every candidate for n > 3) or none (learn from trials "
@@ -277,6 +281,8 @@ def _register_train(sub: argparse._SubParsersAction, methods: tuple[str, ...]) -
     add_size_arguments(p)
     add_overwrite(p)
     add_quiet(p)
+    if "--json" not in p._option_string_actions:
+        add_json(p)
     p.set_defaults(func=cmd_train, declare=_declare_train)
 
 
@@ -327,6 +333,8 @@ def _register_params(sub: argparse._SubParsersAction, methods: tuple[str, ...]) 
                        "csql-sim params --method cs-ql --blocks 4 > params.yaml")
     p.add_argument("--method", choices=methods, default="cs-ql", help="learner (default cs-ql)")
     p.add_argument("--blocks", type=blocks_arg, default=3, help=blocks_help(2, 6, 3))
+    add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_params)
 
 

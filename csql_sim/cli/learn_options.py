@@ -50,13 +50,16 @@ def phase_lines(phases: dict) -> list[str]:
 
 
 def replay_ratio_arg(text: str) -> float:
-    """``--replay``: a finite number >= 0."""
+    """``--replay``: a number in the range of the parameter ``replay_ratio`` (its one declaration)."""
+    from csql_sim.learners.paper import CSQLParams
+
+    RATIO = CSQLParams.bounds("replay_ratio")  # noqa: N806 - the declared constant, read where it is declared
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number >= 0, got {text!r}") from None
-    if not value >= 0 or value == float("inf"):
-        raise argparse.ArgumentTypeError(f"must be a finite number >= 0, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a number in {RATIO}, got {text!r}") from None
+    if not RATIO.contains(value):
+        raise argparse.ArgumentTypeError(f"must be a number in {RATIO}, got {text!r}")
     return value
 
 

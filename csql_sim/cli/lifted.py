@@ -1,4 +1,4 @@
-"""``csql-sim train-lifted``: learn lifted Q-classifiers on small worlds (LQ-CS), for plans up to 26 blocks."""
+"""``csql-sim train-lifted``: lifted Q-classifiers learned on small worlds by :func:`csql_sim.api.train_lifted`."""
 
 from __future__ import annotations
 
@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 from csql_sim.api.running import DEFAULT_COMMITTEE
 from csql_sim.cli.args import (
+    ALIASES_UNTIL,
     add_json,
     add_quiet,
     add_seed,
@@ -22,6 +23,7 @@ from csql_sim.cli.args import (
     warn_workers,
 )
 from csql_sim.cli.output import emit
+from csql_sim.core.files.pddl_import import MAX_PLANNED_BLOCKS
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
 
@@ -43,6 +45,20 @@ def _sizes(text: str) -> tuple[int, ...]:
 def declare(args: argparse.Namespace, outputs: Outputs) -> None:
     """One lifted Q-classifier file written."""
     outputs.file(args.out, "lifted Q-classifier file", "rules")
+    from csql_sim.core.features.formulation import BUILTIN
+
+    if args.domain not in (None, *BUILTIN):
+        outputs.input(args.domain, "PDDL domain")
+
+
+def _ignored(args: argparse.Namespace) -> dict[str, str]:
+    """The options of generated features without them, and ``--workers`` with one population."""
+    out = {}
+    if args.features != "generated":
+        out = {k: "--features generated" for k in ("domain", "formulation", "complexity")}
+    if args.features != "generated" or args.committee == 1:
+        out["workers"] = "--features generated and a committee of two or more (--committee K)"
+    return out
 
 
 def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:
@@ -69,13 +85,17 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
 
     if args.atoms is not None and args.features == "generated":
         raise CsqlError("--atoms chooses among the given atoms; do not give it with --features generated")
-    if args.committee is not None and args.committee > 1 and args.features != "generated":
+    if args.committee is None:
+        args.committee = DEFAULT_COMMITTEE if args.features == "generated" else 1
+    if args.committee > 1 and args.features != "generated":
         raise CsqlError("--committee needs --features generated")
-    if (args.committee or DEFAULT_COMMITTEE) > 1 and args.features == "generated":
+    formulation_of(args)  # --formulation or --domain, not both (the message in the options' names)
+    if args.committee > 1:
         warn_workers(args)
     learned = train_lifted(args.out, trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
-                           domain=args.domain, complexity=args.complexity, committee=args.committee,
-                           atoms=args.atoms, seed=args.seed, workers=args.workers, progress=_progress(args))
+                           formulation=args.formulation, domain=args.domain, complexity=args.complexity,
+                           committee=args.committee, atoms=args.atoms, seed=args.seed, workers=args.workers,
+                           progress=_progress(args))
     runs, sizes = learned.runs, tuple(learned.meta["params"]["sizes"])
     written = json.loads(learned.text)  # what --json reports of the classifiers is what the file holds
     classifiers = {k: written[k] for k in ("atoms", "classifiers", "members") if k in written}
@@ -109,24 +129,48 @@ def _atoms(text: str) -> tuple[str, ...]:
 
 
 def _domain(text: str) -> str:
-    """A shipped formulation's name or a readable PDDL domain file."""
+    """A readable PDDL domain file (or, deprecated, a shipped formulation's name: see :class:`_DomainOption`)."""
     from csql_sim.core.features.formulation import BUILTIN
 
     if text in BUILTIN or os.path.isfile(text):
         return text
-    raise argparse.ArgumentTypeError(f"expected {' or '.join(BUILTIN)} or a PDDL domain file, got {text!r}")
+    raise argparse.ArgumentTypeError(f"expected a PDDL domain file, got {text!r} (a shipped formulation is "
+                                     f"--formulation {'|'.join(BUILTIN)})")
+
+
+class _DomainOption(argparse.Action):
+    """``--domain FILE``: a PDDL domain; ``--domain 4op|move``, the old spelling of ``--formulation``, warns once."""
+
+    def __call__(self, parser: argparse.ArgumentParser, namespace: argparse.Namespace, values: object,
+                 option_string: str | None = None) -> None:  # noqa: D102
+        from csql_sim.core.features.formulation import BUILTIN
+
+        if values in BUILTIN:
+            print(f"{parser.prog}: warning: --domain {values} is deprecated and goes in {ALIASES_UNTIL}; use "
+                  f"--formulation {values}", file=sys.stderr)
+            namespace.formulation = values
+            return
+        namespace.domain = values
+
+
+def formulation_of(args: argparse.Namespace) -> str:
+    """The formulation trained: ``--formulation`` (default 4op) or the PDDL file of ``--domain``, not both."""
+    if args.domain is not None and args.formulation is not None:
+        raise CsqlError(f"give --formulation {args.formulation} or --domain {args.domain!r} (a PDDL domain), not both")
+    return args.domain or args.formulation or "4op"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``train-lifted`` to the subparsers."""
-    p = command_parser(sub, "train-lifted", "learn lifted Q-classifiers on small worlds (plans for up to 26 blocks)",
+    p = command_parser(sub, "train-lifted", "learn lifted Q-classifiers on small worlds (their plans: up to "
+                       f"{MAX_PLANNED_BLOCKS:,} objects with 'plan --problem')",
                        "csql-sim train-lifted --out lifted.json")
     p.add_argument("--out", type=path_arg, required=True, help="lifted Q-classifier file to write (JSON)")
     p.add_argument("--trials", type=int_type(1, 10**7), default=3000, help="training trials (default 3000)")
     p.add_argument("--sizes", type=_sizes, default=(5,),
                    help="numbers of blocks of the worlds trained on, a comma list among 3,4,5 (default 5)")
     p.add_argument("--goals", type=int_type(1, 10**6), help="training goals per size (default 40; 200 with "
-                   "--features generated --domain move)")
+                   "--features generated --formulation move)")
     p.add_argument("--features", choices=("given", "generated"), default="given",
                    help="what the classifiers read: hand-written atoms (given, the default; see --atoms) or features "
                         "generated from the domain's predicates")
@@ -134,9 +178,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with the given atoms: the ones the classifiers read, a comma list among misplaced,goal-on,"
                         "ready,deadlocked,above-needed,least-stuck,deadlock,holding,cover, or all (default: all but "
                         "least-stuck)")
-    p.add_argument("--domain", type=_domain, default="4op",
-                   help="with --features generated: the formulation, 4op (default), move, or a PDDL domain file")
-    p.add_argument("--complexity", type=int_type(1, 10), default=8,
+    p.add_argument("--formulation", choices=("4op", "move"), default=None,
+                   help="with --features generated: the shipped formulation, 4op (default) or move")
+    p.add_argument("--domain", type=_domain, default=None, action=_DomainOption, metavar="FILE",
+                   help="with --features generated: a PDDL domain file to generate the features from, instead of "
+                        "--formulation")
+    p.add_argument("--complexity", type=int_type(1, 10), default=None,
                    help="with --features generated: the feature grammar's complexity bound K (default 8)")
     p.add_argument("--committee", type=int_type(1, 9), default=None,
                    help="with --features generated: populations learned apart from the seed, whose mean advantage "
@@ -145,4 +192,4 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_seed(p, "seed of the run's one generator")
     add_json(p)
     add_quiet(p)
-    p.set_defaults(func=cmd_train_lifted, declare=declare)
+    p.set_defaults(func=cmd_train_lifted, declare=declare, ignored=_ignored)

@@ -20,7 +20,7 @@ from csql_sim.infra.files import OutputError, atomic_output, write_or_keep
 from csql_sim.infra.outputs import Outputs
 from csql_sim.infra.provenance import provenance
 
-NOT_PARAMETERS = ("func", "declare", "json", "quiet", "overwrite", "mode_options")
+NOT_PARAMETERS = ("func", "declare", "json", "quiet", "overwrite", "mode_options", "ignored")
 """How a command reports and reads its options, not what it computes."""
 REPORT_VERSION = 1
 """The version of the JSON reports whose format :func:`with_format` names."""

@@ -5,19 +5,20 @@ from __future__ import annotations
 import argparse
 
 from csql_sim import __version__
-from csql_sim.cli.args import add_overwrite, blocks_arg, blocks_help, command_parser, path_arg
+from csql_sim.cli.args import add_domain_rules, add_json, add_quiet, blocks_arg, blocks_help, command_parser, path_arg
+from csql_sim.cli.output import emit
 from csql_sim.cli.plan import read_task
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import PDDL_HEADER, Outputs
 
 
 def declare_pddl(args: argparse.Namespace, outputs: Outputs) -> None:
-    """The folder, ``domain.pddl`` and (with --start) ``problem.pddl`` in it; ``--domain`` is read."""
+    """The folder, ``domain.pddl`` and (with --start) ``problem.pddl`` in it; ``--domain-rules`` is read."""
     out = outputs.folder(args.out, "PDDL folder")
     outputs.file(out / "domain.pddl", "PDDL domain", "pddl")
     if args.start is not None:
         outputs.file(out / "problem.pddl", "PDDL problem", "pddl")
-    outputs.input(args.domain, "domain rule file")
+    outputs.input(args.domain_rules, "domain rule file")
 
 
 def cmd_pddl(args: argparse.Namespace) -> int:
@@ -30,8 +31,8 @@ def cmd_pddl(args: argparse.Namespace) -> int:
 
     if (args.start is None) != (args.goal is None):
         raise CsqlError("pddl needs both --start and --goal, or neither")
-    if args.domain:
-        rb = load_r_classifiers(args.domain, args.blocks)
+    if args.domain_rules:
+        rb = load_r_classifiers(args.domain_rules, args.blocks)
         n, rules = rb.blocks, rb.classifiers
     else:
         n = args.blocks or 3
@@ -42,7 +43,7 @@ def cmd_pddl(args: argparse.Namespace) -> int:
         start, goal = read_task(args.start, args.goal, n)
         outputs.append((out / "problem.pddl", _headed("problem", problem_text(rules, start, goal))))
     written = write_or_keep(outputs)
-    print("wrote " + " and ".join(str(p) for p in written))
+    emit(args, {"blocks": n, "files": [str(p) for p in written]}, "wrote " + " and ".join(str(p) for p in written))
     return 0
 
 
@@ -56,13 +57,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = command_parser(sub, "pddl", "write the R-classifiers' world model as PDDL (domain, and a problem)",
                        "csql-sim pddl --start CBA --goal BAC --out task")
     p.add_argument("--blocks", type=blocks_arg, default=None, help=blocks_help(2, 6, "3, or the domain's"))
-    p.add_argument("--domain", type=path_arg,
-                   help="here a rule file: its R-classifiers are the world model written (default: Figure 5 / "
-                        "generated)")
+    add_domain_rules(p, "a rule file whose R-classifiers are the world model written (default: Figure 5 / "
+                        "generated; was --domain)")
     p.add_argument("--start", help="start configuration, e.g. CBA (writes problem.pddl with --goal)")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
     p.add_argument("--out", type=path_arg, required=True, help="folder for domain.pddl and problem.pddl")
-    add_overwrite(p)
+    add_json(p)
+    add_quiet(p)
     p.set_defaults(func=cmd_pddl, declare=declare_pddl)
 
 

@@ -192,7 +192,7 @@ def declare_plan(args: argparse.Namespace, outputs: Outputs) -> None:
     if args.problem is not None or args.problems is not None:
         declare_problem(args, outputs)
     outputs.input(args.rules, "rule file")
-    if args.plan_out is not None:
+    if args.plan_out is not None and args.problems is None:  # with --problems a folder (declare_problem)
         if args.pairs is not None:
             raise CsqlError("--plan-out writes the plan of one --start/--goal task; it does not go with --pairs "
                             "(use --json for the plans of many pairs)")

@@ -14,12 +14,14 @@ import os
 from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import (
+    RULES_BUILTIN_HELP,
     DeprecatedAlias,
     add_json,
     add_overwrite,
     add_quiet,
     command_parser,
     path_arg,
+    rules_arg,
     show_progress,
     threshold_arg,
 )
@@ -33,7 +35,7 @@ if TYPE_CHECKING:
     from csql_sim.core.policies.feature_policy import FeaturePolicy
 
 RULES_HELP = ("a rule file: from 'csql-sim train' (YAML, npz or a sharded directory), 'generalize', "
-              "'train-lifted' or 'discover --lifted'")
+              "'train-lifted' or 'discover --lifted'" + RULES_BUILTIN_HELP)
 
 
 def settle_rules(args: argparse.Namespace) -> None:
@@ -97,13 +99,17 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
     if args.start is not None or args.goal is not None:
         raise CsqlError(f"{args.rules} is a {kind} file, shown whole; --start/--goal pick the greedy path of a "
                         f"ground rule base (plan a task with 'csql-sim plan --rules {args.rules}')")
+    extra: dict = {}
     if kind == formats.LIFTED_Q:
+        from csql_sim.core.policies.agreement import agreement
         from csql_sim.core.policies.feature_policy import FeaturePolicy
         from csql_sim.core.policies.loader import load_policy
         from csql_sim.core.state.move_relations import ATOMS
 
         policy = load_policy(args.rules)
         meta, field = policy.meta, "classifiers"
+        agreed = agreement(policy)
+        extra = {"agreement": agreed.as_dict()}
         if isinstance(policy, FeaturePolicy):
             lines = _feature_lines(policy)
             head = ["lifted Q-classifiers over features generated from the domain's predicates (1: holds, 0: does "
@@ -117,8 +123,9 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
 
         lines, meta, field = [r.text() for r in load_lifted(args.rules)], {}, "rules"
         head = [f"{len(lines)} lifted R-classifiers (they ground to the R-classifiers of any n)"]
-    doc = {"rules": os.fspath(args.rules), "kind": kind, field: lines, "meta": meta}
-    emit(args, doc, lambda: [*head, *(f"  {line}" for line in lines)])
+    doc = {"rules": os.fspath(args.rules), "kind": kind, field: lines, "meta": meta, **extra}
+    tail = [agreed.describe()] if extra else []
+    emit(args, doc, lambda: [*head, *(f"  {line}" for line in lines), *tail])
     return 0
 
 
@@ -142,13 +149,15 @@ def cmd_prune(args: argparse.Namespace) -> int:
     rb = load(args.rules, progress=show_progress(args))
     pruned = prune(rb, args.threshold)
     path = write_or_keep([(args.out, file_bytes(args.out, pruned))])[0]
-    print(f"Q-classifiers: {count_q(rb)} before, {count_q(pruned)} after pruning at {args.threshold:g}; wrote {path}")
+    doc = {"threshold": args.threshold, "q_before": count_q(rb), "q_after": count_q(pruned), "out": str(path)}
+    emit(args, doc, f"Q-classifiers: {doc['q_before']} before, {doc['q_after']} after pruning at "
+                    f"{args.threshold:g}; wrote {path}")
     return 0
 
 
 def _add_rules(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--rules", type=path_arg, default=None, help=RULES_HELP)
-    p.add_argument("rules_positional", nargs="?", type=path_arg, metavar="RULES", action=DeprecatedAlias,
+    p.add_argument("--rules", type=rules_arg, default=None, help=RULES_HELP)
+    p.add_argument("rules_positional", nargs="?", type=rules_arg, metavar="RULES", action=DeprecatedAlias,
                    new="--rules RULES", help="the same as --rules RULES (deprecated: goes in 0.3.0)")
 
 
@@ -171,6 +180,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=path_arg, required=True, help="rule file to write (not the rule file read)")
     add_overwrite(p)
     add_quiet(p)
+    add_json(p)
     p.set_defaults(func=cmd_prune, declare=declare_prune)
 
 

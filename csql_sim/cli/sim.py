@@ -9,9 +9,9 @@ import sys
 from typing import TYPE_CHECKING
 
 from csql_sim.cli.args import (
+    RULES_BUILTIN_HELP,
     add_backend_arguments,
     add_json,
-    add_overwrite,
     add_planner,
     add_quiet,
     add_renderer_argument,
@@ -23,6 +23,7 @@ from csql_sim.cli.args import (
     int_type,
     path_arg,
     positive_int,
+    rules_arg,
     seed_arg,
     show_progress,
     warn_workers,
@@ -42,6 +43,7 @@ from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
+from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.sim.world import MAX_ARM_BLOCKS
 
 DEFAULT_VIDEO = "video.mp4"
@@ -92,12 +94,25 @@ def pairs_arg(text: str) -> str | int:
     return positive_int(text)
 
 
-def print_episode(result: EpisodeResult, n: int) -> None:
-    """Print the legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.control.report.episode_lines`)."""
+def episode_text(result: EpisodeResult, n: int) -> list[str]:
+    """The legend of the ``n`` cubes and the episode (:func:`csql_sim.sim.control.report.episode_lines`)."""
     from csql_sim.sim.control import episode_lines
     from csql_sim.sim.world import legend_line
 
-    print("\n".join([legend_line(n), *episode_lines(result)]))
+    return [legend_line(n), *episode_lines(result)]
+
+
+def print_episode(result: EpisodeResult, n: int) -> None:
+    """Print :func:`episode_text`."""
+    print("\n".join(episode_text(result, n)))
+
+
+def episode_doc(result: EpisodeResult) -> dict:
+    """An episode for a ``--json`` report: the task, the verdict from perception and each action run."""
+    return {"start": result.start, "goal": result.goal, "seed": result.seed, "success": result.success,
+            "reason": result.reason, "length": result.length, "optimal_length": result.optimal_length,
+            "sim_seconds": round(result.sim_seconds, 3),
+            "steps": [{"action": s.action, "predicted": s.predicted, "perceived": s.perceived} for s in result.steps]}
 
 
 def declare_render(args: argparse.Namespace, outputs: Outputs) -> None:
@@ -121,6 +136,8 @@ def declare_evaluate(args: argparse.Namespace, outputs: Outputs) -> None:
         outputs.file(args.plot, "plot", "png", option="--plot")
     outputs.input(args.rules, "rule file")
     outputs.input(args.domain, "domain file")
+    outputs.input_folder(getattr(args, "problems", None), "PDDL problem")
+    outputs.input_folder(getattr(args, "plans", None), "plan file", "*")
 
 
 def cmd_render(args: argparse.Namespace) -> int:
@@ -144,10 +161,10 @@ def cmd_render(args: argparse.Namespace) -> int:
                                   provenance_extra={"rules": rules_source(args.rules),
                                                     **({"planner": args.planner} if args.planner else {})},
                                   camera_noise=CameraNoise(*args.camera_noise), renderer=args.renderer)
-    print_episode(result, start.n)
     frames = video_frame_count(result.recording, args.fps) if result.recording else 0
-    print(f"wrote {path} ({frames} frames at {args.fps} fps, {args.width}x{args.height}; "
-          f"provenance in {sidecar_path(path)})")
+    doc = {**episode_doc(result), "video": str(path), "frames": frames, "sidecar": str(sidecar_path(path))}
+    emit(args, doc, lambda: [*episode_text(result, start.n), f"wrote {path} ({frames} frames at {args.fps} fps, "
+                             f"{args.width}x{args.height}; provenance in {sidecar_path(path)})"])
     return 0 if result.success else 1
 
 
@@ -189,10 +206,10 @@ def render_discovery(args: argparse.Namespace) -> int:
     result, recording = record_discovery(args.blocks, args.seed, args.transitions, args.fps, args.perception,
                                          args.perturb)
 
-    print(legend_line(args.blocks))
+    lines = [legend_line(args.blocks)]
     for t in result.log:
         name = parse_action_message(t.action, args.blocks).name()
-        print(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
+        lines.append(f"  {t.before}  {name:<14} {'ok' if t.ok else 'FAILED: ' + t.reason}")
     path = write_video(recording, args.out, args.width, args.height, args.fps, args.workers,
                        progress=show_progress(args), renderer=args.renderer)
     frames = video_frame_count(recording, args.fps)
@@ -202,7 +219,9 @@ def render_discovery(args: argparse.Namespace) -> int:
     video = {"file": path.name, "frames": frames, "attempts": result.transitions, "failed": result.failed,
              "legend": cube_legend(args.blocks)}
     sidecar = write_atomic(sidecar_path(path), json.dumps(sidecar_record(record, video), indent=1) + "\n")
-    print(f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({frames} frames) and {sidecar}")
+    emit(args, {**video, "video": str(path), "sidecar": str(sidecar)},
+         [*lines, f"{result.transitions} attempts, {result.failed} failed; wrote {path} ({frames} frames) and "
+                  f"{sidecar}"])
     return 0
 
 
@@ -230,13 +249,13 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
 
 
 def _named_planner(args: argparse.Namespace) -> str | None:
-    """``evaluate --planner``: the named baseline to run (``gn1``), or None for ``--rules`` / BFS."""
+    """``evaluate --planner``: the named baseline to run (``gn1``, ``gn2``), or None for ``--rules`` / BFS."""
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
         raise CsqlError("--planner rules needs --rules FILE")
     if planner != "rules" and args.rules:
         raise CsqlError(f"--planner {planner} does not read --rules {args.rules!r}; give one of them")
-    return "gn1" if planner == "gn1" else None
+    return planner if planner in NAMED_POLICIES else None
 
 
 def _evaluate_problems(args: argparse.Namespace) -> int:
@@ -245,8 +264,9 @@ def _evaluate_problems(args: argparse.Namespace) -> int:
 
     if args.problems is None:
         raise CsqlError("--plans and --domain go with --problems DIR")
-    if args.planner == "gn1":
-        raise CsqlError("--planner gn1 plans pairs; with --problems give --plans DIR, --rules FILE or nothing (BFS)")
+    if args.planner in NAMED_POLICIES:
+        raise CsqlError(f"--planner {args.planner} plans pairs; with --problems give --plans DIR, --rules FILE "
+                        "or nothing (BFS)")
     if args.plot is not None:
         raise CsqlError("--plot draws pairs; it does not apply to --problems")
     if args.plans is not None and args.planner is not None:
@@ -288,9 +308,10 @@ def register(sub: argparse._SubParsersAction) -> None:
                        "csql-sim render --start CBA --goal BAC --out task.mp4")
     p.add_argument("--start", help="start configuration, e.g. CBA (A on B on C); '+X' holds X")
     p.add_argument("--goal", help="goal configuration, e.g. BAC")
-    p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
-    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
+    p.add_argument("--rules", type=rules_arg,
+                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)"
+                        + RULES_BUILTIN_HELP)
+    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1, gn2 and lifted rules: any n")
     p.add_argument("--out", type=path_arg, default=None,
                    help=f"output .mp4 or .gif (default {DEFAULT_VIDEO}; an existing one is kept unless --overwrite)")
     p.add_argument("--width", type=positive_int, default=640, help="frame width (default 640)")
@@ -310,17 +331,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--blocks", type=blocks_arg, default=None,
                    help=blocks_help(2, MAX_BLOCKS, DISCOVERY_BLOCKS, "; with --discovery only: a task's blocks "
                                     "come from --start"))
-    add_overwrite(p)
+    add_json(p)
     p.set_defaults(func=cmd_render, declare=declare_render)
 
     p = command_parser(sub, "evaluate", "run physical episodes over start/goal pairs and report success",
                        "csql-sim evaluate --blocks 3 --rules rules.yaml")
-    p.add_argument("--rules", type=path_arg,
-                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)")
-    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1 and lifted rules: any n")
+    p.add_argument("--rules", type=rules_arg,
+                   help="a rule base from 'csql-sim train', or lifted rules (any n; default: the BFS planner)"
+                        + RULES_BUILTIN_HELP)
+    add_planner(p, f"up to {MAX_BLOCKS} blocks; gn1, gn2 and lifted rules: any n")
     p.add_argument("--blocks", type=arm_blocks_arg, default=None,
                    help=blocks_help(2, MAX_ARM_BLOCKS, 3, f"; past {MAX_BLOCKS} the states are relational and the "
-                                    f"policy lifted: --planner gn1, or lifted --rules"))
+                                    f"policy lifted: --planner gn1|gn2, or lifted --rules"))
     p.add_argument("--pairs", type=pairs_arg, default=None,
                    help=f"'all' (the default up to {MAX_BLOCKS} blocks) or a sample size K (past {MAX_BLOCKS} "
                         f"blocks drawn uniformly by counting; default {LARGE_DEFAULT_PAIRS}, --seed 0)")

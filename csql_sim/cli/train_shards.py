@@ -122,9 +122,9 @@ def check_directory(args: argparse.Namespace) -> Path | None:
     """
     from csql_sim.core.files import rulebase_shards as rs
 
-    if args.method != "cs-ql" or args.engine == "reference" or args.domain:
+    if args.method != "cs-ql" or args.engine == "reference" or args.domain_rules:
         raise CsqlError("sharded training runs cs-ql's array engine with the built-in R-classifiers "
-                        "(no --method other than cs-ql, --engine reference or --domain)")
+                        "(no --method other than cs-ql, --engine reference or --domain-rules)")
     if args.out is None:  # --dry-run without --out: the estimate alone
         return None
     out = Path(args.out)

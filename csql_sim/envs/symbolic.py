@@ -71,12 +71,19 @@ def check_max_steps(max_steps: object) -> int | None:
     raise CsqlError(f"max_steps must be None or a positive integer, got {max_steps!r}")
 
 
+RESET_OPTIONS = ("start", "goal")
+"""The keys ``reset(options=...)`` reads; any other is a ValueError (CsqlError) naming it."""
+
+
 def check_options(options: object) -> dict:
     """``reset``'s ``options``: a dict (or None, read as empty), else a CsqlError."""
     if options is None:
         return {}
     if not isinstance(options, dict):
         raise CsqlError(f"options must be a dict or None, got {type(options).__name__} {options!r:.80}")
+    unknown = sorted(repr(k)[:60] for k in options if k not in RESET_OPTIONS)
+    if unknown:
+        raise CsqlError(f"unknown reset option {', '.join(unknown[:3])}; the options are {', '.join(RESET_OPTIONS)}")
     return options
 
 

@@ -19,4 +19,26 @@ def asset_text(folder: str, name: str) -> str:
         return (Path(__file__).resolve().parents[2] / "assets" / folder / name).read_text(encoding="utf-8")
 
 
-__all__ = ["asset_text"]
+BUILTIN_RULES = "builtin"
+"""The name of the shipped lifted rules wherever ``--rules`` is taken (``--rules builtin``)."""
+BUILTIN_RULES_FILE = ("rules", "lifted.json")
+"""The shipped lifted rules, under ``assets/`` (installed as ``csql_sim.assets``)."""
+
+
+def asset_path(folder: str, name: str) -> Path:
+    """An asset's path on disk: the installed ``csql_sim.assets``, else the checkout's ``assets/``."""
+    try:
+        found = Path(str(resources.files("csql_sim.assets").joinpath(folder, name)))
+    except ModuleNotFoundError:
+        found = None
+    if found is None or not found.is_file():
+        found = Path(__file__).resolve().parents[2] / "assets" / folder / name
+    return found
+
+
+def builtin_rules_path() -> Path:
+    """The file that ``--rules builtin`` names: the shipped lifted rules (any number of blocks)."""
+    return asset_path(*BUILTIN_RULES_FILE)
+
+
+__all__ = ["BUILTIN_RULES", "asset_path", "asset_text", "builtin_rules_path"]

@@ -43,10 +43,13 @@ def same_path(a: str | os.PathLike, b: str | os.PathLike) -> bool:
         return os.path.realpath(a) == os.path.realpath(b)
 
 
-def _inside(folder: str | os.PathLike, path: str | os.PathLike) -> bool:
-    """Whether ``path`` lies (at any depth) inside ``folder``, after resolving both."""
-    outer, inner = Path(os.path.realpath(folder)), Path(os.path.realpath(path))
-    return outer != inner and outer in inner.parents
+def _key(path: str | os.PathLike) -> tuple:
+    """What :func:`same_path` compares, as a dict key: the file's device and inode, else the resolved path."""
+    try:
+        st = os.stat(path)
+    except (OSError, ValueError):
+        return ("path", os.path.realpath(path))
+    return ("inode", st.st_dev, st.st_ino)
 
 
 @dataclass(frozen=True)
@@ -105,6 +108,12 @@ class Outputs:
         if path is not None:
             self.inputs.append((Path(path), what))
 
+    def input_folder(self, folder: str | os.PathLike | None, what: str, pattern: str = "*.pddl") -> None:
+        """Declare every file of ``folder`` matching ``pattern`` as an input (None: no such input this time)."""
+        if folder is not None and os.path.isdir(folder):
+            for path in sorted(Path(folder).glob(pattern)):
+                self.inputs.append((path, what))
+
     def check(self) -> None:
         """Every check of the module docstring, before any work.
 
@@ -122,27 +131,41 @@ class Outputs:
                 self._check_replace(out)
 
     def _check_clashes(self) -> None:
-        written = [out for out in self.outputs if out.kind is not None]
-        for i, a in enumerate(self.outputs):
-            for b in self.outputs[i + 1:]:
-                if same_path(a.path, b.path):
-                    raise OutputError(f"{a.what} {a.shown} and {b.what} {b.shown} are the same path; "
-                                      f"give each output a path of its own")
-            for b in written:
-                if a.kind is not None and _inside(a.path, b.path):
+        """Outputs that are one file, a file another needs as its folder, an input: linear in their number.
+
+        Each path is keyed by the file it names (device and inode when it exists, else its
+        resolved path, as :func:`same_path` compares), so one pass over a dict finds them all.
+        """
+        seen: dict[tuple, Output] = {}
+        for out in self.outputs:
+            first = seen.setdefault(_key(out.path), out)
+            if first is not out:
+                raise OutputError(f"{first.what} {first.shown} and {out.what} {out.shown} are the same path; "
+                                  f"give each output a path of its own")
+        files_at = {os.path.realpath(out.path): out for out in self.outputs if out.kind is not None}
+        for b in self.outputs:
+            if b.kind is None:
+                continue
+            for parent in Path(os.path.realpath(b.path)).parents:
+                a = files_at.get(os.fspath(parent))
+                if a is not None:
                     raise OutputError(f"{a.what} {a.shown} would be a file, but {b.what} {b.shown} needs it "
                                       f"as a folder")
-        for out in written:
-            for path, what in self.inputs:
-                if same_path(out.path, path):
-                    raise OutputError(f"{out.what} {out.shown} is the {what} this command reads; "
-                                      f"refusing to replace an input (give another {out.option})")
+        inputs = {_key(path): what for path, what in self.inputs}
+        for out in self.outputs:
+            what = inputs.get(_key(out.path)) if out.kind is not None else None
+            if what is not None:
+                raise OutputError(f"{out.what} {out.shown} is the {what} this command reads; "
+                                  f"refusing to replace an input, even with --overwrite (give another {out.option})")
 
     def _check_replace(self, out: Output) -> None:
         """An existing file is replaced only with ``--overwrite``, and a model never by anything but a model."""
         assert out.kind is not None
         target = write_target(out.path)
         if not target.exists():
+            if os.path.lexists(out.path) and not self.overwrite:  # a dangling link: never followed unasked
+                raise OutputError(f"{out.what} {out.shown} ({out.option}) is a link to nothing; give --overwrite "
+                                  f"to write through it, or another {out.option}")
             return
         model = formats.model_kind(target) if out.kind != "rules" else None
         if model is not None:

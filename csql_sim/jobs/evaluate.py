@@ -17,7 +17,6 @@ from typing import Any
 import numpy as np
 
 from csql_sim import __version__
-from csql_sim.core.policies.gn1 import NAMED_POLICIES
 from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.policy import Policy
@@ -28,6 +27,7 @@ from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import provenance, rules_source
 from csql_sim.infra.ray_session import ray_session
 from csql_sim.infra.workers import worker_count
+from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.jobs.episodes import Episodes, EpisodeSpec, batches, plan_episodes
 from csql_sim.jobs.episodes import make_specs as make_specs  # re-exported: the episodes of an evaluation
 from csql_sim.jobs.job_memory import check_episodes

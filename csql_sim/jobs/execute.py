@@ -37,12 +37,12 @@ from typing import Any
 from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_plan, read_plan
 from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
 from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
-from csql_sim.core.policies.gn1 import NAMED_POLICIES
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.state.world import LETTERS, MAX_BLOCKS, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
+from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.jobs.execute_report import ExecuteResult, StepReport
 from csql_sim.jobs.execute_steps import BEFORE, final_state, policy_reports, replay_reports
 

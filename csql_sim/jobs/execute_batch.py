@@ -73,6 +73,11 @@ def problem_files(folder: str | os.PathLike) -> list[tuple[Path, str | None]]:
     return found
 
 
+def plan_file_name(problem: Path) -> str:
+    """The name of ``problem``'s plan file as ``plan --problems --plan-out`` writes it: ``<stem>.plan``."""
+    return problem.stem + PLAN_SUFFIXES[0]
+
+
 def plan_file(problem: Path, plans: str | os.PathLike) -> Path:
     """The plan of ``problem`` in the plans folder (``<stem>.plan``, ``.soln`` or ``.pddl.soln``)."""
     for suffix in PLAN_SUFFIXES:

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -142,21 +142,27 @@ def _end(start: State, actions: tuple[Action, ...]) -> State:
     return state
 
 
-def plan_folder(folder: str | os.PathLike, domain: str | os.PathLike | None, policy_for: PolicyFor,
-                planner: str, budget_s: float, progress: Callable[[str], None] | None = None) -> list[ProblemPlan]:
-    """Every problem of ``folder`` (sorted; domain files skipped): a failed row where one cannot be read or planned."""
-    out = []
+def iter_folder(folder: str | os.PathLike, domain: str | os.PathLike | None, policy_for: PolicyFor,
+                planner: str, budget_s: float) -> Iterator[ProblemPlan]:
+    """Every problem of ``folder`` (sorted; domain files skipped), each as it is planned.
+
+    A problem that cannot be read or planned (a CsqlError, a WorldError) is a failed row naming
+    its file, and the folder's other problems still run.
+    """
     for path, unreadable in problem_files(folder):
-        if progress is not None:
-            progress(path.name)
         if unreadable is not None:
-            out.append(ProblemPlan(os.fspath(path), None, planner, False, reason=unreadable))
+            yield ProblemPlan(os.fspath(path), None, planner, False, reason=unreadable)
             continue
         try:
-            out.append(plan_problem(path, domain, policy_for, planner, budget_s))
+            yield plan_problem(path, domain, policy_for, planner, budget_s)
         except CsqlError as exc:
-            out.append(ProblemPlan(os.fspath(path), None, planner, False, reason=_named(str(exc), path)))
-    return out
+            yield ProblemPlan(os.fspath(path), None, planner, False, reason=_named(str(exc), path))
+
+
+def plan_folder(folder: str | os.PathLike, domain: str | os.PathLike | None, policy_for: PolicyFor,
+                planner: str, budget_s: float) -> list[ProblemPlan]:
+    """:func:`iter_folder` as a list."""
+    return list(iter_folder(folder, domain, policy_for, planner, budget_s))
 
 
 def _named(message: str, path: Path) -> str:

@@ -23,6 +23,7 @@ problems of more than six blocks are written, and ``execute`` refuses them today
 from __future__ import annotations
 
 import os
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -160,16 +161,34 @@ def relational_problem_text(name: str, start: State, goal: State) -> str:
                         block_names(start.n))
 
 
-def drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0) -> list[tuple[str, str]]:
-    """``(file name, text)`` of ``domain.pddl`` and ``count`` problems per size, drawn from ``distribution``.
+MAX_DRAWN_PROBLEMS = 10_000
+"""The most problems one ``problems`` run writes (all sizes together), checked before anything is drawn."""
+
+
+def drawn_names(distribution: str, blocks: list[int], count: int) -> list[str]:
+    """The file names :func:`iter_drawn_problems` gives, without drawing: ``domain.pddl``, then the problems.
+
+    Raises:
+        CsqlError: ``count`` below 1, or more than :data:`MAX_DRAWN_PROBLEMS` problems in all.
+    """
+    if count < 1:
+        raise CsqlError(f"count must be at least 1, got {count}")
+    if count * len(blocks) > MAX_DRAWN_PROBLEMS:
+        raise CsqlError(f"{count} problems for each of {len(blocks)} size(s) is {count * len(blocks):,} problems; "
+                        f"one run writes at most {MAX_DRAWN_PROBLEMS:,}")
+    return ["domain.pddl", *(f"{distribution}-{n}-{k:02d}.pddl" for n in blocks for k in range(1, count + 1))]
+
+
+def iter_drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0
+                        ) -> Iterator[tuple[str, str]]:
+    """``(file name, text)`` of ``domain.pddl`` and ``count`` problems per size, each drawn when asked for.
 
     Problems are named ``<distribution>-<n>-<k>.pddl`` (k from 01); one generator seeded
     with ``seed`` draws them all, size by size in the order given, start before goal.
     """
-    if count < 1:
-        raise CsqlError(f"count must be at least 1, got {count}")
+    drawn_names(distribution, blocks, count)  # the bounds, before the first draw
     rng = np.random.default_rng(seed)
-    out = [("domain.pddl", DOMAIN_TEXT)]
+    yield "domain.pddl", DOMAIN_TEXT
     for n in blocks:
         for k in range(1, count + 1):
             name = f"{distribution}-{n}-{k:02d}"
@@ -178,5 +197,9 @@ def drawn_problems(distribution: str, blocks: list[int], count: int, seed: int =
             except WorldError as exc:
                 raise CsqlError(str(exc)) from None
             header = f"; csql-sim problem: {distribution}, {n} blocks, seed {seed}, task {k}\n"
-            out.append((f"{name}.pddl", header + relational_problem_text(name, start, goal)))
-    return out
+            yield f"{name}.pddl", header + relational_problem_text(name, start, goal)
+
+
+def drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0) -> list[tuple[str, str]]:
+    """:func:`iter_drawn_problems` as a list."""
+    return list(iter_drawn_problems(distribution, blocks, count, seed))

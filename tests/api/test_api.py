@@ -61,7 +61,15 @@ def test_a_plan_is_in_the_problems_names_and_optimal_length_is_bfs(tmp_path):
     bfs = csql_sim.plan(PROBLEM, planner="bfs")
     assert bfs.length == bfs.optimal_length == from_file.optimal_length
     assert csql_sim.validate(PROBLEM, bfs).valid and csql_sim.validate(PROBLEM, from_file).valid
-    assert csql_sim.plan(PROBLEM, planner="gn1").solved
+    assert csql_sim.plan(PROBLEM, planner="gn1").solved and csql_sim.plan(PROBLEM, planner="gn2").solved
+
+
+def test_the_default_rules_are_the_file_that_rules_builtin_names():
+    from csql_sim.infra.assets import builtin_rules_path
+
+    default, by_file = csql_sim.plan(PROBLEM), csql_sim.plan(PROBLEM, rules=builtin_rules_path())
+    assert default.actions == by_file.actions == csql_sim.plan(PROBLEM, rules="builtin").actions
+    assert (default.planner, by_file.planner) == ("builtin", "rules")
 
 
 def test_a_plan_written_reads_back_and_validates(tmp_path):
@@ -93,9 +101,28 @@ def test_validate_names_the_failing_step_and_the_missing_goal():
     assert not verdict.valid and len(verdict.errors) == 1 and "step 1" in verdict.errors[0]
     short = csql_sim.validate(PROBLEM, plan.actions[:-1])
     assert not short.valid and "(on pearl coral)" in short.errors[0] and short.steps == plan.length - 1
-    unknown = csql_sim.validate(PROBLEM, ["(unstack coral ruby)"])
-    assert not unknown.valid and "ruby" in unknown.errors[0]
-    assert not bool(unknown) and bool(csql_sim.validate(PROBLEM, plan.text()))
+    assert short.errors == tuple(f"goal {atom} does not hold after step {plan.length - 1}"
+                                 for atom in planning.read_blocks(PROBLEM).goal.unsatisfied(
+                                     short.report.end))  # one line per goal atom missed, as `csql-sim validate`
+    assert not bool(short) and bool(csql_sim.validate(PROBLEM, plan.text()))
+
+
+def test_a_plan_line_that_is_no_action_of_the_problem_is_bad_input_as_in_the_validate_command():
+    with pytest.raises(CsqlError, match="ruby") as err:
+        csql_sim.validate(PROBLEM, ["(unstack coral ruby)"])
+    assert "\n" not in str(err.value)
+
+
+def test_validate_gives_the_verdict_of_the_validate_command(tmp_path, capsys):
+    from csql_sim.cli import main
+
+    plan = csql_sim.plan(PROBLEM)
+    (tmp_path / "p.pddl").write_text(PROBLEM)
+    (tmp_path / "bad.plan").write_text("\n".join([plan.lines[1], plan.lines[0], *plan.lines[2:]]))
+    verdict = csql_sim.validate(tmp_path / "p.pddl", tmp_path / "bad.plan")
+    assert main(["validate", "--problem", str(tmp_path / "p.pddl"), "--plan", str(tmp_path / "bad.plan")]) == 1
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[: len(verdict.errors)] == list(verdict.errors) and not verdict.valid and verdict.applied == 0
 
 
 @pytest.mark.parametrize("kwargs, names", [({"planner": "rules"}, "rules"), ({"planner": "astar"}, "planner"),

@@ -75,7 +75,7 @@ def test_planner_offers_the_same_choices_wherever_plans_are_made():
     subs = _subparsers()
     choices = {name: tuple(_options(subs[name])["--planner"].choices) for name in ("plan", "evaluate", "render",
                                                                                   "execute")}
-    assert set(choices.values()) == {("bfs", "rules", "gn1")}
+    assert set(choices.values()) == {("bfs", "rules", "gn1", "gn2")}
 
 
 def test_every_rule_file_is_read_with_rules():

@@ -70,7 +70,7 @@ def _readers(path, out):
 @pytest.mark.parametrize("field", ["q", "age"])
 def test_a_400_digit_number_in_a_rule_file(capsys, tmp_path, trained, field):
     path = _write(tmp_path, "big.yaml", re.sub(rf", {field}: [^,}}]+", f", {field}: {BIG}", trained, count=1))
-    for argv in [*_readers(path, tmp_path), ["pddl", "--domain", path, "--out", tmp_path / "pddl"]]:
+    for argv in [*_readers(path, tmp_path), ["pddl", "--domain-rules", path, "--out", tmp_path / "pddl"]]:
         refused(capsys, tmp_path, *argv, names=path)
     with pytest.raises(CsqlError, match=f"{field} must be a finite float64"):
         load(path)
@@ -106,8 +106,8 @@ def test_meta_that_is_not_json_data(capsys, tmp_path, trained, value, kind):
 # ------------------------------------------------------------------ 3. non-ASCII patterns
 def test_a_non_ascii_pattern_in_yaml(capsys, tmp_path):
     path = _paper(tmp_path, "u.yaml", "S#1#####b#####0#", "S#1#####b#####é#")
-    for argv in [*_readers(path, tmp_path), ["train", "--domain", path, "--out", tmp_path / "t.yaml", "--quiet"],
-                 ["pddl", "--domain", path, "--out", tmp_path / "pddl"]]:
+    for argv in [*_readers(path, tmp_path), ["train", "--domain-rules", path, "--out", tmp_path / "t.yaml", "--quiet"],
+                 ["pddl", "--domain-rules", path, "--out", tmp_path / "pddl"]]:
         refused(capsys, tmp_path, *argv, names=path)
 
 
@@ -134,8 +134,8 @@ def test_a_non_ascii_pattern_in_npz(capsys, tmp_path, trained):
 ])
 def test_invalid_patterns(capsys, tmp_path, old, new, fragment):
     path = _paper(tmp_path, "bad.yaml", old, new)
-    for argv in (["train", "--domain", path, "--out", tmp_path / "t.yaml", "--quiet", "--trials", "5"],
-                 ["pddl", "--domain", path, "--out", tmp_path / "pddl"], ["show", "--rules", path],
+    for argv in (["train", "--domain-rules", path, "--out", tmp_path / "t.yaml", "--quiet", "--trials", "5"],
+                 ["pddl", "--domain-rules", path, "--out", tmp_path / "pddl"], ["show", "--rules", path],
                  ["plan", "--rules", path, "--start", "CBA", "--goal", "BAC"]):
         err = refused(capsys, tmp_path, *argv, names=path)
         assert fragment in err
@@ -144,7 +144,7 @@ def test_invalid_patterns(capsys, tmp_path, old, new, fragment):
 def test_discovered_rules_still_train(capsys, tmp_path):
     rules = tmp_path / "d.yaml"
     assert main(["discover", "--world", "symbolic", "--blocks", "3", "--out", str(rules), "--quiet"]) == 0
-    assert main(["train", "--domain", str(rules), "--trials", "20", "--out", str(tmp_path / "t.yaml"),
+    assert main(["train", "--domain-rules", str(rules), "--trials", "20", "--out", str(tmp_path / "t.yaml"),
                  "--quiet"]) == 0
     assert main(["show", "--rules", str(tmp_path / "t.yaml")]) == 0
 
@@ -192,5 +192,5 @@ def test_a_domain_with_dead_end_states_is_refused_before_training(capsys, tmp_pa
         kept = [next(r for r in rules if isinstance(r, PreconditionRule)),
                 next(r for r in rules if isinstance(r, AddDeleteRule))]
     domain = save(tmp_path / "domain.yaml", RuleBase(3, kept))
-    refused(capsys, tmp_path, "train", "--domain", domain, "--out", tmp_path / "t.yaml", names="no legal action")
+    refused(capsys, tmp_path, "train", "--domain-rules", domain, "--out", tmp_path / "t.yaml", names="no legal action")
     assert not (tmp_path / "t.yaml").exists()

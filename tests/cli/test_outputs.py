@@ -110,7 +110,7 @@ def test_an_existing_output_is_replaced_only_with_overwrite(capsys, tmp_path, mo
     ["show", "--rules", "r.yaml", "--json", "r.yaml"],
     ["prune", "--rules", "r.yaml", "--out", "r.yaml"],
     ["plan", "--rules", "r.yaml", "--start", "CBA", "--goal", "BAC", "--json", "r.yaml"],
-    ["train", "--domain", "r.yaml", "--out", "r.yaml", "--overwrite"],
+    ["train", "--domain-rules", "r.yaml", "--out", "r.yaml", "--overwrite"],
 ])
 def test_no_output_is_an_input(capsys, tmp_path, monkeypatch, argv):
     monkeypatch.chdir(tmp_path)

@@ -210,3 +210,13 @@ def test_plan_steps_carry_the_view_of_their_n():
     assert plan_steps([stack], 7)[0] == {"code": 63, "name": "stack(B,A)", "message": "A1R0000000100ba00"}
     assert plan_steps([Action(ActionKind.PICKUP, 26)], 30)[0] == {"code": 30 * 29 + 27, "name": "pickup(AA)",
                                                                   "message": None}
+
+
+@pytest.mark.parametrize("planner", ["gn1", "gn2"])
+def test_the_named_baselines_plan_seeded_pairs_of_twelve_blocks_to_the_goal(capsys, planner):
+    code, out, _ = run(capsys, "plan", "--planner", planner, "--pairs", 5, "--blocks", 12, "--seed", 3, "--json")
+    doc = json.loads(out)
+    drawn = sample_pairs(12, 5, np.random.default_rng(3))
+    assert code == 0 and len(doc["plans"]) == 5
+    for plan, (start, goal) in zip(doc["plans"], drawn, strict=True):
+        assert applied(start, plan["plan"]) == goal and plan["length"] >= optimal_length(start, goal)

@@ -67,7 +67,7 @@ def test_a_generated_problem_is_planned_and_its_plan_file_read_back(capsys, tmp_
     assert code == 0, err
     doc = json.loads(out)
     assert doc["solved"] and doc["blocks"] == 40 and doc["cost"] == len(doc["plan"]) >= doc["lower_bound"] > 0
-    assert doc["plan"][0]["message"] is None and re.fullmatch(r"[a-z]+\(b\d+(,b\d+)?\)", doc["plan"][0]["name"])
+    assert doc["plan"][0]["message"] is None and re.fullmatch(r"\([a-z-]+ b\d+( b\d+)?\)", doc["plan"][0]["name"])
     text = (tmp_path / "p.plan").read_text()
     assert re.search(r"^\((pick-up|unstack) b\d+", text, re.M) and f"; cost = {doc['cost']}" in text
     bp, steps, end = replayed(problem, tmp_path / "p.plan", domain)
@@ -130,7 +130,7 @@ def test_a_domain_that_is_not_the_blocks_world_is_refused(capsys, tmp_path):
 @pytest.mark.parametrize("argv, names", [
     (["--problem", "x.pddl", "--problems", "."], "not both"),
     (["--problem", "x.pddl", "--start", "AB"], "--start"),
-    (["--problems", ".", "--plan-out", "p.plan"], "--plan-out"),
+    (["--problems", ".", "--plan-out", "."], "--plan-out '.' is the folder of the problems"),
     (["--domain", "d.pddl", "--start", "AB", "--goal", "BA"], "--domain goes with"),
 ])
 def test_bad_options_exit_2_in_one_line(capsys, argv, names):
@@ -143,8 +143,31 @@ def test_bad_options_exit_2_in_one_line(capsys, argv, names):
 
 def test_bfs_is_refused_past_six_blocks(capsys, tmp_path):
     _, (problem,) = generated(tmp_path, 9)
-    code, out, err = run(capsys, "plan", "--problem", problem)
+    code, out, err = run(capsys, "plan", "--problem", problem, "--planner", "bfs")
     assert code == 2 and out == "" and "plans only up to 6 blocks" in err
+
+
+@pytest.mark.parametrize("n", [4, 30])
+def test_without_a_planner_a_problem_plans_with_the_shipped_lifted_rules(capsys, tmp_path, n):
+    domain, (problem,) = generated(tmp_path, n)
+    code, out, err = run(capsys, "plan", "--problem", problem, "--plan-out", tmp_path / "p.plan", "--json",
+                         "--optimum-budget", "0")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["planner"] == "rules" and doc["solved"] and doc["cost"] >= doc["lower_bound"]
+    bp, steps, end = replayed(problem, tmp_path / "p.plan", domain)
+    assert bp.goal.satisfied(end) and len(steps) == doc["cost"]
+
+
+def test_builtin_names_the_shipped_rules_wherever_rules_are_taken(capsys, tmp_path):
+    domain, (problem,) = generated(tmp_path, 9)
+    code, out, err = run(capsys, "plan", "--problem", problem, "--rules", "builtin", "--optimum-budget", "0")
+    assert code == 0 and "by rules" in out, err
+    code, out, err = run(capsys, "plan", "--start", "CBA", "--goal", "ABC", "--rules", "builtin", "--json")
+    doc = json.loads(out)
+    assert code == 0 and doc["length"] >= doc["optimal_length"] == 6, err  # reverse a tower of 3: 6 at best
+    code, out, err = run(capsys, "show", "--rules", "builtin")
+    assert code == 0 and out.strip(), err
 
 
 def test_a_folder_gives_one_row_per_task_and_a_failed_row_for_a_broken_file(capsys, tmp_path):
@@ -185,7 +208,7 @@ def test_csql_sims_own_export_is_planned_in_its_own_words(capsys, tmp_path):
     assert run(capsys, "pddl", "--start", "CBA", "--goal", "BAC", "--out", tmp_path / "task")[0] == 0
     task = tmp_path / "task"
     code, out, err = run(capsys, "plan", "--problem", task / "problem.pddl", "--domain", task / "domain.pddl",
-                         "--plan-out", tmp_path / "p.plan")
+                         "--plan-out", tmp_path / "p.plan", "--planner", "bfs")
     assert code == 0, err
     assert out.splitlines()[0] == "(unstack_a_b)" and "8 actions by bfs" in out and "optimum 8 (proven)" in out
     bp, steps, end = replayed(task / "problem.pddl", tmp_path / "p.plan", task / "domain.pddl")
@@ -201,3 +224,40 @@ def test_the_pddl_options_are_parameters_of_pddl_jobs_only(capsys, tmp_path):
     code, out, _ = run(capsys, "plan", "--problem", problem, "--planner", "gn1", "--json")
     parameters = json.loads(out)["provenance"]["parameters"]
     assert code == 0 and parameters["problem"] == str(problem) and parameters["optimum_budget"] == 1.0
+
+
+def test_plan_out_with_a_folder_writes_the_plan_files_evaluate_reads(capsys, tmp_path):
+    from csql_sim.jobs.execute_batch import plan_file
+
+    problems, plans = tmp_path / "problems", tmp_path / "plans"
+    problems.mkdir()
+    domain, tasks = generated(problems, 9, count=3)
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", plans, "--optimum-budget", "0")
+    assert code == 0 and "wrote 3 plan file(s)" in out, err
+    assert sorted(p.name for p in plans.iterdir()) == [t.stem + ".plan" for t in tasks]
+    for task in tasks:
+        bp, steps, end = replayed(task, plan_file(task, plans), domain)  # the file evaluate --plans would read
+        assert bp.goal.satisfied(end) and steps
+    before = {p.name: p.read_text() for p in plans.iterdir()}
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", plans)
+    assert code == 2 and out == "" and err.count("\n") == 1 and "--overwrite" in err
+    assert {p.name: p.read_text() for p in plans.iterdir()} == before
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", plans, "--overwrite",
+                         "--optimum-budget", "0")
+    assert code == 0, err
+    code, out, err = run(capsys, "plan", "--problems", problems, "--plan-out", problems)
+    assert code == 2 and "is the folder of the problems" in err and sorted(problems.iterdir()) == sorted(
+        [domain, *tasks])
+
+
+@pytest.mark.parametrize("init, message", [
+    ("(on b1 b1) (ontable b2) (clear b2)", "block b1 stands on itself"),
+    ("(ontable b1) (on b2 b1) (on b3 b1) (clear b2) (clear b3)", "two blocks stand on block b1"),
+])
+def test_a_broken_initial_state_is_named_in_the_problems_words(capsys, tmp_path, init, message):
+    objects = " ".join(sorted({w for w in init.replace("(", " ").replace(")", " ").split() if w.startswith("b")}))
+    problem = tmp_path / "p.pddl"
+    problem.write_text(f"(define (problem p) (:domain blocks) (:objects {objects}) "
+                       f"(:init (handempty) {init}) (:goal (and (ontable b1))))")
+    code, out, err = run(capsys, "plan", "--problem", problem, "--planner", "gn1")
+    assert code == 2 and out == "" and err.count("\n") == 1 and message in err

@@ -104,7 +104,7 @@ def test_a_domain_that_is_not_a_blocks_world_is_one_line(tmp_path, capsys):
 
 def test_a_committee_is_written_member_by_member_and_plans(tmp_path, capsys):
     out = tmp_path / "c.json"
-    argv = ["train-lifted", "--features", "generated", "--domain", "move", "--complexity", "4", "--trials", "120",
+    argv = ["train-lifted", "--features", "generated", "--formulation", "move", "--complexity", "4", "--trials", "120",
             "--goals", "10", "--sizes", "4", "--committee", "2", "--out", str(out), "--quiet", "--json"]
     assert main(argv) == 0
     doc = json.loads(capsys.readouterr().out)
@@ -127,7 +127,7 @@ def test_a_committee_is_written_member_by_member_and_plans(tmp_path, capsys):
 
 def test_generated_features_learn_a_committee_of_three_by_default(tmp_path, capsys):
     out = tmp_path / "d.json"
-    argv = ["train-lifted", "--features", "generated", "--domain", "move", "--complexity", "4", "--trials", "60",
+    argv = ["train-lifted", "--features", "generated", "--formulation", "move", "--complexity", "4", "--trials", "60",
             "--goals", "6", "--sizes", "4", "--out", str(out), "--quiet", "--json"]
     assert main(argv) == 0
     doc = json.loads(capsys.readouterr().out)

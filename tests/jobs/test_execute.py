@@ -75,8 +75,8 @@ def test_a_wrong_step_is_refused_before_physics_with_its_line(tmp_path, monkeypa
     plan = write(tmp_path / "bad.plan", "; from a planner\n(unstack c b)\n(put-down c)\n(stack b a)\n")
     with pytest.raises(PlanError) as caught:
         execute_problem(DATA / "blocks3-02.pddl", plan=plan)
-    assert "bad.plan line 4: step 3 (stack b a) = stack(B,A) is not applicable in A,B,C: b is not held" \
-        in str(caught.value)
+    assert "bad.plan line 4: step 3 (stack b a) is not applicable in a,b,c: b is not held" \
+        in str(caught.value)  # in the problem's names
     assert cli(["execute", "--problem", str(DATA / "blocks3-02.pddl"), "--plan", str(plan)]) == 2
     err = capsys.readouterr().err
     assert "line 4" in err and err.count("\n") == 1

@@ -37,6 +37,10 @@ from csql_sim.infra.errors import CsqlError
 
 CONCEPT_OPS = ("top", "pred", "proj", "nom", "not", "and", "some", "all", "eq")
 ROLE_OPS = ("role", "inv", "plus", "star")
+MAX_LENGTH = 1000
+"""The longest written expression read (characters): generated features have complexity up to about 10."""
+MAX_DEPTH = 32
+"""The deepest nesting of constructors read: deeper input is refused before any recursion."""
 _TOKEN = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_\-]*|\[[01]\]|\{[A-Za-z_][A-Za-z0-9_\-]*\}|[(),])")
 
 
@@ -130,7 +134,10 @@ def parse(text: str, is_role: bool = False) -> Node:
     A name's arity is the domain's business: ``some(clear,on)`` reads, and evaluating it
     names the missing predicate (:class:`~csql_sim.core.features.denotation.Denotations`).
     """
+    if len(text) > MAX_LENGTH:
+        raise GrammarError(f"feature {text[:60]!r}...: longer than {MAX_LENGTH} characters")
     tokens = _TOKEN.findall(text)
+    _check_depth(tokens, text)
     if "".join(tokens) != re.sub(r"\s+", "", text) or not tokens:
         raise GrammarError(f"feature {text[:80]!r}: not an expression of the feature grammar")
     node, at = _parse_at(tokens, 0, text, "r" if is_role else "c")
@@ -143,7 +150,18 @@ _ARITY = {"not": ("c",), "and": ("c", "c"), "some": ("r", "c"), "all": ("r", "c"
           "inv": ("r",), "plus": ("r",), "star": ("r",)}
 
 
+def _check_depth(tokens: list[str], text: str) -> None:
+    """Refuse nesting deeper than :data:`MAX_DEPTH` (counted without recursion, before parsing)."""
+    depth = 0
+    for token in tokens:
+        depth += (token == "(") - (token == ")")
+        if depth > MAX_DEPTH:
+            raise GrammarError(f"feature {text[:60]!r}...: nested deeper than {MAX_DEPTH} levels")
+
+
 def _parse_at(tokens: list[str], at: int, text: str, want: str | None = None) -> tuple[Node, int]:
+    if at >= len(tokens):
+        raise GrammarError(f"feature {text[:80]!r}: ends early")
     head = tokens[at]
     if head in _ARITY and at + 1 < len(tokens) and tokens[at + 1] == "(":
         args, at = [], at + 2
@@ -179,4 +197,4 @@ def _expect(tokens: list[str], at: int, token: str, text: str) -> int:
     return at + 1
 
 
-__all__ = ["CONCEPT_OPS", "ROLE_OPS", "TOP", "GrammarError", "Node", "parse", "pred", "role"]
+__all__ = ["CONCEPT_OPS", "MAX_DEPTH", "MAX_LENGTH", "ROLE_OPS", "TOP", "GrammarError", "Node", "parse", "pred", "role"]

@@ -181,14 +181,29 @@ def check_plan(start: State, steps: Sequence[PlanStep], names: Sequence[str] | N
         for action in step.actions:
             k += 1
             if not is_legal(state, action):
-                label = action_name(action)
-                own = step.text.replace(" ", "").lower() == label.lower()  # written in cube letters
-                part = "" if own else f" = {label}" if len(step.actions) == 1 else f" (its {label})"
-                raise PlanError(f"{source} line {step.line}: step {k} {step.text}{part} is not applicable in "
-                                f"{state.notation()}: {why_not(state, action, None if own else names)}")
+                raise PlanError(f"{source} line {step.line}: step {k} {step.text}{_part(step, action, state)} is "
+                                f"not applicable in {state.named_notation()}: {_why(state, action, step, names)}")
             state = successor(state, action)
             trace.append(state)
     return trace
+
+
+def _own(step: PlanStep, action: Action) -> bool:
+    """Whether the step is written in cube letters (csql-sim's own action names)."""
+    return step.text.replace(" ", "").lower() == action_name(action).lower()
+
+
+def _part(step: PlanStep, action: Action, state: State) -> str:
+    """What the message adds after the step's text: the failing half of a move, or its action in letters."""
+    if _own(step, action) or (len(step.actions) == 1 and state.names is not None):
+        return ""  # the step's text already names the action in the problem's words
+    label = action.name(state.names)
+    return f" = {label}" if len(step.actions) == 1 else f" (its {label})"
+
+
+def _why(state: State, action: Action, step: PlanStep, names: Sequence[str] | None) -> str:
+    """:func:`why_not` in the state's own names, else in ``names`` (a plan not in cube letters)."""
+    return why_not(state, action, None if _own(step, action) or state.names is not None else names)
 
 
 def why_not(state: State, action: Action, names: Sequence[str] | None = None) -> str:

@@ -46,13 +46,16 @@ from dataclasses import dataclass, replace
 from csql_sim.core.model.goal_spec import Atom, GoalError, GoalSpec
 from csql_sim.core.state.state import MAX_LETTERS, default_name
 from csql_sim.core.state.world import HAND, MIN_BLOCKS, TABLE, State, WorldError
-from csql_sim.infra.errors import CsqlError
+from csql_sim.infra.errors import CsqlError, shortened
 from csql_sim.infra.files import read_text_file
 
 MAX_PDDL_BYTES = 1 << 20
 """The largest PDDL file read (1 MiB)."""
 MAX_PLANNED_BLOCKS = 2000
-"""The most objects read for planning alone (``read_problem(..., max_blocks=MAX_PLANNED_BLOCKS)``)."""
+"""The most objects read for planning alone (``read_problem(..., max_blocks=MAX_PLANNED_BLOCKS)``): the limit of
+``plan --problem``, ``validate`` and the lifted rules' plans, stated from this constant in help, docs and errors."""
+MAX_DRAWN_BLOCKS = 1000
+"""The most blocks ``csql-sim problems`` draws per problem (at most :data:`MAX_PLANNED_BLOCKS`: each one plans)."""
 TABLE_NAME = "table"
 PREDICATE_ALIASES = {"on": "on", "ontable": "ontable", "on-table": "ontable", "on_table": "ontable",
                      "clear": "clear", "holding": "holding", "block": "block",
@@ -140,7 +143,10 @@ def read_problem(problem: str | os.PathLike, domain: str | os.PathLike | None = 
     domain_text = None if domain is None else read_text_file(domain, MAX_PDDL_BYTES, "PDDL domain")
     dom = None if domain_text is None else _parse_text(domain_text, "domain", os.fspath(domain))
     actions = None if dom is None else domain_actions(dom, os.fspath(domain))
-    problem_ = problem_from_pddl(_parse_text(text, "problem", source), source, actions,
+    parsed = _parse_text(text, "problem", source)
+    if dom is not None:
+        check_agreement(dom, parsed, os.fspath(domain), source)
+    problem_ = problem_from_pddl(parsed, source, actions,
                                  constants=() if dom is None else tuple(c.name for c in dom.constants),
                                  max_blocks=max_blocks)
     return with_spelling(problem_, text + "\n" + (domain_text or ""))
@@ -151,7 +157,10 @@ def parse_problem_text(text: str, source: str = "problem", domain_text: str | No
     """:func:`read_problem` on texts instead of files."""
     dom = None if domain_text is None else _parse_text(domain_text, "domain", "domain")
     actions = None if dom is None else domain_actions(dom, "domain")
-    problem = problem_from_pddl(_parse_text(text, "problem", source), source, actions,
+    parsed = _parse_text(text, "problem", source)
+    if dom is not None:
+        check_agreement(dom, parsed, "domain", source)
+    problem = problem_from_pddl(parsed, source, actions,
                                 constants=() if dom is None else tuple(c.name for c in dom.constants),
                                 max_blocks=max_blocks)
     return with_spelling(problem, text + "\n" + (domain_text or ""))
@@ -179,7 +188,7 @@ def _parse_text(text: str, kind: str, source: str):  # noqa: ANN202 - a pddl Dom
         return parser(text.lower())
     except Exception as exc:  # lark and pddl raise many types; any is a file we cannot read
         first = next((line.strip() for line in str(exc).splitlines() if line.strip()), type(exc).__name__)
-        raise PddlImportError(f"{source}: not a PDDL {kind} the pddl package can read ({first})") from None
+        raise PddlImportError(f"{source}: not a PDDL {kind} the pddl package can read ({shortened(first)})") from None
 
 
 def parse_domain_text(text: str, source: str = "domain"):  # noqa: ANN201 - a pddl Domain
@@ -200,6 +209,33 @@ def domain_actions(domain, source: str) -> frozenset[str]:  # noqa: ANN001 - a p
                           f"unstack) nor its move variant")
 
 
+def check_agreement(domain, problem, domain_source: str, source: str) -> None:  # noqa: ANN001 - pddl objects
+    """Refuse a domain and a problem that do not agree, before anything is planned.
+
+    The domain's blocks-world predicates must have the blocks world's arities (``on`` two
+    arguments, ...), and every atom of the problem (initial state and goal) must use a
+    predicate the domain declares, with its arity: a 4-operator problem (``handempty``,
+    ``ontable``) with the move domain is refused, not read as the other formulation.
+    """
+    declared = {p.name: p.arity for p in domain.predicates}
+    for name, arity in sorted(declared.items()):
+        canonical = PREDICATE_ALIASES.get(name)
+        if canonical is not None and ARITY[canonical] != arity:
+            raise PddlImportError(f"{domain_source}: declares {name} with {arity} argument(s); the blocks world's "
+                                  f"{name} takes {ARITY[canonical]}")
+    goal_pos, goal_neg = _goal_atoms(problem.goal, source)
+    atoms = sorted([*(_atom(a, source, "initial state") for a in problem.init), *goal_pos, *goal_neg])
+    unknown = sorted({name for name, _ in atoms if name not in declared})
+    if unknown:
+        used = ", ".join(f"({name})" for name in unknown[:4]) + (", ..." if len(unknown) > 4 else "")
+        raise PddlImportError(f"{source}: uses {used}, which the domain {domain_source} does not declare; "
+                              f"the problem and the domain are of different formulations")
+    for name, args in atoms:
+        if declared[name] != len(args):
+            raise PddlImportError(f"{source}: ({' '.join([name, *args])}) has {len(args)} argument(s) but the domain "
+                                  f"{domain_source} declares {name} with {declared[name]}")
+
+
 def problem_from_pddl(problem, source: str, actions: frozenset[str] | None = None,  # noqa: ANN001
                       constants: tuple[str, ...] = (), max_blocks: int = MAX_LETTERS) -> BlocksProblem:
     """A :class:`BlocksProblem` from a parsed ``pddl`` Problem (see the module docstring for the rules)."""
@@ -208,8 +244,9 @@ def problem_from_pddl(problem, source: str, actions: frozenset[str] | None = Non
     if any(CSQL_FACT.match(p) and not args for p, args in init + goal_pos + goal_neg):
         return _csql_problem(problem.name, init, goal_pos, goal_neg, source, actions)
     named = {o.name for o in problem.objects if o.type_tag != TABLE_NAME} | set(constants)
-    for _, args in init + goal_pos + goal_neg:
+    for _, args in init:
         named.update(args)
+    _check_goal_objects(goal_pos + goal_neg, named | {o.name for o in problem.objects}, source)
     declared = sorted(o.name for o in problem.objects if o.type_tag == TABLE_NAME)
     table = declared[0] if declared else TABLE_NAME if TABLE_NAME in named else None
     tables = {*declared, TABLE_NAME}
@@ -226,6 +263,15 @@ def problem_from_pddl(problem, source: str, actions: frozenset[str] | None = Non
         positive.add(("handempty", ()))
     goal = _goal(len(objects), positive, _canonical(goal_neg, index, source, "goal"), objects, source)
     return BlocksProblem(problem.name, objects, start, goal, style, actions, table)
+
+
+def _check_goal_objects(goal: list[tuple[str, tuple[str, ...]]], known: set[str], source: str) -> None:
+    """A goal may name only the problem's objects (declared, constants, or in the initial state)."""
+    for name, args in goal:
+        unknown = next((a for a in args if a not in known and a != TABLE_NAME), None)
+        if unknown is not None:
+            raise PddlImportError(f"{source}: the goal names an unknown object {unknown[:60]} in "
+                                  f"({' '.join([name, *args])[:120]}); it is not among the problem's objects")
 
 
 def _style(actions: frozenset[str]) -> str:
@@ -297,7 +343,7 @@ def _start_state(atoms: set[Atom], n: int, source: str, objects: tuple[str, ...]
         raise PddlImportError(f"{source}: the initial state is not a full configuration: {objects[bad]} {what}")
     try:
         support = tuple(where[i][0] for i in range(n))
-        state = State(support)
+        state = State(support, objects)  # its messages name the problem's objects
     except WorldError as exc:
         raise PddlImportError(f"{source}: the initial state is not a configuration ({exc})") from None
     if uses_hand and (("handempty", ()) in atoms) != (state.held is None):

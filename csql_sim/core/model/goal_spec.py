@@ -206,7 +206,7 @@ def goal_target(goal: GoalSpec, state: State) -> State:
     n, fixed = goal.n, _placed(goal)
     cleared = {args[0] for pred, args in goal.positive if pred == "clear"}
     flat = [fixed.get(i, TABLE) for i in range(n)]
-    if not _valid(flat) or not all(holds(a, State(tuple(flat))) for a in goal.positive):
+    if not _valid(flat) or not goal_holds_in(goal, State(tuple(flat))):
         raise GoalError(f"no state of the {n}-block world satisfies the goal {goal.text()}")
     support = _kept_supports(state, fixed, cleared)
     while (loop := _cycle(support)) is not None:  # a cycle always holds a block the goal does not place
@@ -221,6 +221,11 @@ def goal_target(goal: GoalSpec, state: State) -> State:
         more = f" (gave up after {TARGET_SEARCH_LIMIT} tries)" if tries[0] > TARGET_SEARCH_LIMIT else ""
         raise GoalError(f"no state of the {n}-block world satisfies the goal {goal.text()}{more}")
     return State(found)
+
+
+def goal_holds_in(goal: GoalSpec, state: State) -> bool:
+    """Whether every positive atom of ``goal`` holds in ``state``."""
+    return all(holds(a, state) for a in goal.positive)
 
 
 def _placed(goal: GoalSpec) -> dict[int, int]:
@@ -279,21 +284,35 @@ def _valid(support: list[int]) -> bool:
 
 
 def _assign(goal: GoalSpec, options: list, chosen: list[int], used: set[int], tries: list[int]) -> tuple | None:
-    """Depth-first: the first full assignment of supports that is a state satisfying ``goal``."""
-    if len(chosen) == goal.n:
-        if not _valid(chosen):
-            return None
-        return tuple(chosen) if goal.satisfied(State(tuple(chosen))) else None
-    for s in options[len(chosen)]:
+    """Depth-first: the first full assignment of supports that is a state satisfying ``goal``.
+
+    Checking a full assignment counts one try per block, so the limit bounds the work at any
+    n. The search keeps its own stack (one iterator of options per chosen block), so a world of
+    thousands of blocks does not recurse thousands deep.
+    """
+    stack = [iter(options[len(chosen)])] if len(chosen) < goal.n else []
+    if not stack:
+        return tuple(chosen) if _valid(chosen) and goal.satisfied(State(tuple(chosen))) else None
+    while stack:
+        s = next(stack[-1], None)
+        if s is None:  # this block's options are spent: back to the one before
+            stack.pop()
+            if chosen:
+                used.discard(chosen.pop())
+            continue
         tries[0] += 1
         if tries[0] > TARGET_SEARCH_LIMIT:
             return None
         if s in used or (s == HAND and ("handempty", ()) in goal.positive):
             continue
+        if len(chosen) + 1 == goal.n:
+            tries[0] += goal.n  # checking a full assignment costs a try per block
+            full = [*chosen, s]
+            if _valid(full) and goal.satisfied(State(tuple(full))):
+                return tuple(full)
+            continue
+        chosen.append(s)
         if s != TABLE:
             used.add(s)
-        found = _assign(goal, options, [*chosen, s], used, tries)
-        used.discard(s)
-        if found is not None:
-            return found
+        stack.append(iter(options[len(chosen)]))
     return None

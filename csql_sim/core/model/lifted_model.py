@@ -94,4 +94,4 @@ class LiftedWorldModel:
         rule = self.post.get(action.kind)
         if rule is None or not self.is_legal(state, action):
             raise WorldError(f"the lifted rules give no next state for {action.kind.value} here")
-        return State(apply_output(rule, state.support, self._binding(action)))
+        return state.with_support(apply_output(rule, state.support, self._binding(action)))  # the names ride along

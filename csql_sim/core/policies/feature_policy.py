@@ -26,7 +26,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from csql_sim.core.features.formulation import Formulation, parse_formulation
+from csql_sim.core.features.formulation import BUILTIN, Formulation, parse_formulation
 from csql_sim.core.features.move_features import Literal, literal_values, parse_literal, parsed
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.lifted_policy import (
@@ -167,6 +167,10 @@ def feature_policy_from_doc(doc: dict, source: str) -> FeaturePolicy:
         literals = tuple(parse_literal(a) for a in atoms)
     except (CsqlError, ValueError) as exc:
         raise LiftedPolicyError(f"{source}: {exc}") from None
+    label = doc.get("formulation")
+    if label in BUILTIN and (label == "4op") != form.hand:
+        raise LiftedPolicyError(f"{source}: 'formulation' says {label} but its domain is the "
+                                f"{'4-operator (hand)' if form.hand else 'move (no hand)'} formulation")
     known = {(p.name, p.arity) for p in form.predicates} | {(c, None) for c in form.constants}
     for lit in literals:
         uses = {(lit.feature, 0)} if lit.slot == "holds" else parsed(lit.feature).uses()

@@ -71,7 +71,3 @@ class Gn1Policy(Policy):
                 if wanted(b):
                     return pick_action(state, b)
         return None
-
-
-NAMED_POLICIES = {"gn1": Gn1Policy}
-"""Baseline policies by name (``--planner gn1``): lifted, for any number of blocks."""

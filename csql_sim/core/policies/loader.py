@@ -32,7 +32,7 @@ from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
 from csql_sim.core.policies.greedy_table import GreedyTable
 from csql_sim.core.policies.sharded_policy import ShardedPolicy
-from csql_sim.core.state.state_count import state_count
+from csql_sim.core.state.state_count import count_text, state_count
 from csql_sim.core.state.world import MAX_BLOCKS
 from csql_sim.infra.errors import CsqlError
 
@@ -118,8 +118,8 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: 
     large = n is not None and n > MAX_BLOCKS
     if path is None:
         if large:
-            raise CsqlError(f"BFS enumerates every state ({state_count(n):,} at {n} blocks) and plans only up to "
-                            f"{MAX_BLOCKS} blocks; {LIFTED_HINT}")
+            raise CsqlError(f"BFS enumerates every state ({count_text(state_count(n))} at {n} blocks) and plans "
+                            f"only up to {MAX_BLOCKS} blocks; {LIFTED_HINT}")
         return BfsPolicy()
     kind = None
     try:

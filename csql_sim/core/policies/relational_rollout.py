@@ -69,12 +69,12 @@ def rollout_relational(policy: RelationalPolicy, start: State, goal: State, cap:
             return RelationalRollout(tuple(taken), False, f"step cap {cap} reached")
         action = policy.act(state, goal)
         if action is None:
-            return RelationalRollout(tuple(taken), False, f"no action in {state.notation()}")
+            return RelationalRollout(tuple(taken), False, f"no action in {state.named_notation()}")
         if not model.is_legal(state, action):
-            return RelationalRollout(tuple(taken), False, f"illegal action in {state.notation()}")
+            return RelationalRollout(tuple(taken), False, f"illegal action in {state.named_notation()}")
         taken.append(action)
         state = model.successor(state, action)
         if state in seen and (hand or state.held is None):
-            return RelationalRollout(tuple(taken), False, f"loop at {state.notation()}")
+            return RelationalRollout(tuple(taken), False, f"loop at {state.named_notation()}")
         seen.add(state)
     return RelationalRollout(tuple(taken), True)

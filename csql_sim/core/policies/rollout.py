@@ -58,7 +58,8 @@ class PairPlan:
 
 
 def rollout_indices(table: TransitionTable, choose: Callable[[int, int], int], start: int, goal: int,
-                    cap: int | None = None, optimal_length: int = -1) -> PairPlan:
+                    cap: int | None = None, optimal_length: int = -1,
+                    names: tuple[str, ...] | None = None) -> PairPlan:
     """Follow ``choose(state, goal)`` on ``table`` from ``start`` until the goal, a loop or the cap.
 
     Args:
@@ -69,8 +70,13 @@ def rollout_indices(table: TransitionTable, choose: Callable[[int, int], int], s
         goal: goal state index.
         cap: the step cap; defaults to the number of states (a longer path must revisit a state).
         optimal_length: recorded in the result.
+        names: the blocks' names in the reason (a problem's objects; default the letters).
     """
     world, rows = BlocksWorld.of(table.n), table.rows
+
+    def shown(s: int) -> str:
+        return world.states[s].named(names).named_notation()
+
     cap = table.state_count if cap is None else cap
     state, taken, seen = start, [], {start}
 
@@ -85,13 +91,13 @@ def rollout_indices(table: TransitionTable, choose: Callable[[int, int], int], s
         except NoRuleError as exc:
             return stop(str(exc))
         if a < 0:
-            return stop(f"no Q-classifier for {world.states[state].notation()}")
+            return stop(f"no Q-classifier for {shown(state)}")
         taken.append(a)
         nxt = rows[state][a]
         if nxt < 0:
-            return stop(f"illegal action {world.actions[a].name()} in {world.states[state].notation()}")
+            return stop(f"illegal action {world.actions[a].name(names)} in {shown(state)}")
         if nxt in seen:
-            return stop(f"loop at {world.states[nxt].notation()}")
+            return stop(f"loop at {shown(nxt)}")
         seen.add(nxt)
         state = nxt
     return PairPlan(table.n, start, goal, tuple(taken), True, "", optimal_length)
@@ -141,7 +147,8 @@ def rollout(policy: Policy, start: State, goal: State, max_steps: int | None = N
     """
     check_same_world(start, goal)
     table = (world_model or WorldModel.for_blocks(start.n)).table
-    plan = rollout_indices(table, policy_choice(policy, start.n), *_indices(start, goal), cap=max_steps)
+    plan = rollout_indices(table, policy_choice(policy, start.n), *_indices(start, goal), cap=max_steps,
+                           names=start.names)
     return Rollout(plan.steps, plan.reached, plan.reason)
 
 

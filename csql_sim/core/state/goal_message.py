@@ -37,6 +37,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from csql_sim.core.state.goal_relations import placed_from
 from csql_sim.core.state.message import (
     BLOCK_FIELD,
     MessageError,
@@ -139,15 +140,7 @@ def detector_values(state: State, goal: State) -> dict[str, tuple[bool, ...]]:
     if state.n != goal.n:
         raise WorldError(f"state has {state.n} blocks but goal has {goal.n}")
     home = tuple(s == g for s, g in zip(state.support, goal.support, strict=True))
-    placed: list[bool | None] = [None] * state.n
-
-    def is_placed(i: int) -> bool:
-        if placed[i] is None:
-            below = state.support[i]
-            placed[i] = home[i] and (below in (TABLE, HAND) or is_placed(below))
-        return bool(placed[i])
-
-    placed_all = tuple(is_placed(i) for i in range(state.n))
+    placed_all = placed_from(home, state.support)
     ready = tuple(g == TABLE or (g >= 0 and placed_all[g] and state.is_clear(g)) for g in goal.support)
     return {"home": home, "placed": placed_all, "ready": ready}
 

@@ -24,15 +24,26 @@ def well_placed(state: State, goal: State) -> tuple[bool, ...]:
     """Per block: on its goal support, with everything below it well placed."""
     if state.n != goal.n:
         raise WorldError(f"state has {state.n} blocks but goal has {goal.n}")
-    memo: dict[int, bool] = {}
+    return placed_from(tuple(s == g for s, g in zip(state.support, goal.support, strict=True)), state.support)
 
-    def placed(b: int) -> bool:
-        if b not in memo:
-            s = state.support[b]
-            memo[b] = s == goal.support[b] and (s < 0 or placed(s))
-        return memo[b]
 
-    return tuple(placed(b) for b in range(state.n))
+def placed_from(home: tuple[bool, ...], support: tuple[int, ...]) -> tuple[bool, ...]:
+    """Per block: ``home[b]`` and, when ``support[b]`` is a block, that block placed too (no recursion).
+
+    Each block is settled once, walking down its tower to the first settled block or the
+    bottom, then back up: linear in the number of blocks, whatever a tower's height.
+    """
+    placed: list[bool | None] = [None] * len(support)
+    for b in range(len(support)):
+        path = []
+        while b >= 0 and placed[b] is None:
+            path.append(b)
+            b = support[b]
+        ok = placed[b] if b >= 0 else True
+        for c in reversed(path):
+            ok = home[c] and ok
+            placed[c] = ok
+    return tuple(bool(p) for p in placed)
 
 
 def goal_place_ready(state: State, goal: State, placed: tuple[bool, ...], b: int) -> bool:

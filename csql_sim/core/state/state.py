@@ -83,9 +83,9 @@ class State:
     names: tuple[str, ...] | None = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
-        _validate_support(self.support)
         if self.names is not None:
             _validate_names(self.names, len(self.support))
+        _validate_support(self.support, self.names)
 
     @property
     def n(self) -> int:
@@ -154,11 +154,16 @@ class State:
         return tuple(out)
 
     def notation(self) -> str:
-        """The canonical configuration notation with the default names, e.g. ``A,CB+D``."""
+        """The canonical configuration notation with the default names, e.g. ``A,CB+D`` (parseable, compared)."""
         return format_config(self)
 
     def named_notation(self) -> str:
-        """The configuration notation with the blocks' own names (see :func:`format_config`)."""
+        """The configuration notation with the blocks' own names (see :func:`format_config`).
+
+        What messages and reports show people: a state that carries its problem's names
+        (:attr:`names`, e.g. a PDDL problem's objects, passed down from the start state
+        through every successor) is shown in them; without names it is :meth:`notation`.
+        """
         return format_config(self, self.block_names)
 
     def to_json(self) -> dict:
@@ -179,9 +184,13 @@ class State:
         return self.notation()
 
 
-def _validate_support(support: tuple[int, ...]) -> None:
-    """Raise WorldError unless ``support`` is one configuration (checked in O(n))."""
+def _validate_support(support: tuple[int, ...], names: tuple[str, ...] | None = None) -> None:
+    """Raise WorldError unless ``support`` is one configuration (checked in O(n)); messages use ``names``."""
     n = len(support)
+
+    def called(i: int) -> str:
+        return names[i] if names is not None else default_name(i)
+
     if n < 1:
         raise WorldError("a state needs at least one block")
     if support.count(HAND) > 1:
@@ -190,12 +199,14 @@ def _validate_support(support: tuple[int, ...]) -> None:
     for i, s in enumerate(support):
         if s in (TABLE, HAND):
             continue
-        if not isinstance(s, int) or not 0 <= s < n or s == i:
-            raise WorldError(f"block {default_name(i)} stands on an invalid support {s!r}")
+        if s == i:
+            raise WorldError(f"block {called(i)} stands on itself")
+        if not isinstance(s, int) or not 0 <= s < n:
+            raise WorldError(f"block {called(i)} stands on an invalid support {s!r}")
         if s in under:
-            raise WorldError(f"two blocks stand on block {default_name(s)}")
+            raise WorldError(f"two blocks stand on block {called(s)}")
         if support[s] == HAND:
-            raise WorldError(f"block {default_name(i)} stands on the held block")
+            raise WorldError(f"block {called(i)} stands on the held block")
         under.add(s)
     grounded = [s in (TABLE, HAND) for s in support]
     for i in range(n):
@@ -209,7 +220,9 @@ def _validate_support(support: tuple[int, ...]) -> None:
             grounded[k] = True
 
 
+@functools.lru_cache(maxsize=16)
 def _validate_names(names: tuple[str, ...], n: int) -> None:
+    """Raise WorldError unless ``names`` are ``n`` distinct words (remembered: every successor repeats them)."""
     if len(names) != n:
         raise WorldError(f"{len(names)} names for {n} blocks")
     seen: set[str] = set()

@@ -70,6 +70,13 @@ def state_count(n: int) -> int:
     return forest_count(n) + n * forest_count(n - 1)
 
 
+def count_text(count: int) -> str:
+    """A count for a message: with thousands separators up to 10^15, past that its order of magnitude."""
+    if count < 10**15:
+        return f"{count:,}"
+    return f"about 10^{int(math.log10(count))}"
+
+
 def pair_count(n: int) -> int:
     """Ordered pairs of distinct states of n blocks."""
     count = state_count(n)
@@ -140,18 +147,19 @@ def _unrank_forest(rank: int, items: list[int]) -> list[list[int]]:
 
 
 def _rank_forest(towers: list[list[int]], items: list[int]) -> int:
-    """Inverse of :func:`_unrank_forest`."""
-    if not items:
-        return 0
-    m = len(items)
-    tower = next(t for t in towers if items[0] in t)
-    k = len(tower)
-    members = sorted(tower)
-    rest_items = [b for b in items if b not in tower]
-    rest = _rank_forest([t for t in towers if t is not tower], rest_items)
-    comb = _rank_combination(members[1:], items[1:])
-    inner = (comb * math.factorial(k) + _rank_permutation(tower)) * forest_count(m - k) + rest
-    return sum(_tower_term(m, j) for j in range(1, k)) + inner
+    """Inverse of :func:`_unrank_forest`: one term per tower, from the lowest item's tower on (no recursion)."""
+    rank = 0
+    while items:
+        m = len(items)
+        tower = next(t for t in towers if items[0] in t)
+        k = len(tower)
+        members = sorted(tower)
+        comb = _rank_combination(members[1:], items[1:])
+        rank += sum(_tower_term(m, j) for j in range(1, k))
+        rank += (comb * math.factorial(k) + _rank_permutation(tower)) * forest_count(m - k)
+        towers = [t for t in towers if t is not tower]
+        items = [b for b in items if b not in tower]
+    return rank
 
 
 def unrank_state(rank: int, n: int) -> State:

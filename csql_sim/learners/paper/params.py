@@ -31,6 +31,9 @@ from csql_sim.learners.paper.params_bounds import (
     POSITIVE as POSITIVE,
 )
 from csql_sim.learners.paper.params_bounds import (
+    RATIO as RATIO,
+)
+from csql_sim.learners.paper.params_bounds import (
     UNIT as UNIT,
 )
 from csql_sim.learners.paper.params_bounds import (
@@ -171,7 +174,7 @@ class CSQLParams(QLearningParams):
             exactly one per (state, goal). Range >= 0 (an integer); default 0. It is 3 for n > 3.
         replay_ratio: the cap of experience replay (:mod:`csql_sim.learners.paper.replay`): at most
             this many replay backups per experienced trial step; 0 is no replay.
-            ``train --replay R`` sets it. Range >= 0; default 0.
+            ``train --replay R`` sets it. Range [0, 1e+06]; default 0.
         replay_hindsight: replay each experienced (state, action) transition for every goal
             (hindsight relabelling), not only for the goal it was taken for. A flag; default true.
         replay_eta: eta of eq. 1 in replay backups. Range (0, 1]; default 1.
@@ -182,7 +185,7 @@ class CSQLParams(QLearningParams):
 
     RANGES: ClassVar[dict[str, Bounds]] = {
         "sweep_passes": NON_NEGATIVE, "sweep_tolerance": NON_NEGATIVE, "sweep_eta": UNIT_NO_ZERO,
-        "sweep_greedy_tail": NON_NEGATIVE, "replay_ratio": NON_NEGATIVE, "replay_eta": UNIT_NO_ZERO,
+        "sweep_greedy_tail": NON_NEGATIVE, "replay_ratio": RATIO, "replay_eta": UNIT_NO_ZERO,
         "replay_tolerance": NON_NEGATIVE,
     }
 

@@ -38,3 +38,6 @@ UNIT = Bounds(0.0, 1.0)
 UNIT_NO_ZERO = Bounds(0.0, 1.0, low_open=True)
 FINITE = Bounds()
 AT_LEAST_ONE = Bounds(1.0)
+RATIO = Bounds(0.0, 1e6)
+"""A cap per experienced step (``replay_ratio``): large enough to mean "no cap", small enough that
+ratio x steps is an integer."""

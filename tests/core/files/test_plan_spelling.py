@@ -18,7 +18,8 @@ def domain(*actions):
     body = ":precondition (on ?a0 ?a0) :effect (not (on ?a0 ?a0))"
     parts = " ".join(f"(:action {name} :parameters ({' '.join(f'?a{i}' for i in range(k))}) {body})"
                      for name, k in actions)
-    return f"(define (domain d) (:requirements :strips) (:predicates (on ?x ?y)) {parts})"
+    preds = "(on ?x ?y) (ontable ?x) (on-table ?x) (clear ?x) (handempty)"  # what the problems use
+    return f"(define (domain d) (:requirements :strips) (:predicates {preds}) {parts})"
 
 
 @pytest.mark.parametrize("problem, dom, expected", [

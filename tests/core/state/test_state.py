@@ -89,3 +89,7 @@ def test_names_ride_along_but_do_not_make_the_state():
     assert plain.block_names == ("A", "B") and named.name(1) == "blue"
     with pytest.raises(WorldError, match="2 names for 3 blocks"):
         State((TABLE, TABLE, TABLE), ("a", "b"))
+    with pytest.raises(WorldError, match="^two blocks stand on block amber$"):  # messages in the blocks' names
+        State((TABLE, 0, 0), ("amber", "pearl", "onyx"))
+    with pytest.raises(WorldError, match="^block pearl stands on itself$"):
+        State((TABLE, 1), ("amber", "pearl"))
