@@ -75,7 +75,7 @@ def test_no_import_cycle_in_the_package(graph):
 
 def test_the_layers_come_from_pyproject():
     layers = architecture.layer_order()
-    assert layers[0] == ["cli", "testing"] and layers[-1] == ["infra"]
+    assert layers[0] == ["cli", "testing", "up_engine"] and layers[1] == ["api"] and layers[-1] == ["infra"]
     assert ["discovery", "learners"] in layers
 
 

@@ -56,12 +56,13 @@ def declare_execute(args: argparse.Namespace, outputs: Outputs) -> None:
 
 def cmd_execute(args: argparse.Namespace) -> int:
     """Check the plan symbolically, run it closed-loop on the arm, report per step; 0 reached, 1 not."""
-    from csql_sim.jobs.execute import execute_problem
+    from csql_sim.api import execute
+    from csql_sim.api.planning import path_source
 
     planner = None if args.planner == "rules" else args.planner
-    result = execute_problem(args.problem, args.domain, plan=args.plan, rules=args.rules, planner=planner,
-                             seed=args.seed, perception=args.perception, perturb=args.perturb, video=args.video,
-                             progress=show_progress(args), video_options=video_options(args))
+    result = execute(path_source(args.problem), path_source(args.plan), path_source(args.domain), video=args.video,
+                     rules=args.rules, planner=planner, seed=args.seed, perception=args.perception,
+                     perturb=args.perturb, progress=show_progress(args), video_options=video_options(args)).report
     emit(args, result.to_dict(), result.lines)
     if result.video is not None:
         print(f"wrote {result.video} (provenance in {result.video}.json)", file=sys.stderr)

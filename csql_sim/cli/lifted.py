@@ -1,4 +1,4 @@
-"""``csql-sim train-lifted``: learn lifted Q-classifiers on small worlds (LQ-CS), for plans up to 26 blocks."""
+"""``csql-sim train-lifted``: lifted Q-classifiers learned on small worlds by :func:`csql_sim.api.train_lifted`."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import sys
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
+from csql_sim.api.running import DEFAULT_COMMITTEE
 from csql_sim.cli.args import (
     ALIASES_UNTIL,
     add_json,
@@ -60,11 +61,6 @@ def _ignored(args: argparse.Namespace) -> dict[str, str]:
     return out
 
 
-DEFAULT_COMMITTEE = 3
-"""Populations a run over generated features learns by default (``docs/features.md``: every seed's committee of
-three is above GN1 at n = 20, where one population's median is below it)."""
-
-
 def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:
     """A bar of the trials on stderr (a terminal, not --quiet), moved after every sweep or finished member."""
     if not show_progress(args):
@@ -83,16 +79,6 @@ def _progress(args: argparse.Namespace) -> Callable[[int, int], None] | None:
     return report
 
 
-def _training(run: LiftedRun) -> dict:
-    """What one population's training did and cost, for the file's ``meta``."""
-    training = {"trials": run.trials, "steps": run.steps, "seconds": round(run.seconds, 1), "reached": run.reached,
-                "ground_q_classifiers": run.ground, "covered": run.covered, "specializations": run.splits,
-                "generalizations": run.merges, "lifted_q_classifiers": len(run.classifiers)}
-    if run.features:
-        training["features"] = run.features
-    return training
-
-
 def _summary(run: LiftedRun, sizes: tuple[int, ...]) -> str:
     """One line on a population's training."""
     return (f"LQ-CS: {run.trials} trials on {','.join(map(str, sizes))} blocks, {run.steps} steps, "
@@ -101,14 +87,8 @@ def _summary(run: LiftedRun, sizes: tuple[int, ...]) -> str:
 
 
 def cmd_train_lifted(args: argparse.Namespace) -> int:
-    import numpy as np
-
-    from csql_sim.core.policies.committee_policy import dumps_committee
-    from csql_sim.core.policies.feature_policy import dumps_feature_policy
-    from csql_sim.core.policies.lifted_policy import dumps_lifted_policy
-    from csql_sim.infra.files import write_or_keep
-    from csql_sim.infra.provenance import provenance
-    from csql_sim.learners.lifted import LiftedParams, train_committee, train_lifted
+    """Learn with :func:`csql_sim.api.train_lifted`, write ``--out``, report what was learned."""
+    from csql_sim.api import train_lifted
 
     if args.atoms is not None and args.features == "generated":
         raise CsqlError("--atoms chooses among the given atoms; do not give it with --features generated")
@@ -116,33 +96,19 @@ def cmd_train_lifted(args: argparse.Namespace) -> int:
         args.committee = DEFAULT_COMMITTEE if args.features == "generated" else 1
     if args.committee > 1 and args.features != "generated":
         raise CsqlError("--committee needs --features generated")
-    read = {} if args.atoms is None else {"atoms": args.atoms}
-    chosen = {} if args.complexity is None else {"complexity": args.complexity}
-    params = LiftedParams(trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
-                          domain=formulation_of(args), **chosen, **read)
-    rng = np.random.default_rng(args.seed)
+    formulation_of(args)  # --formulation or --domain, not both (the message in the options' names)
     if args.committee > 1:
         warn_workers(args)
-        runs = train_committee(params, rng, args.committee, progress=_progress(args), workers=args.workers).members
-    else:
-        runs = (train_lifted(params, rng, progress=_progress(args)),)
-    run = runs[0]
-    training = _training(run) if len(runs) == 1 else {"committee": len(runs), "members": [_training(r) for r in runs]}
-    meta = {"method": "lq-cs", "seed": args.seed, "params": params.as_dict(), "training": training,
-            "provenance": provenance(seed=args.seed, params=params, committee=args.committee)}
-    if len(runs) > 1:
-        text = dumps_committee([(r.classifiers, r.literals) for r in runs], run.domain,
-                               run.features["formulation"], meta)
-    elif run.literals:
-        text = dumps_feature_policy(run.classifiers, run.literals, run.domain, run.features["formulation"], meta)
-    else:
-        text = dumps_lifted_policy(run.classifiers, meta)
-    path = write_or_keep([(args.out, text)])[0]
-    written = json.loads(text)  # what --json reports of the classifiers is what the file holds
-    learned = {k: written[k] for k in ("atoms", "classifiers", "members") if k in written}
-    emit(args, {**meta, **learned, "written": str(path)}, lambda: [
-        *(line for k, r in enumerate(runs, 1) for line in _lines(r, params.sizes, k if len(runs) > 1 else 0)),
-        f"wrote {path}"])
+    learned = train_lifted(args.out, trials=args.trials, sizes=args.sizes, goals=args.goals, features=args.features,
+                           formulation=args.formulation, domain=args.domain, complexity=args.complexity,
+                           committee=args.committee, atoms=args.atoms, seed=args.seed, workers=args.workers,
+                           progress=_progress(args))
+    runs, sizes = learned.runs, tuple(learned.meta["params"]["sizes"])
+    written = json.loads(learned.text)  # what --json reports of the classifiers is what the file holds
+    classifiers = {k: written[k] for k in ("atoms", "classifiers", "members") if k in written}
+    emit(args, {**learned.meta, **classifiers, "written": str(learned.path)}, lambda: [
+        *(line for k, r in enumerate(runs, 1) for line in _lines(r, sizes, k if len(runs) > 1 else 0)),
+        f"wrote {learned.path}"])
     return 0
 
 

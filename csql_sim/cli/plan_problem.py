@@ -4,7 +4,8 @@ One problem: the plan in the problem's words (``--plan-out`` writes it as an IPC
 file), the lower bound and the optimum; exit 0 when solved, 1 when not. A folder: one row
 per problem (cost, time, lower bound, optimum or "not measured"); a problem not solved or
 not readable is a failed row naming its file, and the exit status is 1. Bad options exit 2.
-The work is :mod:`csql_sim.jobs.plan_problems`.
+One problem is :func:`csql_sim.api.plan`; a folder streams :func:`csql_sim.jobs.plan_problems.iter_folder`'s
+rows with the API's planners (:func:`csql_sim.api.planning.policy_maker`).
 """
 
 from __future__ import annotations
@@ -13,13 +14,13 @@ import argparse
 import math
 import os
 
-from csql_sim.cli.args import say
+from csql_sim.cli.args import say, show_progress
 from csql_sim.cli.output import emit
-from csql_sim.cli.plan_view import plan_steps, select_policy
+from csql_sim.cli.plan_view import check_planner, plan_steps
 from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
-from csql_sim.jobs.plan_problems import ProblemPlan, iter_folder, plan_problem
+from csql_sim.jobs.plan_problems import ProblemPlan, iter_folder
 
 PROBLEM_OPTIONS = ("start", "goal", "pairs", "blocks")
 """Options that name another task and do not go with --problem/--problems."""
@@ -81,10 +82,6 @@ def default_to_builtin_rules(args: argparse.Namespace) -> None:
         args.rules = os.fspath(builtin_rules_path())
 
 
-def _planner(args: argparse.Namespace) -> str:
-    return args.planner or ("rules" if args.rules else "bfs")
-
-
 def _optimum_text(plan: ProblemPlan) -> str:
     return "not measured" if plan.optimum is None else plan.optimum.text()
 
@@ -104,17 +101,15 @@ def cmd_plan_problem(args: argparse.Namespace) -> int:
     if args.domain is not None and args.problem is None and args.problems is None:
         raise CsqlError("--domain goes with --problem FILE or --problems DIR")
     default_to_builtin_rules(args)
-    cache: dict[int, object] = {}
-
-    def policy_for(n: int):  # noqa: ANN202 - a Policy or a RelationalPolicy
-        if n not in cache:
-            cache[n] = select_policy(args, n)
-        return cache[n]
-
+    planner = check_planner(args)
     if args.problems is not None:
-        return _folder(args, policy_for)
-    plan = plan_problem(args.problem, args.domain, policy_for, _planner(args), args.optimum_budget)
-    return _single(args, plan)
+        return _folder(args, planner)
+    from csql_sim.api import plan
+    from csql_sim.api.planning import path_source
+
+    report = plan(path_source(args.problem), path_source(args.domain), rules=args.rules, planner=planner,
+                  optimum_budget=args.optimum_budget, progress=show_progress(args)).report
+    return _single(args, report)
 
 
 def _single(args: argparse.Namespace, plan: ProblemPlan) -> int:
@@ -164,7 +159,7 @@ def _summary(plan: ProblemPlan) -> str:
             f"{_lower_text(plan)}, optimum {_optimum_text(plan)}{measured}")
 
 
-def _folder(args: argparse.Namespace, policy_for) -> int:  # noqa: ANN001 - the closure of cmd_plan_problem
+def _folder(args: argparse.Namespace, planner: str) -> int:
     """Every problem of the folder, each row written as it finishes (text, or ``--json`` to stdout).
 
     With ``--json`` one object is streamed, ``{"format", "version", "optimum_budget_s", "rows":
@@ -173,11 +168,13 @@ def _folder(args: argparse.Namespace, policy_for) -> int:  # noqa: ANN001 - the 
     """
     import json
 
+    from csql_sim.api.planning import policy_maker
     from csql_sim.cli.output import command_parameters, json_stream, report_format, with_format
     from csql_sim.infra.provenance import provenance
 
     write = _plan_writer(args)
-    rows = iter_folder(args.problems, args.domain, policy_for, _planner(args), args.optimum_budget)
+    policy_for = policy_maker(args.rules, planner, show_progress(args))  # the API's planners, loaded once per size
+    rows = iter_folder(args.problems, args.domain, policy_for, planner, args.optimum_budget)
     plans: list[ProblemPlan] = []
     with json_stream(args) as out:
         if out is not None:

@@ -22,14 +22,20 @@ def select_policy(args: argparse.Namespace, n: int | None) -> Policy | Relationa
     Past six blocks only lifted rules and the named baselines (``gn1``, ``gn2``) plan: :func:`load_policy`
     refuses BFS and ground rule files there.
     """
+    planner = check_planner(args)
+    if planner in NAMED_POLICIES:
+        return NAMED_POLICIES[planner]()
+    return load_policy(args.rules if planner == "rules" else None, n, progress=show_progress(args))
+
+
+def check_planner(args: argparse.Namespace) -> str:
+    """The planner of ``--planner`` and ``--rules`` (default: rules with --rules, else bfs); CsqlError on a clash."""
     planner = args.planner or ("rules" if args.rules else "bfs")
     if planner == "rules" and not args.rules:
         raise CsqlError("--planner rules needs --rules FILE")
     if planner != "rules" and args.rules:
         raise CsqlError(f"--planner {planner} does not read --rules {args.rules!r}; give one of them")
-    if planner in NAMED_POLICIES:
-        return NAMED_POLICIES[planner]()
-    return load_policy(args.rules if planner == "rules" else None, n, progress=show_progress(args))
+    return planner
 
 
 def plan_steps(actions: Sequence[Action], n: int, names: Sequence[str] | None = None) -> list[dict]:

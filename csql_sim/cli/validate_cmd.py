@@ -3,7 +3,7 @@
 One line per error (the step, its line, the precondition that fails; or a goal atom that does
 not hold at the end). Exit status 0 when the plan is valid, 1 when not, 2 for bad input (a
 file that cannot be read, a plan line that names an unknown action or object). The work is
-:mod:`csql_sim.core.files.validate`.
+:func:`csql_sim.api.validate`, whose verdict is :mod:`csql_sim.core.files.validate`'s.
 """
 
 from __future__ import annotations
@@ -25,9 +25,10 @@ def declare_validate(args: argparse.Namespace, outputs: Outputs) -> None:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     """``validate`` (module docstring)."""
-    from csql_sim.core.files.validate import validate_plan_file
+    from csql_sim.api import validate
+    from csql_sim.api.planning import path_source
 
-    verdict = validate_plan_file(args.problem, args.plan, args.domain)
+    verdict = validate(path_source(args.problem), path_source(args.plan), path_source(args.domain)).report
     doc = {"problem": args.problem, "plan": args.plan, "domain": args.domain, **verdict.to_json()}
 
     def text() -> list[str]:

@@ -13,6 +13,7 @@ import os
 
 import numpy as np
 
+from csql_sim.envs.render_mode import check_render_mode
 from csql_sim.envs.symbolic import BlocksWorldEnv
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.control import PhysicalWorld
@@ -56,7 +57,8 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     :class:`csql_sim.envs.symbolic.BlocksWorldEnv`: for n <= 6 the paper's form with the
     goal code in the last field (``S0111000ttt0000C``); for n = 7..10 cubes the relational
     form (:func:`~csql_sim.core.state.relational_message.format_large_message`, ``3n + 5``
-    characters), the goal written out as its on field and hand.
+    characters), the goal written out as its on field and hand. With ``observation="numeric"``
+    the same ``Dict`` of integer arrays as the symbolic environment's (:mod:`csql_sim.envs.numeric`).
 
     ## Starting State
     ``reset(options={"start": ..., "goal": ...})`` takes, for n <= 6, a
@@ -96,7 +98,8 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     Args:
         n: number of cubes, 2..10.
         max_steps: steps before ``truncated``: a positive integer, or None (never).
-        render_mode: ``"rgb_array"`` or None.
+        render_mode: ``"rgb_array"`` or None; any other mode raises ``gymnasium.error.UnsupportedMode``
+            (``gymnasium.make`` wraps ``"human"`` and ``"rgb_array_list"`` around ``"rgb_array"``).
         perception: ``"pose"`` or ``"camera"``.
         width: rendered image width, an integer in 16..4096 pixels.
         height: rendered image height, an integer in 16..4096 pixels.
@@ -104,6 +107,8 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         rules: a rule file whose precondition rules decide which actions are legal (the
             action mask; n <= 6 only, past six the STRIPS preconditions do); what an action
             does is up to the physics.
+        observation: ``"message"`` (the perceived state's message) or ``"numeric"`` (the perceived
+            state as integer arrays, :mod:`csql_sim.envs.numeric`).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
@@ -111,11 +116,10 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
                  perception: str = "pose", width: int = 640, height: int = 480,
                  camera_noise: CameraNoise = NO_NOISE,
-                 rules: str | os.PathLike | None = None) -> None:
-        if render_mode not in (None, "rgb_array"):
-            raise CsqlError(f"render_mode must be 'rgb_array' or None, got {render_mode!r}")
+                 rules: str | os.PathLike | None = None, observation: str = "message") -> None:
+        check_render_mode(render_mode, self.metadata["render_modes"])
         self.width, self.height = check_image_side(width, "width"), check_image_side(height, "height")
-        super().__init__(n, max_steps, None, rules)
+        super().__init__(n, max_steps, None, rules, observation)
         self.render_mode = render_mode
         self.perception = perception
         self.camera_noise = camera_noise

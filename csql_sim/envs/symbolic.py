@@ -43,7 +43,9 @@ from csql_sim.core.state.world import (
     is_legal,
     successor,
 )
+from csql_sim.envs.numeric import check_observation, numeric_observation, numeric_space
 from csql_sim.envs.relational import check_env_blocks, large_mask, large_option, large_task
+from csql_sim.envs.render_mode import check_render_mode
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.paper import StepLearner, Transition
 
@@ -125,6 +127,11 @@ class BlocksWorldEnv(gym.Env):
     (``a``-``j`` a block, ``_`` the table, ``0`` held), the held block (``0`` none), then
     the goal's on field and hand, written out (no goal index: the world is not enumerated).
 
+    With ``observation="numeric"``, a ``Dict`` of integer arrays instead
+    (:mod:`csql_sim.envs.numeric`): ``"on"`` and ``"goal"`` (``MultiDiscrete([n + 2] * n)``,
+    what each block stands on: 0 the table, ``k`` block ``k``, ``n + 1`` the hand) and
+    ``"hand"`` (``Discrete(n + 1)``, 0 empty), the spaces Stable-Baselines3 accepts.
+
     ## Starting State
     ``reset(options={"start": ..., "goal": ...})`` takes each as
     - for n <= 6: a :class:`~csql_sim.core.state.world.State`, a configuration (``"CBA"``:
@@ -141,6 +148,9 @@ class BlocksWorldEnv(gym.Env):
     ## Episode End
     - Termination: the state is the goal.
     - Truncation: ``max_steps`` steps have been taken (never when ``max_steps`` is None).
+      ``gymnasium.make`` also wraps it in a ``TimeLimit`` of
+      :data:`~csql_sim.envs.registration.MAX_EPISODE_STEPS` steps unless given
+      ``max_episode_steps``.
 
     ## Information
     ``reset`` and ``step`` return ``action_mask``, ``state`` and ``goal`` (as
@@ -157,29 +167,30 @@ class BlocksWorldEnv(gym.Env):
     Args:
         n: number of blocks, 2..10 (``blocks`` in ``gymnasium.make``).
         max_steps: steps before ``truncated``: a positive integer, or None (never).
-        render_mode: ``"ansi"`` (the state's notation and message) or None.
+        render_mode: ``"ansi"`` (the state's notation and message) or None; any other mode
+            raises ``gymnasium.error.UnsupportedMode``.
         rules: a rule file whose R-classifiers define the dynamics (default: the
             built-in ones, identical to the blocks world); Q-classifiers in it are ignored.
             n <= 6 only: past six the dynamics are the four operators on relational states.
+        observation: ``"message"`` (the default: the state message, a ``Text``) or
+            ``"numeric"`` (a ``Dict`` of integer arrays, :mod:`csql_sim.envs.numeric`).
 
     """
 
     metadata = {"render_modes": ["ansi"], "render_fps": 4}
 
     def __init__(self, n: int = 3, max_steps: int | None = None, render_mode: str | None = None,
-                 rules: str | os.PathLike | None = None) -> None:
+                 rules: str | os.PathLike | None = None, observation: str = "message") -> None:
         self.n = check_env_blocks(n)
         self.large = self.n > MAX_BLOCKS
         self.max_steps = check_max_steps(max_steps)
-        if render_mode not in (None, "ansi"):
-            raise CsqlError(f"render_mode must be 'ansi' or None, got {render_mode!r}")
+        self.observation = check_observation(observation)
+        check_render_mode(render_mode, self.metadata["render_modes"])
         if self.large and rules is not None:
             raise CsqlError(f"rules define the dynamics up to {MAX_BLOCKS} blocks; past six the environment applies "
                             f"the four operators to relational states (give no rules)")
         self.render_mode = render_mode
-        length = message_length(self.n) if self.large else layout(self.n).length
-        charset = frozenset(DIGITS + DIGITS.lower() + "S#_")
-        self.observation_space = gym.spaces.Text(min_length=length, max_length=length, charset=charset)
+        self.observation_space = numeric_space(self.n) if self.observation == "numeric" else self._text_space()
         self.action_space = gym.spaces.Discrete(action_count(self.n))
         self.rules = rules
         self.world = None if self.large else BlocksWorld.of(self.n)
@@ -190,6 +201,10 @@ class BlocksWorldEnv(gym.Env):
         self.state: Any = 0  # a state index; past six a State
         self.goal: Any = 1
         self.steps = 0
+
+    def _text_space(self) -> gym.spaces.Text:
+        length = message_length(self.n) if self.large else layout(self.n).length
+        return gym.spaces.Text(min_length=length, max_length=length, charset=frozenset(DIGITS + DIGITS.lower() + "S#_"))
 
     @property
     def current(self) -> State:
@@ -224,7 +239,9 @@ class BlocksWorldEnv(gym.Env):
             return self.world.state_index(parse_config(value, self.n))
         raise CsqlError(f"{name} must be a State, a configuration or an index, got {value!r}")
 
-    def _obs(self) -> str:
+    def _obs(self) -> Any:
+        if self.observation == "numeric":
+            return numeric_observation(self.current, self.target)
         if self.large:
             return format_large_message(self.state, self.goal)
         return format_state_message(self.world.states[self.state], self.goal)
@@ -274,7 +291,9 @@ class BlocksWorldEnv(gym.Env):
     def render(self) -> str | None:
         """``ansi``: the state's notation and its message."""
         if self.render_mode == "ansi":
-            return f"{self.current.notation()}  {self._obs()}"
+            message = format_large_message(self.state, self.goal) if self.large \
+                else format_state_message(self.world.states[self.state], self.goal)
+            return f"{self.current.notation()}  {message}"
         return None
 
 

@@ -112,10 +112,13 @@ def measure(start: State, target: State, length: int | None, budget_s: float) ->
 
 
 def plan_problem(path: str | os.PathLike, domain: str | os.PathLike | None, policy_for: PolicyFor,
-                 planner: str, budget_s: float) -> ProblemPlan:
-    """Read, plan and measure one problem file; CsqlError (one line) where it cannot be read or planned."""
+                 planner: str, budget_s: float, blocks: BlocksProblem | None = None) -> ProblemPlan:
+    """Read, plan and measure one problem file; CsqlError (one line) where it cannot be read or planned.
+
+    ``blocks``: the problem already read (from its text): ``path`` and ``domain`` then only name it.
+    """
     began = time.perf_counter()
-    problem = read_blocks_problem(path, domain)
+    problem = read_blocks_problem(path, domain) if blocks is None else blocks
     start, target = problem.start, goal_target(problem.goal, problem.start)
     policy = policy_for(problem.n)
     actions, solved, reason = _rollout(policy, start, target)
