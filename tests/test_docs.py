@@ -6,6 +6,11 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _pages():
+    """Every Markdown page of the site, the guide's and the results' (``docs/results/``) alike."""
+    return sorted((ROOT / "docs").rglob("*.md"))
+
+
 def test_readme_library_example_runs(tmp_path, monkeypatch, capsys):
     text = (ROOT / "README.md").read_text()
     section = text[text.index("### As a library"):]
@@ -19,7 +24,7 @@ def test_readme_library_example_runs(tmp_path, monkeypatch, capsys):
 
 
 def test_docs_do_not_import_the_cli():
-    for doc in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+    for doc in [ROOT / "README.md", *_pages()]:
         assert "csql_sim.cli" not in doc.read_text(), doc.name
 
 
@@ -57,7 +62,7 @@ def test_every_command_and_option_the_docs_name_exists():
 
     commands = _commands()
     wrong = []
-    for doc in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+    for doc in [ROOT / "README.md", *_pages()]:
         for command, options in _invocations(doc.read_text()):
             if command not in commands:
                 wrong.append(f"{doc.name}: csql-sim {command}")
@@ -93,4 +98,4 @@ def test_every_page_of_docs_is_in_the_site_navigation():
             yield from (pages(value) if isinstance(value, list) else [value])
 
     listed = list(pages(config["nav"]))
-    assert sorted(listed) == sorted(p.name for p in (ROOT / "docs").glob("*.md"))
+    assert sorted(listed) == sorted(p.relative_to(ROOT / "docs").as_posix() for p in _pages())
