@@ -1,6 +1,6 @@
 """Rule induction (csql_sim.discovery.induction) and ACS2 (pyalcs) side by side on one transition stream.
 
-Regenerates docs/discovery.md, rule induction beside ACS2 (the figure and its JSON).
+Regenerates docs/results/discovery.md, rule induction beside ACS2 (the figure and its JSON).
 
 Both learners get the same stream of (state message, action, next state message) records,
 symbolic and recorded from the arm, in order. Every --every transitions the script counts,

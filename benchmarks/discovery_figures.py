@@ -1,6 +1,6 @@
 """Transitions and failed attempts that rule discovery needs, over seeds and settings.
 
-Regenerates docs/discovery.md, the table of transitions and failed attempts per setting.
+Regenerates docs/results/discovery.md, the table of transitions and failed attempts per setting.
 
 Runs `discover` for each setting and seed and prints the median and maximum of the
 transitions until the rule set was final, all transitions until the stop, failed attempts,

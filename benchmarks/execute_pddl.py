@@ -1,6 +1,6 @@
 """Run 7..10-block PDDL tasks through ``execute``: an outside planner's plans, the lifted rules and GN1.
 
-Regenerates docs/execute.md, the table of PDDL tasks executed on the arm.
+Regenerates docs/results/arm.md, the table of PDDL tasks executed on the arm.
 
     python benchmarks/execute_pddl.py OUTDIR [--named K] [--problems DIR --domain D]
         [--seed S] [--perception pose|camera] [--overwrite]

@@ -1,6 +1,6 @@
 """Denotations of a planning batch: the planner's shortcuts against the definitions, timed in one run.
 
-Regenerates docs/features.md, planning speed (the denotations' shortcuts against the definitions).
+Regenerates docs/results/features.md, planning speed (the denotations' shortcuts against the definitions).
 
     python benchmarks/features_denotations.py [--rules FILE] [--domain move] [--blocks 100] [--table 40] [--repeat 3]
 

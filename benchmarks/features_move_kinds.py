@@ -1,6 +1,6 @@
 """Where a policy's plans waste moves: every move it makes, classed by the state before it.
 
-Regenerates docs/features.md, the table of move kinds per policy.
+Regenerates docs/results/features.md, the table of move kinds per policy.
 
     python benchmarks/features_move_kinds.py [--policy-file FILE ...] [--n 20] [--use 100]
 
@@ -13,7 +13,7 @@ yardstick relations of the state before it (:mod:`csql_sim.core.state.goal_relat
 * ``table, deadlocked``: a misplaced, deadlocked block to the table;
 * ``table, not deadlocked``: a misplaced block that is not deadlocked, whose goal support is a
   block, to the table (in a state with a deadlock and no move to a goal place it always
-  wastes a move; ``docs/features.md``);
+  wastes a move; ``docs/results/features.md``);
 * ``parked``: a misplaced block onto a block that is not its goal place;
 * ``well placed``: a well-placed block moved (a goal that holds a block ends with its pick);
 * ``table, on the table``: a block picked from the table and put back there;

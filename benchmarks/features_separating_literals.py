@@ -1,6 +1,6 @@
 """Which generated literals tell a deadlocked block's table move from one of a block not deadlocked.
 
-Regenerates docs/features.md, the literals that separate deadlocked table moves.
+Regenerates docs/results/features.md, the literals that separate deadlocked table moves.
 
     python benchmarks/features_separating_literals.py [--sizes 5,12,20] [--states 150] [--top 15]
 

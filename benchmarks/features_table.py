@@ -1,6 +1,6 @@
 """LQ-CS over given atoms and over generated features, both formulations, beside GN1, GN2 and the hand ordering.
 
-Regenerates docs/features.md, the table of LQ-CS over given atoms and generated features.
+Regenerates docs/results/features.md, the table of LQ-CS over given atoms and generated features.
 
     python benchmarks/features_table.py --explain FILE
     python benchmarks/features_table.py --policy-file FILE --variants generated-4op --seeds 0

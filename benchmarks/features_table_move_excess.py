@@ -1,6 +1,6 @@
 """How many moves a table move of a deadlocked block wastes, by its above-needed, least-stuck and cover atoms.
 
-Regenerates docs/features.md and docs/lifted.md, the excess of deadlocked blocks' table moves.
+Regenerates docs/results/features.md and docs/lifted_learning.md, the excess of deadlocked blocks' table moves.
 
     python benchmarks/features_table_move_excess.py [--blocks 5] [--pairs 20000] [--draw uniform|tall-towers] [--seed 1]
                                         [--by atoms|deadlocked]
@@ -15,7 +15,7 @@ by default ([lifted rules](docs/lifted.md)).
 With ``--by deadlocked``: in the states with a deadlock where no block can go to its goal place,
 every table move of a misplaced block not on the table whose goal support is a block, grouped
 by ``deadlocked(?x)`` (the table moves that the 4-operator seeds over generated features make
-at n = 20, ``docs/features.md``).
+at n = 20, ``docs/results/features.md``).
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Tall-tower blocks-world tasks of 25..1,000 blocks: the lifted rules, GN1 and Fast Downward side by side.
 
-Regenerates docs/large_problems.md, the tall-tower benchmark's rows (the lifted rules, GN1, Fast Downward).
+Regenerates docs/results/large_problems.md, the tall-tower benchmark's rows (the lifted rules, GN1, Fast Downward).
 
     python benchmarks/large_problems.py --out DIR [--sizes 25,50,100,200,500] [--tasks 30] [--seed 0]
         [--time-sizes 1000] [--time-tasks 5] [--runs 3] [--fd-tasks 30|K,K,...] [--fd-timeout 60]

@@ -1,6 +1,6 @@
 """The table and plot of ``benchmarks/large_problems.py`` from its JSON-lines files.
 
-Regenerates docs/large_problems.md, the table and docs/large_problems_time.png.
+Regenerates docs/results/large_problems.md, the table and docs/large_problems_time.png.
 
     python benchmarks/large_problems_report.py DIR [--png docs/large_problems_time.png]
 

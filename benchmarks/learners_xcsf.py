@@ -1,6 +1,6 @@
 """XCS-QL (this project) and xcsf side by side: trials to all pairs optimal, population size, wall time.
 
-Regenerates docs/learners.md, XCS-QL beside xcsf.
+Regenerates docs/results/learners.md, XCS-QL beside xcsf.
 
 Both learners see the same tasks (random ordered (start, goal) pairs of distinct states
 from one seeded generator) and the same encoding: the goal form of the state message with

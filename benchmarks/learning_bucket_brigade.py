@@ -1,6 +1,6 @@
 """Sweep the bucket-brigade constants against the paper's statements about Figure 7.
 
-Regenerates docs/learning.md, the bucket-brigade sweep.
+Regenerates docs/results/figure7.md, the bucket-brigade sweep.
 
 For every combination of ``--bid``, ``--tax``, ``--s0`` and ``--payoff`` this runs
 CS-BB-BZ and CS-BB-RW for ``--cycles`` x ``--trials`` (LT-QL and CS-QL once, as they do

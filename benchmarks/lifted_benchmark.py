@@ -1,6 +1,7 @@
 """Lifted policies on random start/goal pairs of 6..26 blocks, measured against the exact optimum.
 
-Regenerates docs/lifted.md, the lifted policies against the exact optimum (also cited by docs/large_worlds.md).
+Regenerates docs/results/lifted.md, the lifted policies against the exact optimum (cited by
+docs/results/large_problems.md too).
 
     python benchmarks/lifted_benchmark.py [--pairs 1000] [--seed 0] [--sizes 6,7,8,10,15,20,26]
                                        [--rules assets/rules/lifted.json]

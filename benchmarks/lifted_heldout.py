@@ -1,5 +1,7 @@
 """The headline figures on tuning tasks and on held-out tasks, side by side, against the exact optimum.
 
+Regenerates docs/results/lifted.md, the table of held-out tasks (its rows in docs/heldout.jsonl).
+
     python benchmarks/lifted_heldout.py --out docs/heldout.jsonl [--given-seeds 0-9] [--committee-seeds 0]
                                         [--pairs 100] [--pair-sizes 10,20,26] [--towers 10]
                                         [--tower-sizes 25,50,100] [--optimum-budget 20]

@@ -1,6 +1,6 @@
 """LQ-CS learning curves: optimal % at n = 10 and 20 against training trials, several seeds, one run each.
 
-Regenerates docs/lifted_learning.md, the learning curves.
+Regenerates docs/results/lifted.md, the learning curves.
 
     python benchmarks/lifted_learning_curves.py [--seeds 0-4] [--checkpoints 10,30,100,300,1000,3000,10000,30000]
                                     [--pairs 1000] [--sizes 10,20] [--pairs-seed 0]

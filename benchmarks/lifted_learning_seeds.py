@@ -1,6 +1,6 @@
 """LQ-CS over many seeds: solved and optimal % per seed on the benchmark's pairs, beside GN1, GN2 and the hand ordering.
 
-Regenerates docs/lifted_learning.md, the table of seeds.
+Regenerates docs/results/lifted.md, the table of seeds.
 
     python benchmarks/lifted_learning_seeds.py [--seeds 0-9] [--trials 3000] [--pairs 1000] [--sizes 7,10,20,26]
                                    [--bench-seed 0] [--bench-sizes 6,7,8,10,15,20,26] [--no-fixed]

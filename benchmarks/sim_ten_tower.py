@@ -1,6 +1,6 @@
 """The picture of ten cubes stacked by the simulated Panda: ``docs/ten_tower.png``.
 
-Regenerates docs/sim.md, the picture docs/ten_tower.png.
+Regenerates docs/sim.md and docs/results/arm.md, the picture docs/ten_tower.png.
 
 The tower is built physically, by a closed-loop episode (perceive, ask the policy, run the
 pick or place primitive, perceive again; cubes move only through contact), never by

@@ -1,6 +1,6 @@
 """Benchmark of the physical layer: physics, executor and video throughput.
 
-Regenerates docs/sim.md and docs/arm.md, the physics, executor and video throughput.
+Regenerates docs/results/arm.md, the physics, executor and video throughput.
 
 Prints raw stepSimulation steps/s against executor steps/s (target ratio >= 0.8), and,
 for each renderer (the TinyRenderer, and the EGL plugin where it loads), raw

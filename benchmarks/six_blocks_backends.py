@@ -1,6 +1,6 @@
 """Ray's start-up overhead against the local process pool, on the same tasks.
 
-Regenerates docs/six_blocks.md, Ray's start-up overhead against the process pool.
+Regenerates docs/results/scaling.md, Ray's start-up overhead against the process pool.
 
 Times, for each backend, a small ``evaluate`` (physical episodes) and a small
 ``experiment`` (Figure 7 cycles), each from a cold start (Ray: a fresh local instance,

@@ -1,6 +1,6 @@
 """Run a command and report its wall time and the peak resident memory of its whole process tree.
 
-Regenerates docs/six_blocks.md, the wall time and peak memory of a sharded run.
+Regenerates docs/results/scaling.md, the wall time and peak memory of a sharded run.
 
     python benchmarks/six_blocks_memory.py -- csql-sim train --blocks 6 --out rules6
 

@@ -1,5 +1,7 @@
 """What a video costs: ``execute`` with ``--out V`` against the same command without, in one run.
 
+Regenerates docs/video.md, the table of what a video costs.
+
     python benchmarks/video_speed.py [--repeats 3] [--workers K] [--renderer auto]
 
 Two tasks, each run by the command line (a fresh process each time, as a user runs it):
