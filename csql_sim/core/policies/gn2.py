@@ -35,8 +35,8 @@ from __future__ import annotations
 
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.state.move_relations import pick_action, towards
-from csql_sim.core.state.relation_tracker import RelationTracker
-from csql_sim.core.state.world import TABLE, Action, ActionKind, State, WorldError
+from csql_sim.core.state.relation_tracker import KeptRelations, RelationTracker
+from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 
 
 def constructive(tracker: RelationTracker, b: int) -> bool:
@@ -86,15 +86,14 @@ class Gn2Policy(Policy):
     blocks: int | None = None
 
     def __init__(self) -> None:
-        self._tracker: RelationTracker | None = None
-        self._pending: Action | None = None
+        self._kept = KeptRelations()
 
     def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``, or None at the goal."""
         target, last = towards(state, goal)
         if target is None:
             return last
-        tracker = self._relations(state, target)
+        tracker = self._kept.of(state, target)
         held = state.held
         if held is not None:
             d = target.support[held]
@@ -103,19 +102,5 @@ class Gn2Policy(Policy):
         else:
             b = gn2_block(tracker)
             action = None if b is None else pick_action(state, b)
-        self._pending = action
+        self._kept.chose(action)
         return action
-
-    def _relations(self, state: State, target: State) -> RelationTracker:
-        """The tracker of ``state``: the last one moved on by the last action when it leads here, else a new one."""
-        tracker, pending = self._tracker, self._pending
-        self._pending = None
-        if tracker is not None and pending is not None and tracker.goal == target.support:
-            try:
-                tracker.apply(pending)
-            except WorldError:
-                tracker = None
-            if tracker is not None and tracker.sup == list(state.support):
-                return tracker
-        self._tracker = RelationTracker(state, target)
-        return self._tracker

@@ -44,8 +44,8 @@ from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.files.kinds import MAX_LIFTED_Q_BYTES
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, towards
-from csql_sim.core.state.relation_tracker import RelationTracker
-from csql_sim.core.state.world import Action, State, WorldError
+from csql_sim.core.state.relation_tracker import KeptRelations, RelationTracker
+from csql_sim.core.state.world import Action, State
 from csql_sim.infra import formats
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_text_file
@@ -154,8 +154,7 @@ class LiftedPolicy(Policy):
         self.meta = dict(meta or {})
         self._match: dict[tuple[tuple[int, ...], str], LiftedQClassifier | None] = {}
         self._least: dict[tuple[tuple[int, ...], str], tuple[float | None, bool]] = {}
-        self._tracker: RelationTracker | None = None
-        self._pending: Action | None = None
+        self._kept = KeptRelations()
 
     def classifier_for(self, bits: tuple[int, ...], kind: str) -> LiftedQClassifier | None:
         """The most specific classifier matching a move's relations (remembered: the classifiers never change)."""
@@ -222,7 +221,7 @@ class LiftedPolicy(Policy):
         if move is None:
             return None
         action = put_action(move) if state.held is not None else pick_action(state, move.block)
-        self._pending = action
+        self._kept.chose(action)
         return action
 
     def relations(self, state: State, target: State) -> RelationTracker:
@@ -234,17 +233,7 @@ class LiftedPolicy(Policy):
         Either way they are exactly the relations of ``state`` (a cache of derived facts, not a
         memory of visited states: the same state gives the same action).
         """
-        tracker, pending = self._tracker, self._pending
-        self._pending = None
-        if tracker is not None and pending is not None and tracker.goal == target.support:
-            try:
-                tracker.apply(pending)
-            except WorldError:
-                tracker = None
-            if tracker is not None and tracker.sup == list(state.support):
-                return tracker
-        self._tracker = RelationTracker(state, target)
-        return self._tracker
+        return self._kept.of(state, target)
 
 
 # ---------------------------------------------------------------- the file

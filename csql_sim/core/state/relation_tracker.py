@@ -261,3 +261,35 @@ class RelationTracker:
     def misplaced(self) -> int:
         """The number of misplaced blocks."""
         return self.placed.count(False)
+
+
+class KeptRelations:
+    """The move relations of the last state asked about, moved on by the action chosen there.
+
+    A policy asks :meth:`of` for the relations of each state and tells :meth:`chose` the action
+    it took; when the next state is where that action leads, the kept tracker is updated by it
+    instead of being computed from scratch. Either way the relations are exactly ``state``'s
+    (a cache of derived facts, not a memory of visited states: the same state gives the same action).
+    """
+
+    def __init__(self) -> None:
+        self._tracker: RelationTracker | None = None
+        self._pending: Action | None = None
+
+    def chose(self, action: Action | None) -> None:
+        """The action taken in the state last asked about (None: nothing to move on)."""
+        self._pending = action
+
+    def of(self, state: State, target: State) -> RelationTracker:
+        """The move relations of ``state`` towards ``target``."""
+        tracker, pending = self._tracker, self._pending
+        self._pending = None
+        if tracker is not None and pending is not None and tracker.goal == target.support:
+            try:
+                tracker.apply(pending)
+            except WorldError:
+                tracker = None
+            if tracker is not None and tracker.sup == list(state.support):
+                return tracker
+        self._tracker = RelationTracker(state, target)
+        return self._tracker
