@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from typing import TYPE_CHECKING
 
@@ -37,6 +36,7 @@ from csql_sim.cli.sim_options import (
     DISCOVERY_TRANSITIONS,
     LARGE_DEFAULT_PAIRS,
     NO_NOISE,
+    add_camera_noise,
     check_evaluate_options,
     check_render_options,
 )
@@ -312,24 +312,6 @@ def _evaluate_problems(args: argparse.Namespace) -> int:
     return 0 if rate >= (args.min_success if args.min_success is not None else 1.0) else 1
 
 
-def camera_noise_arg(text: str) -> tuple[float, float]:
-    """Argparse type for --camera-noise ``DEPTH_MM[,COLOUR_LEVELS]``: (depth m, colour levels)."""
-    try:
-        values = [float(part) for part in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) not in (1, 2) or not all(math.isfinite(v) and v >= 0 for v in values):
-        raise argparse.ArgumentTypeError(f"expected DEPTH_MM or DEPTH_MM,COLOUR_LEVELS (numbers >= 0), got {text!r}")
-    return values[0] / 1000.0, values[1] if len(values) == 2 else 0.0
-
-
-def _noise_arg(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--camera-noise", type=camera_noise_arg, default=NO_NOISE, metavar="MM[,LEVELS]",
-                   help="camera perception noise: depth standard deviation in mm along the optical axis, "
-                        "optionally colour standard deviation in 8-bit levels (e.g. 1.5,4; default none); "
-                        "with --perception camera")
-
-
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``render`` and ``evaluate`` to the subparsers."""
     _register_render(sub)
@@ -353,7 +335,7 @@ def _register_render(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=seed_arg, default=0, help="episode seed (default 0)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (default pose)")
-    _noise_arg(p)
+    add_camera_noise(p)
     add_video_options(p)
     add_quiet(p)
     p.add_argument("--discovery", action="store_true",
@@ -385,7 +367,7 @@ def _register_evaluate(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seeds", type=positive_int, default=None, help="episodes per pair (default 1)")
     p.add_argument("--perturb", action="store_true", help="jitter the start, nudge a cube, drop a carried cube")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="perception mode (default pose)")
-    _noise_arg(p)
+    add_camera_noise(p)
     p.add_argument("--min-success", type=_rate, metavar="RATE",
                    help="exit 0 when the success rate is at least RATE (default: every episode must succeed)")
     p.add_argument("--plot", metavar="FILE.png", type=path_arg,

@@ -18,6 +18,7 @@ Options whose default must be told from a value given are registered with ``defa
 from __future__ import annotations
 
 import argparse
+import math
 
 from csql_sim.core.state.world import MAX_BLOCKS
 from csql_sim.infra.errors import CsqlError
@@ -85,3 +86,22 @@ def check_evaluate_options(args: argparse.Namespace) -> None:
         args.pairs = "all" if args.blocks <= MAX_BLOCKS else LARGE_DEFAULT_PAIRS
     args.seeds = args.seeds or 1
     args.seed = args.seed or 0
+
+
+def camera_noise_arg(text: str) -> tuple[float, float]:
+    """Argparse type for --camera-noise ``DEPTH_MM[,COLOUR_LEVELS]``: (depth m, colour levels)."""
+    try:
+        values = [float(part) for part in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) not in (1, 2) or not all(math.isfinite(v) and v >= 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected DEPTH_MM or DEPTH_MM,COLOUR_LEVELS (numbers >= 0), got {text!r}")
+    return values[0] / 1000.0, values[1] if len(values) == 2 else 0.0
+
+
+def add_camera_noise(p: argparse.ArgumentParser) -> None:
+    """``--camera-noise MM[,LEVELS]`` (``render`` and ``evaluate``)."""
+    p.add_argument("--camera-noise", type=camera_noise_arg, default=NO_NOISE, metavar="MM[,LEVELS]",
+                   help="camera perception noise: depth standard deviation in mm along the optical axis, "
+                        "optionally colour standard deviation in 8-bit levels (e.g. 1.5,4; default none); "
+                        "with --perception camera")
