@@ -170,6 +170,12 @@ class RelationTracker:
         return self._stuck
 
     @property
+    def cover(self) -> frozenset[int]:
+        """The ``cover`` blocks: a greedy hitting set of the deadlocks (:meth:`resolve_cover`)."""
+        self.resolve_cover()
+        return self._cover
+
+    @property
     def stuck_after(self) -> dict[Move, int]:
         """The number of deadlocked blocks after each move to the table."""
         self.resolve()

@@ -3,39 +3,68 @@ import pytest
 
 from csql_sim.core.measure.bounds import lower_bound
 from csql_sim.core.measure.optimum import optimal_length
-from csql_sim.core.model.search import distance_matrix
+from csql_sim.core.model.search import distance, distance_matrix
 from csql_sim.core.model.task_draws import draw_task
 from csql_sim.core.policies.gn1 import Gn1Policy
-from csql_sim.core.policies.gn2 import Gn2Policy, enables_constructive, gn2_block
+from csql_sim.core.policies.gn2 import (
+    READINGS,
+    Gn2Policy,
+    constructive,
+    constructive_run,
+    enables_constructive,
+    gn2_block,
+)
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.policies.rollout import check_pairs
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relation_tracker import RelationTracker
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.core.state.world import all_states, successor
+from csql_sim.core.state.world import all_states
 
 
-def test_a_hand_worked_deadlock_is_broken_where_it_enables_a_constructive_move():
-    start, goal = parse_config("AB,CD"), parse_config("AD,CB")  # B on A, D on C -> D on A, B on C
+def test_gn2_on_a_hand_worked_example_breaks_the_deadlock_where_gn1_does_not():
+    """CBA,ED -> B,EADC (towers bottom-up; goal: B alone, A on E, D on A, C on D), worked by hand.
+
+    E is in position; A, B, C, D are misplaced, so every plan moves at least 4 blocks. The
+    clear blocks are A and D, and no move is constructive: A's goal place E is covered by D,
+    and D's goal place A is not in position. A and D are deadlocked: D waits for A's final
+    move, A waits for D to leave E. Both departures enable a constructive move at once
+    (A leaving uncovers B, whose goal is the table; D leaving uncovers E, A's goal place), so
+    the one-move lookahead cannot choose. The hitting set can: A's visit to the table ends no
+    wait (D still waits for A's *final* move), D's does. GN2 tables D:
+    D-T, A-E, B-T, D-A, C-D: 5 moves, 10 actions, one block visiting the table: the optimum
+    (2 x (4 misplaced + 1 visitor), and BFS's distance). GN1 tables A first (the first
+    deadlocked block), then must table D too: 6 moves, 12 actions.
+    """
+    start, goal = parse_config("CBA,ED"), parse_config("B,EADC")
+    a, d = 0, 3
     tracker = RelationTracker(start, goal)
-    # no constructive move: B's goal place C is covered by D, D's goal place A is covered by B
-    assert tracker.stuck == {1, 3}
-    # moving B (index 1) to the table uncovers A, well placed, whose goal block D is clear: constructive
-    assert enables_constructive(tracker, 1) and enables_constructive(tracker, 3)
-    assert gn2_block(tracker) == 1  # the first such block
+    assert tracker.stuck == {a, d} and not any(constructive(tracker, b) for b in range(5))
+    assert enables_constructive(tracker, a) and enables_constructive(tracker, d)
+    assert d in tracker.cover and a not in tracker.cover
+    assert gn2_block(tracker) == d and gn2_block(tracker, "enables") == a
     run = rollout_relational(Gn2Policy(), start, goal)
-    names = [a.name("ABCD") for a in run.actions]
-    assert run.reached and names[:2] == ["unstack(B,A)", "putdown(B)"] and run.length == optimal_length(start, goal)
+    names = [x.name("ABCDE") for x in run.actions]
+    assert names == ["unstack(D,E)", "putdown(D)", "unstack(A,B)", "stack(A,E)", "unstack(B,C)", "putdown(B)",
+                     "pickup(D)", "stack(D,A)", "pickup(C)", "stack(C,D)"]
+    assert run.length == 10 == optimal_length(start, goal) == distance(start, goal)
+    assert rollout_relational(Gn1Policy(), start, goal).length == 12
 
 
-def test_gn2_prefers_the_deadlocked_block_whose_departure_enables_a_constructive_move():
-    # B on A and D on C are deadlocked with each other; E stands alone, clear and misplaced: its goal is on D.
-    start, goal = parse_config("AB,CD,E"), parse_config("AD,CBE")
+def test_every_reading_plans_validly_and_an_unknown_one_is_refused():
+    start, goal = draw_task("tall-towers", 30, np.random.default_rng(3))
+    for reading in READINGS:
+        run = rollout_relational(Gn2Policy(reading), start, goal)
+        assert run.reached and run.length >= optimal_length(start, goal)
+    with pytest.raises(ValueError, match="unknown GN2 reading"):
+        Gn2Policy("cleverest")
+
+
+def test_constructive_run_counts_the_moves_that_follow_a_table_move():
+    start, goal = parse_config("CA,B"), parse_config("CBA")
     tracker = RelationTracker(start, goal)
-    assert gn2_block(tracker) == 1
-    after = successor(successor(start, Gn2Policy().act(start, goal)), Gn2Policy().act(
-        successor(start, Gn2Policy().act(start, goal)), goal))
-    assert after == parse_config("A,B,CD,E")
+    # A to the table uncovers C (in position); then B onto C, then A onto B: two constructive moves
+    assert constructive_run(tracker, 0) == 2
 
 
 def test_gn2_plans_every_pair_at_three_blocks_optimally():
@@ -60,14 +89,22 @@ def test_gn2_plans_are_valid_and_never_shorter_than_the_exact_optimum(n):
         assert run.reached and run.length >= optimal_length(start, goal)
 
 
-def test_gn2_is_shorter_than_gn1_in_total_and_more_often_shorter_than_longer():
+def test_gn2_is_never_longer_than_gn1_on_tall_towers_and_rarely_on_random_pairs():
+    """GN2 is never longer than GN1 on this seeded sample of tall towers; on random pairs it sometimes is.
+
+    Measured on larger samples (seed 4801): longer than GN1 on 0 of 100 tall towers at n = 25,
+    1 of 100 at n = 50 (by 2 actions); on 4 of 500 pairs at n = 10 and 18 of 500 at n = 20
+    (by at most 6 actions), shorter on 81 and 284 of them.
+    """
     rng = np.random.default_rng(48)
-    tasks = sample_pairs(20, 60, rng) + [draw_task("tall-towers", 25, rng) for _ in range(30)]
-    gn1 = [rollout_relational(Gn1Policy(), s, g).length for s, g in tasks]
-    gn2 = [rollout_relational(Gn2Policy(), s, g).length for s, g in tasks]
-    shorter = sum(b < a for a, b in zip(gn1, gn2, strict=True))
-    longer = sum(b > a for a, b in zip(gn1, gn2, strict=True))
-    assert sum(gn2) < sum(gn1) and shorter > 3 * longer
+    towers = [draw_task("tall-towers", 25, rng) for _ in range(30)]
+    pairs = sample_pairs(20, 60, rng)
+    for tasks, most_longer in ((towers, 0), (pairs, len(pairs) // 10)):
+        gn1 = [rollout_relational(Gn1Policy(), s, g).length for s, g in tasks]
+        gn2 = [rollout_relational(Gn2Policy(), s, g).length for s, g in tasks]
+        shorter = sum(b < a for a, b in zip(gn1, gn2, strict=True))
+        longer = sum(b > a for a, b in zip(gn1, gn2, strict=True))
+        assert longer <= most_longer and shorter > 3 * max(longer, 1) and sum(gn2) < sum(gn1)
 
 
 def test_gn2_plans_a_thousand_block_tall_tower_task():
