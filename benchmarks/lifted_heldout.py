@@ -97,20 +97,25 @@ def measure(policy, rows: list, best: list[tuple[int, bool]]) -> dict:  # noqa: 
             "proven": sum(p for _, p in best), "cpu_s": round(time.process_time() - t0, 2)}
 
 
-def policies(args: argparse.Namespace):  # noqa: ANN201 - yields (name, seed, policy, extra)
-    """Every policy measured, trained when learned (one at a time)."""
+def policies(args: argparse.Namespace, done: set):  # noqa: ANN201 - yields (name, seed, policy, extra)
+    """Every policy not in ``done`` (``(name, seed)``), trained when learned (one at a time)."""
     yield "gn1", None, Gn1Policy, {}
     yield "gn2", None, Gn2Policy, {}
     yield "hand ordering", None, hand_ordering, {}
     yield "hand-without-cover", None, hand_ordering_without_cover, {}
-    shipped = load_policy(SHIPPED)
-    yield "shipped lifted.json", 0, lambda: load_policy(SHIPPED), {"agreement": agreement(shipped).as_dict()}
+    if ("shipped lifted.json", 0) not in done:
+        shipped = load_policy(SHIPPED)
+        yield "shipped lifted.json", 0, lambda: load_policy(SHIPPED), {"agreement": agreement(shipped).as_dict()}
     for seed in args.given_seeds:
+        if ("given atoms", seed) in done:
+            continue
         run = train_lifted(LiftedParams(), np.random.default_rng(seed))
         extra = {"training_s": round(run.seconds, 1), "classifiers": len(run.classifiers),
                  "agreement": agreement(run.policy()).as_dict()}
         yield "given atoms", seed, run.policy, extra
     for seed in args.committee_seeds:
+        if ("committee-move", seed) in done:
+            continue
         params = LiftedParams(features="generated", domain="move")
         run = train_committee(params, np.random.default_rng(seed), 3)
         extra = {"training_s": round(run.seconds, 1), "agreement": agreement(run.policy()).as_dict()}
@@ -125,7 +130,7 @@ def run_all(args: argparse.Namespace) -> None:
         done = {(r["policy"], r["seed"]) for r in map(json.loads, out.read_text().splitlines())}
     tasks = task_sets(args)
     best = optima(tasks, args.optimum_budget, out.with_suffix(".optima.json"))
-    for name, seed, make, extra in policies(args):
+    for name, seed, make, extra in policies(args, done):
         if (name, seed) in done:
             continue
         print(f"{name} seed {seed}", file=sys.stderr, flush=True)
