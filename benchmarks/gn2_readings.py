@@ -1,6 +1,6 @@
 """GN2's readings side by side on tuning tasks, against the figures of Slaney and Thiébaux's C code.
 
-Regenerates the table "GN2 against the authors' figures" of docs/results/lifted.md (and the
+Regenerates docs/results/lifted.md, the table "GN2 against the authors' figures" (and the
 figures in the docstring of ``csql_sim/core/policies/gn2.py``)::
 
     python benchmarks/gn2_readings.py [--optima docs/heldout.optima.json] [--ratio-towers 30]
