@@ -33,7 +33,7 @@ def execute(problem: Source, plan: PlanSource | None = None, domain: Source | No
     """Run a problem's plan on the simulated Panda, closed loop; success from perception.
 
     Args:
-        problem: the problem file, or its PDDL text (2..10 blocks: the arm's cubes).
+        problem: the problem file, or its PDDL text (2..30 blocks: the arm's cubes).
         plan: the plan (a file, its text, lines, tuples or a :class:`~csql_sim.api.results.Plan`);
             checked symbolically before any physics runs. Default: the plan of
             :func:`csql_sim.api.plan` with the built-in rules.

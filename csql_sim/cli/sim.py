@@ -56,30 +56,32 @@ if TYPE_CHECKING:
 
 
 def arm_blocks_arg(text: str) -> int:
-    """Argparse type for the arm's ``--blocks``: 2..10 cubes; more are refused with the reason."""
+    """Argparse type for the arm's ``--blocks``: 2..30 cubes; more are refused with the reason."""
     n = _any_blocks(text)
     if n > MAX_ARM_BLOCKS:
         raise argparse.ArgumentTypeError(
-            f"the arm takes at most {MAX_ARM_BLOCKS} cubes (the table has room for {MAX_ARM_BLOCKS} start towers "
-            f"side by side, and a taller tower leaves the Panda's reach), got {n}")
+            f"the arm takes at most {MAX_ARM_BLOCKS} cubes (the table's ring has {MAX_ARM_BLOCKS} places within the "
+            f"Panda's reach), got {n}")
     return n
 
 
 def read_arm_task(start: str, goal: str | None, rules: str | None) -> tuple[State, State]:
-    """The task of ``render``: as ``plan`` reads it up to six blocks, else a task of 7..10 cubes.
+    """The task of ``render``: as ``plan`` reads it up to six blocks, else a task of 7..30 cubes.
 
     The start decides which, as for ``plan`` (:func:`csql_sim.cli.plan.relational_blocks`):
-    a configuration of more than six blocks or a large state message is read with letters
-    A-J or as a large message (:func:`csql_sim.cli.plan.read_task`), so an error
-    in the goal names the goal; more than ten cubes are refused with one line (the table
-    and the reach).
+    a configuration of more than six blocks or a large state message is read with the
+    cubes' names (A..Z, AA, ...) or as a large message (:func:`csql_sim.cli.plan.read_task`),
+    so an error in the goal names the goal; more than 30 cubes, or a tower taller than the
+    arm's limit, are refused with one line.
     """
-    if relational_blocks(argparse.Namespace(blocks=None, start=start, pairs=None)) is None:
-        return read_task_for_rules(start, goal, None, rules)
-    from csql_sim.sim.world import check_arm_blocks
+    from csql_sim.sim.world import check_arm_blocks, check_tower_heights
 
-    s, g = read_task(start, goal, None)
-    check_arm_blocks(s.n)
+    if relational_blocks(argparse.Namespace(blocks=None, start=start, pairs=None)) is None:
+        s, g = read_task_for_rules(start, goal, None, rules)
+    else:
+        s, g = read_task(start, goal, None)
+        check_arm_blocks(s.n)
+    check_tower_heights(s, g)
     return s, g
 
 

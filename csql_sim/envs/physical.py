@@ -18,6 +18,7 @@ from csql_sim.envs.symbolic import BlocksWorldEnv
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.control import PhysicalWorld
 from csql_sim.sim.perception import NO_NOISE, CameraNoise, Perceived, capture, render_camera
+from csql_sim.sim.world import check_tower_heights
 
 PHYSICS_SEED_BOUND = 2**31  # physics seeds are drawn from [0, 2**31)
 MIN_IMAGE_SIDE, MAX_IMAGE_SIDE = 16, 4096  # rendered images' width and height, in pixels
@@ -96,7 +97,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     reproducible too; the first ``reset()`` of an env never seeded draws fresh entropy.
 
     Args:
-        n: number of cubes, 2..10.
+        n: number of cubes, 2..30 (past 26 with ``observation="numeric"``).
         max_steps: steps before ``truncated``: a positive integer, or None (never).
         render_mode: ``"rgb_array"`` or None; any other mode raises ``gymnasium.error.UnsupportedMode``
             (``gymnasium.make`` wraps ``"human"`` and ``"rgb_array_list"`` around ``"rgb_array"``).
@@ -131,6 +132,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
         """Choose start and goal as the symbolic env does, then build the start scene (see Seeding)."""
         super().reset(seed=seed, options=options)
+        check_tower_heights(self.current, self.target)  # before any physics: the arm's tallest tower
         self.close()
         self.physics_seed = int(self.np_random.integers(PHYSICS_SEED_BOUND))
         self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception, camera_noise=self.camera_noise)

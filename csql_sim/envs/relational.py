@@ -1,12 +1,12 @@
-"""The environments past six blocks (7..10 cubes): relational states, the large message form.
+"""The environments past six blocks (7..30 cubes): relational states, the large message form.
 
 Up to six blocks the environments work on the enumerated world (state indices, the
 transition table of the R-classifiers). Past six they hold
 :class:`~csql_sim.core.state.world.State` records and apply the four STRIPS
 operators to them (:func:`~csql_sim.core.state.world.successor`); observations are
 large state messages (:func:`~csql_sim.core.state.relational_message.format_large_message`),
-and a task's states are given as a State, a configuration in the notation (letters
-A-J) or a rank (:func:`~csql_sim.core.state.state_count.unrank_state`), or drawn
+and a task's states are given as a State, a configuration in the notation (names
+A..Z, AA, ...) or a rank (:func:`~csql_sim.core.state.state_count.unrank_state`), or drawn
 uniformly by counting (:func:`~csql_sim.core.state.state_count.sample_state`).
 """
 
@@ -21,12 +21,14 @@ from csql_sim.core.state.state_count import sample_state, state_count, unrank_st
 from csql_sim.core.state.world import MIN_BLOCKS, State, WorldError, action_count, action_index, legal_actions
 from csql_sim.infra.errors import CsqlError
 
-MAX_ENV_BLOCKS = 10
-"""The most blocks of an environment: the arm's ten cubes (the symbolic world keeps the same bound)."""
+MAX_ENV_BLOCKS = 30
+"""The most blocks of an environment: the arm's 30 cubes (the symbolic world keeps the same bound)."""
+MAX_MESSAGE_BLOCKS = 26
+"""The most blocks observed as a state message (one letter a block); past it the observation is numeric."""
 
 
 def check_env_blocks(n: object) -> int:
-    """``n`` if an environment takes that many blocks (2..10), else a CsqlError."""
+    """``n`` if an environment takes that many blocks (2..30), else a CsqlError."""
     if isinstance(n, (int, np.integer)) and not isinstance(n, bool) and MIN_BLOCKS <= n <= MAX_ENV_BLOCKS:
         return int(n)
     raise CsqlError(f"blocks must be an integer in {MIN_BLOCKS}..{MAX_ENV_BLOCKS}, got {n!r}")

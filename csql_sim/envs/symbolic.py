@@ -44,7 +44,7 @@ from csql_sim.core.state.world import (
     successor,
 )
 from csql_sim.envs.numeric import check_observation, numeric_observation, numeric_space
-from csql_sim.envs.relational import check_env_blocks, large_mask, large_option, large_task
+from csql_sim.envs.relational import MAX_MESSAGE_BLOCKS, check_env_blocks, large_mask, large_option, large_task
 from csql_sim.envs.render_mode import check_render_mode
 from csql_sim.infra.errors import CsqlError
 from csql_sim.learners.paper import StepLearner, Transition
@@ -165,7 +165,7 @@ class BlocksWorldEnv(gym.Env):
     stream; the first ``reset()`` of an env never seeded draws fresh entropy.
 
     Args:
-        n: number of blocks, 2..10 (``blocks`` in ``gymnasium.make``).
+        n: number of blocks, 2..30 (``blocks`` in ``gymnasium.make``; past 26 the observation is numeric).
         max_steps: steps before ``truncated``: a positive integer, or None (never).
         render_mode: ``"ansi"`` (the state's notation and message) or None; any other mode
             raises ``gymnasium.error.UnsupportedMode``.
@@ -185,6 +185,9 @@ class BlocksWorldEnv(gym.Env):
         self.large = self.n > MAX_BLOCKS
         self.max_steps = check_max_steps(max_steps)
         self.observation = check_observation(observation)
+        if self.n > MAX_MESSAGE_BLOCKS and self.observation != "numeric":
+            raise CsqlError(f"state messages write at most {MAX_MESSAGE_BLOCKS} blocks; for {self.n} give "
+                            f"observation='numeric'")
         check_render_mode(render_mode, self.metadata["render_modes"])
         if self.large and rules is not None:
             raise CsqlError(f"rules define the dynamics up to {MAX_BLOCKS} blocks; past six the environment applies "
@@ -291,6 +294,8 @@ class BlocksWorldEnv(gym.Env):
     def render(self) -> str | None:
         """``ansi``: the state's notation and its message."""
         if self.render_mode == "ansi":
+            if self.n > MAX_MESSAGE_BLOCKS:
+                return self.current.notation()
             message = format_large_message(self.state, self.goal) if self.large \
                 else format_state_message(self.world.states[self.state], self.goal)
             return f"{self.current.notation()}  {message}"

@@ -13,7 +13,7 @@ partial goal), then either
   BFS planner (``planner="bfs"``) towards the goal state nearest the start
   (:meth:`~csql_sim.core.model.goal_spec.GoalSpec.nearest`), through :class:`GoalSetPolicy`.
 
-2..10 cubes. Past six blocks the states are relational
+2..30 cubes. Past six blocks the states are relational
 (:class:`~csql_sim.core.state.world.State`): plans are checked with the relational
 operators, lifted rules and GN1 aim at the target
 :func:`~csql_sim.core.model.goal_spec.goal_target` derives from the start, and BFS and
@@ -39,7 +39,8 @@ from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_
 from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
 from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
 from csql_sim.core.policies.policy import Policy
-from csql_sim.core.state.world import LETTERS, MAX_BLOCKS, Action, State
+from csql_sim.core.state.state import default_names
+from csql_sim.core.state.world import MAX_BLOCKS, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
@@ -160,7 +161,7 @@ def execute_task(start: str | State, goal: str | State | Sequence[str],
     """:func:`execute_problem` for a task in csql-sim's notation (objects ``a``, ``b``, ... are cubes A, B, ...).
 
     ``goal`` is a configuration (``"ABC"``) or a list of PDDL atoms (``["(on a b)"]``: a
-    partial goal), for 2..10 cubes.
+    partial goal), for 2..30 cubes.
     """
     return execute_blocks(task_problem(start, goal), plan=plan, rules=rules, planner=planner, seed=seed,
                           perception=perception, perturb=perturb, video=video, progress=progress,
@@ -172,7 +173,7 @@ def task_problem(start: str | State, goal: str | State | Sequence[str]) -> Block
     from csql_sim.sim.world import parse_arm_state
 
     first = start if isinstance(start, State) else parse_arm_state(start)
-    names = tuple(LETTERS[: first.n].lower())
+    names = tuple(name.lower() for name in default_names(first.n))
     if isinstance(goal, (str, State)):
         end = goal if not isinstance(goal, str) else parse_arm_state(goal, first.n)
         spec = GoalSpec.of_state(end, names)
@@ -188,12 +189,13 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
                    planner: str | None = None, seed: int = 0, perception: str = "pose", perturb: bool = False,
                    video: str | os.PathLike | None = None, progress: bool = False,
                    files: dict[str, Any] | None = None, video_options: VideoOptions | None = None) -> ExecuteResult:
-    """Run a read problem on the arm (the body of :func:`execute_problem`); 2..10 cubes."""
+    """Run a read problem on the arm (the body of :func:`execute_problem`); 2..30 cubes."""
     from csql_sim.sim.control import check_perception
     from csql_sim.sim.video import VideoOptions
-    from csql_sim.sim.world import check_arm_blocks
+    from csql_sim.sim.world import check_arm_blocks, check_tower_heights
 
     check_arm_blocks(bp.n)
+    check_tower_heights(bp.start, bp.goal)
     check_perception(perception)
     options = video_options or VideoOptions()
     if video is not None:
@@ -232,6 +234,9 @@ def _run_plan(bp: BlocksProblem, steps: list[PlanStep], source: dict[str, Any], 
     """Check the plan symbolically, then replay it on the arm."""
     where = source["file"] or "plan"
     trace = check_plan(bp.start, steps, bp.objects, where)
+    from csql_sim.sim.world import check_tower_heights
+
+    check_tower_heights(bp.start, bp.goal, trace)
     actions = [a for step in steps for a in step.actions]
     source = {**source, "lines": len(steps), "actions": len(actions), "reaches_goal": bp.goal.satisfied(trace[-1])}
     replay = PlanReplay(actions, trace)

@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from csql_sim.core.model.goal_spec import GoalSpec
-from csql_sim.core.state.world import LETTERS
+from csql_sim.core.state.state import default_name
 from csql_sim.sim.world import cube_legend, legend_line, parse_arm_state
 
 REPORT_FORMAT = "csql-sim execute report"
@@ -110,8 +110,8 @@ class ExecuteResult:
 
     @property
     def mapping(self) -> dict[str, str]:
-        """Object name -> cube letter."""
-        return {name: LETTERS[i] for i, name in enumerate(self.objects)}
+        """Object name -> cube name (A..Z, then AA, AB, ...)."""
+        return {name: default_name(i) for i, name in enumerate(self.objects)}
 
     @property
     def failed_step(self) -> StepReport | None:

@@ -3,7 +3,9 @@
 * towers are separated by commas, each written from the bottom up: ``CBA`` is A on B on C;
   ``A,B,C`` is all three blocks on the table;
 * a held block goes after ``+``: ``B,C+A`` (A in the gripper);
-* case-insensitive; spaces are ignored; blocks A-Z, so up to 26 blocks.
+* case-insensitive; blocks A-Z, one letter each (spaces are ignored), up to 26 blocks;
+* past 26 blocks the names go on (``AA``, ``AB``, ...) and a tower's names are separated by
+  spaces: ``C AA B, D + AB``.
 
 :func:`csql_sim.core.state.world.format_config` writes the canonical form.
 """
@@ -12,7 +14,7 @@ from __future__ import annotations
 
 from csql_sim.core.state.message import is_state_message, parse_state_message
 from csql_sim.core.state.relational_message import is_relational_message, parse_large_message
-from csql_sim.core.state.state import check_letters_n
+from csql_sim.core.state.state import MIN_LETTERS, check_letters_n, default_names
 from csql_sim.core.state.world import HAND, LETTERS, TABLE, Action, ActionKind, State, WorldError
 
 
@@ -27,42 +29,63 @@ def parse_config(text: str, n: int | None = None) -> State:
         WorldError: naming the unknown, repeated or missing block.
 
     """
-    raw = text.replace(" ", "").upper()
-    if not raw:
-        raise WorldError("empty configuration")
-    if raw.count("+") > 1:
-        raise WorldError(f"configuration {text!r} holds more than one block ('+' twice)")
-    towers_part, _, held_part = raw.partition("+")
-    if "+" in raw and len(held_part) != 1:
-        raise WorldError(f"configuration {text!r}: exactly one block may follow '+'")
-    towers = [t for t in towers_part.split(",")] if towers_part else []
-    if any(not t for t in towers):
-        raise WorldError(f"configuration {text!r} has an empty tower")
-    letters = "".join(towers) + held_part
-    for ch in letters:
-        if ch not in LETTERS:
-            raise WorldError(f"unknown block {ch!r} in configuration {text!r}")
-    for ch in letters:
-        if letters.count(ch) > 1:
-            raise WorldError(f"block {ch} is used twice in configuration {text!r}")
-    count = len(letters)
+    towers, held = _tokens(text)
+    names = [name for tower in towers for name in tower] + held
+    for name in names:
+        if names.count(name) > 1:
+            raise WorldError(f"block {name} is used twice in configuration {text!r}")
     if n is None:
-        n = count
-    check_letters_n(n)
-    expected = set(LETTERS[:n])
-    missing = sorted(expected - set(letters))
-    extra = sorted(set(letters) - expected)
+        n = len(names)
+    if len(max(names, key=len)) == 1:
+        check_letters_n(n)
+    elif not isinstance(n, int) or n < MIN_LETTERS:
+        raise WorldError(f"number of blocks must be at least {MIN_LETTERS}, got {n!r}")
+    index = {name: i for i, name in enumerate(default_names(n))}
+    extra = sorted(set(names) - set(index), key=lambda x: (len(x), x))
+    missing = [name for name in index if name not in names]
     if extra:
-        raise WorldError(f"unknown block {extra[0]} for a {n}-block world in {text!r}")
+        if all(name.isalpha() for name in extra) and len(extra[0]) <= 1 + len(default_names(n)[-1]):
+            raise WorldError(f"unknown block {extra[0]} for a {n}-block world in {text!r}")
+        raise WorldError(f"unknown block {extra[0]!r} in configuration {text!r}")
     if missing:
         raise WorldError(f"block {missing[0]} is missing from configuration {text!r}")
     support = [TABLE] * n
     for tower in towers:
         for below, above in zip(tower, tower[1:], strict=False):
-            support[LETTERS.index(above)] = LETTERS.index(below)
-    if held_part:
-        support[LETTERS.index(held_part)] = HAND
+            support[index[above]] = index[below]
+    if held:
+        support[index[held[0]]] = HAND
     return State(tuple(support))
+
+
+def _tokens(text: str) -> tuple[list[list[str]], list[str]]:
+    """The towers (bottom up) and the held block of a configuration, as block names.
+
+    One letter per block (``CBA``), or, where a tower's names are separated by spaces
+    (``C AA B``, the notation past 26 blocks), one name per word.
+    """
+    upper = text.upper()
+    if not upper.replace(" ", ""):
+        raise WorldError("empty configuration")
+    if upper.count("+") > 1:
+        raise WorldError(f"configuration {text!r} holds more than one block ('+' twice)")
+    towers_part, _, held_part = upper.partition("+")
+    chunks = towers_part.split(",") if towers_part.strip() else []
+    words = any(len(chunk.split()) > 1 for chunk in chunks)
+
+    def split(chunk: str) -> list[str]:
+        return chunk.split() if words else list(chunk.replace(" ", ""))
+
+    towers = [split(chunk) for chunk in chunks]
+    held = held_part.split() if words else list(held_part.replace(" ", ""))
+    if "+" in upper and len(held) != 1:
+        raise WorldError(f"configuration {text!r}: exactly one block may follow '+'")
+    if any(not t for t in towers):
+        raise WorldError(f"configuration {text!r} has an empty tower")
+    for name in [x for t in towers for x in t] + held:
+        if not name.isalpha() or not name.isascii():
+            raise WorldError(f"unknown block {name!r} in configuration {text!r}")
+    return towers, held
 
 
 def parse_action_name(text: str, n: int) -> Action:

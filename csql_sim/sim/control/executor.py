@@ -11,7 +11,7 @@ cap on actions. Success is :meth:`PhysicalWorld.reached`: the task's
 it is never inferred from the plan.
 
 Up to six cubes the states are the enumerated world's, the messages the paper's form and
-the default world model the ground R-classifiers. For 7..10 cubes
+the default world model the ground R-classifiers. For 7..30 cubes
 (:mod:`csql_sim.sim.world.arm_state`) the states are relational, the messages take the large
 form, the world model reads the lifted rules, optimal lengths come from the exact
 optimum (measuring only), and the policy must be lifted: BFS and ground rule bases are
@@ -49,6 +49,7 @@ from csql_sim.sim.world.arm_state import (
 )
 from csql_sim.sim.world.config import SimConfig
 from csql_sim.sim.world.scene import Pose
+from csql_sim.sim.world.tower_height import check_tower_heights
 
 BLOCKED_PICK_TRIES = 2  # consecutive picks of a cube stopped by collisions before it is dragged clear
 
@@ -136,7 +137,7 @@ def run_physical_episode(start: ArmState, goal: ArmState, policy: Policy | None 
 
     Args:
         start: the start configuration (a held block is grasped for real): a State for
-            2..10 cubes.
+            2..30 cubes.
         goal: the goal configuration.
         policy: any Policy; the BFS planner when None (n <= 6 only: past six blocks the
             policy must be lifted, anything with ``act(state, goal)``).
@@ -155,12 +156,14 @@ def run_physical_episode(start: ArmState, goal: ArmState, policy: Policy | None 
         camera_noise: sensor noise of camera perception.
 
     Raises:
-        SimError: if the start state cannot be built, the arm cannot take n cubes, or the
-            policy cannot plan for n (BFS or a ground rule base past six blocks).
+        SimError: if the start state cannot be built, the arm cannot take n cubes, the start or
+            the goal has a tower taller than the arm's limit, or the policy cannot plan for n
+            (BFS or a ground rule base past six blocks).
     """
     if start.n != goal.n:
         raise SimError(f"start has {start.n} blocks but goal has {goal.n}")
     check_arm_blocks(start.n)
+    check_tower_heights(start, goal)
     check_arm_policy(policy, start.n)
     start, goal = to_arm_state(start), to_arm_state(goal)
     task = Task(start, goal)

@@ -66,14 +66,51 @@ def carry_height(obs: Observation, exclude: int | None, offsets: ApproachOffsets
 
 
 def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generator) -> tuple[float, float] | None:
-    """A random table spot at least ``free_clearance`` from every other cube."""
+    """A random table spot at least ``free_clearance`` from every other cube.
+
+    With ``LayoutConfig.shun_housing``, the spots where no tower stands in the forearm
+    housing's way (:func:`housing_clear`) are drawn from first, if there are any.
+    """
     lay = scene.config.layout
     others = [b.position for i, b in enumerate(obs.blocks) if i != held]
     spots = [(x, y) for x, y in putdown_spots(scene.config)
              if all(math.hypot(x - p[0], y - p[1]) >= lay.free_clearance for p in others)]
+    if lay.shun_housing:
+        spots = [s for s in spots if housing_clear(others, obs.size, *s)] or spots
     if not spots:
         return None
     return spots[int(rng.integers(len(spots)))]
+
+
+@dataclass(frozen=True)
+class HousingZone:
+    """Where the forearm's housing is when the hand is down at the table, in the hand's radial frame, m.
+
+    The housing bulges on the anticlockwise side of the arm's vertical plane, 0.04-0.11 m
+    nearer the base than the hand and about 0.18 m above the grasp point.
+    """
+
+    radial_near: float = -0.16  # cube centres from this far nearer the base ...
+    radial_far: float = 0.0  # ... to the hand's own radius
+    lateral: float = 0.16  # and this far anticlockwise of the arm's plane
+    height: float = 0.17  # a cube top higher than this above the table is in its way
+
+
+HOUSING = HousingZone()
+
+
+def housing_clear(others: list[tuple[float, float, float]], size: float, x: float, y: float,
+                  zone: HousingZone = HOUSING) -> bool:
+    """No cube in the housing's way when the hand goes down to the table at (x, y)."""
+    r = math.hypot(x, y)
+    ux, uy = x / r, y / r
+    for p in others:
+        dx, dy = p[0] - x, p[1] - y
+        radial, lateral = dx * ux + dy * uy, -dx * uy + dy * ux
+        if zone.radial_near <= radial <= zone.radial_far and 0 < lateral <= zone.lateral \
+                and p[2] + size / 2 > zone.height:
+            return False
+    return True
 
 
 @dataclass(frozen=True)
@@ -148,19 +185,18 @@ class Pick:
         opening = obs.size + self.offsets.grasp_opening_margin
         yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block}, opening, self.attempt,
                          panda.wrist_fit(x, y))
-        high = carry_height(obs, None, self.offsets)
+        high = min(carry_height(obs, None, self.offsets), cc.carry_ceiling)
         panda.open(opening)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
-        arrived = panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
-                                guard=lambda: bool(panda.touching() - {body}))
+        arrived = panda.vertical((x, y, goal_z), yaw, guard=lambda: bool(panda.touching() - {body}))
         if arrived == "guard" and panda.ee_position()[2] - goal_z > self.offsets.descend_stop_early:
-            panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+            panda.vertical((x, y, high), yaw)
             return Status(False, f"collision while descending onto {letter(self.block)}", scene.steps - start)
         if not panda.close(body):
             panda.open()
-            panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+            panda.vertical((x, y, high), yaw)
             return Status(False, f"grasp of {letter(self.block)} missed", scene.steps - start)
-        panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+        panda.vertical((x, y, high), yaw)
         if not panda.grips(body):
             return Status(False, f"{letter(self.block)} slipped out while lifting", scene.steps - start)
         return Status(True, "", scene.steps - start)
@@ -207,17 +243,16 @@ class Place:
         c, s = math.cos(turn), math.sin(turn)
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
         x, y = tx - offset[0], ty - offset[1]
-        high = carry_height(obs, self.block, self.offsets)
+        high = min(carry_height(obs, self.block, self.offsets), cc.carry_ceiling)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps, during=carry_hook)
         if not panda.grips(body):
             return Status(False, f"{letter(self.block)} dropped during the carry", scene.steps - start)
         others = {scene.bodies["table"]} | {scene.block_body(i) for i in range(scene.n) if i != self.block}
         if cc.place_pause > 0:  # come to rest just above: the hand trails its path while it moves
-            panda.move_to((x, y, goal_z + cc.place_pause), yaw, cc.descend_speed, cc.descend_steps)
-        panda.move_to((x, y, goal_z), yaw, cc.descend_speed, cc.descend_steps,
-                      guard=lambda: bool(scene.contact_bodies(body) & others))
+            panda.vertical((x, y, goal_z + cc.place_pause), yaw)
+        panda.vertical((x, y, goal_z), yaw, guard=lambda: bool(scene.contact_bodies(body) & others))
         panda.open()
-        panda.move_to((x, y, high), yaw, cc.descend_speed, cc.descend_steps)
+        panda.vertical((x, y, high), yaw)
         settle(scene, panda)
         return Status(True, "", scene.steps - start)
 

@@ -27,7 +27,7 @@ from PIL import Image, ImageDraw
 
 from csql_sim.sim.perception.camera import Camera
 from csql_sim.sim.video.replay import PANDA_JOINTS
-from csql_sim.sim.world.config import COLOURS, SimConfig
+from csql_sim.sim.world.config import SimConfig, cube_colour
 from csql_sim.sim.world.scene import Pose, Scene, rotation_matrix
 
 LIGHT = np.array([0.45, 0.3, 1.0]) / np.linalg.norm([0.45, 0.3, 1.0])
@@ -152,7 +152,7 @@ class Painter:
         pc = config.physics
         self.cube_half = np.full(3, pc.cube_size / 2)
         self.table = (np.asarray(pc.table_half_extents), np.asarray(pc.table_centre))
-        self.cube_rgb = [tuple(int(255 * c) for c in COLOURS[i][:3]) for i in range(n)]
+        self.cube_rgb = [tuple(int(255 * c) for c in cube_colour(i)[:3]) for i in range(n)]
         self._grounds: dict[tuple[bytes, int, int], Image.Image] = {}
 
     def paint(self, poses: tuple[Pose, ...], links: Sequence[Pose] | None, proj: Projection) -> Image.Image:

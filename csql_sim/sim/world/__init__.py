@@ -17,10 +17,12 @@ from csql_sim.sim.world.arm_state import (
     parse_arm_state,
     world_model_for,
 )
-from csql_sim.sim.world.config import MAX_ARM_BLOCKS
+from csql_sim.sim.world.config import MAX_ARM_BLOCKS, MAX_TOWER_HEIGHT
 from csql_sim.sim.world.legend import cube_legend, legend_line
+from csql_sim.sim.world.tower_height import check_tower_heights, goal_height, tower_height
 
 __all__ = [
-    "ArmState", "MAX_ARM_BLOCKS", "arm_optimal_length", "check_arm_blocks", "check_arm_policy", "cube_legend",
-    "legend_line", "parse_arm_state", "world_model_for",
+    "ArmState", "MAX_ARM_BLOCKS", "MAX_TOWER_HEIGHT", "arm_optimal_length", "check_arm_blocks", "check_arm_policy",
+    "check_tower_heights", "cube_legend", "goal_height", "legend_line", "parse_arm_state", "tower_height",
+    "world_model_for",
 ]

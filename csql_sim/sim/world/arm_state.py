@@ -1,10 +1,11 @@
-"""States on the arm: the enumerated world's (n <= 6) or relational ones (7..10 cubes).
+"""States on the arm: the enumerated world's (n <= 6) or relational ones (7..30 cubes).
 
 For n <= 6 the arm works on :class:`csql_sim.core.state.world.State`, with the paper's message
 form (goal by its index), BFS optima and the ground R-classifiers, exactly as before. For
-7..10 cubes (:data:`~csql_sim.sim.world.config.MAX_ARM_BLOCKS`) the states are
+7..30 cubes (:data:`~csql_sim.sim.world.config.MAX_ARM_BLOCKS`) the states are
 :class:`csql_sim.core.state.state.State` records: messages take the large form
-(:func:`csql_sim.core.state.relational_message.format_large_message`), optimal lengths come from
+(:func:`csql_sim.core.state.relational_message.format_large_message`; past 26 cubes there is
+no message, and the policy reads the state), optimal lengths come from
 :func:`csql_sim.core.measure.optimum.optimal_length` (measuring only), the world model interprets
 the lifted rules (:class:`RelationalWorldModel`), and the policy must be lifted (BFS and
 ground rule files enumerate the world: refused). Every name here is the same function of
@@ -22,9 +23,9 @@ from csql_sim.core.model.search import distance
 from csql_sim.core.model.world_model import WorldModel
 from csql_sim.core.state.message import action_code, format_state_message
 from csql_sim.core.state.notation import parse_config
-from csql_sim.core.state.relational_message import format_large_message
+from csql_sim.core.state.relational_message import MAX_LARGE_MESSAGE, format_large_message
+from csql_sim.core.state.state import default_name
 from csql_sim.core.state.world import (
-    LETTERS,
     MAX_BLOCKS,
     MIN_BLOCKS,
     Action,
@@ -37,7 +38,7 @@ from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.world.config import MAX_ARM_BLOCKS
 
 ArmState = State
-"""A state the arm can build and perceive (2..10 cubes)."""
+"""A state the arm can build and perceive (2..30 cubes)."""
 
 
 class SimError(CsqlError):
@@ -45,12 +46,12 @@ class SimError(CsqlError):
 
 
 def check_arm_blocks(n: int) -> int:
-    """``n`` if the arm can hold that many cubes (2..10), else a SimError saying why not."""
+    """``n`` if the arm can hold that many cubes (2..30), else a SimError saying why not."""
     if not isinstance(n, int) or isinstance(n, bool) or n < MIN_BLOCKS:
         raise SimError(f"number of cubes must be {MIN_BLOCKS}..{MAX_ARM_BLOCKS}, got {n!r}")
     if n > MAX_ARM_BLOCKS:
-        raise SimError(f"the arm takes at most {MAX_ARM_BLOCKS} cubes (the table has room for {MAX_ARM_BLOCKS} "
-                       f"start towers side by side, and a taller tower leaves the Panda's reach), got {n}")
+        raise SimError(f"the arm takes at most {MAX_ARM_BLOCKS} cubes (the table's ring has {MAX_ARM_BLOCKS} places "
+                       f"within the Panda's reach), got {n}")
     return n
 
 
@@ -60,8 +61,8 @@ def is_large(n: int) -> bool:
 
 
 def letter(i: int) -> str:
-    """The letter of cube ``i`` (A..J)."""
-    return LETTERS[i]
+    """The name of cube ``i``: A..Z, then AA, AB, ... (:func:`csql_sim.core.state.state.default_name`)."""
+    return default_name(i)
 
 
 def label(action: Action) -> str:
@@ -97,7 +98,7 @@ def arm_optimal_length(start: ArmState, goal: ArmState) -> int:
 
 
 class Messages:
-    """The state messages of one task's goal: the paper's form for n <= 6, the large form past six."""
+    """The state messages of one task's goal: the paper's form for n <= 6, the large form to 26, none (``""``) past."""
 
     def __init__(self, goal: ArmState) -> None:
         self.goal = goal
@@ -107,13 +108,13 @@ class Messages:
     def state(self, state: ArmState, action: Action | None = None) -> str:
         """The message of ``state`` towards the goal, with ``action``'s code in the action slot (empty: None)."""
         if self.goal_index is None:
-            return format_large_message(state, self.goal, action)
+            return "" if self.n > MAX_LARGE_MESSAGE else format_large_message(state, self.goal, action)
         code = 0 if action is None else int(action_code(action, self.n), 36)
         return format_state_message(state, self.goal_index, code)
 
 
 class RelationalWorldModel:
-    """The executor's world-model interface for 7..10 cubes: the lifted rules, read on relational states.
+    """The executor's world-model interface for 7..30 cubes: the lifted rules, read on relational states.
 
     :class:`csql_sim.core.model.world_model.WorldModel` grounds R-classifiers into messages of
     the enumerated world; past six blocks the same four schemas are interpreted directly

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 
@@ -41,6 +42,8 @@ class LayoutConfig:
     free_x: tuple[float, ...] = (0.42, 0.50, 0.58)  # candidate putdown x, m
     free_y: tuple[float, ...] = (-0.24, -0.18, -0.12, -0.06, 0.0, 0.06, 0.12, 0.18, 0.24)  # m
     free_clearance: float = 0.085  # min xy distance of a putdown spot from any block, m
+    spread: bool = False  # start towers spread evenly over the arc's places (else its middle places, side by side)
+    shun_housing: bool = False  # putdowns prefer spots where no tall tower stands in the forearm housing's way
     jitter_xy: float = 0.006  # --perturb: max start offset of a block, m
     jitter_yaw: float = 0.12  # --perturb: max start yaw of a block, rad
 
@@ -73,6 +76,9 @@ class ControlConfig:
     ik_model_iterations: int = 300  # IK iterations on that copy (it starts from the home pose every time)
     place_pause: float = 0.0  # > 0: a place stops this far above its goal before the last guarded descent, m
     aim_column: bool = False  # stack onto the mean xy of the tower below, not onto its top cube alone
+    polar_moves: bool = False  # free moves follow an arc about the base (radius and angle linear), not a line
+    carry_ceiling: float = 1.0  # the grasp point is never carried higher than this, m
+    approach_gap: float = 0.0  # > 0: descents go at move_speed to this far above their goal, and lifts too, m
 
 
 @dataclass(frozen=True)
@@ -86,9 +92,8 @@ class SimConfig:
 
 DEFAULT_CONFIG = SimConfig()
 
-MAX_ARM_BLOCKS = 10
-"""The most cubes on the arm: the table layout (start towers side by side, putdown spots
-clear of them) and the Panda's reach (the carry height above a tower of ten) allow ten."""
+MAX_ARM_BLOCKS = 30
+"""The most cubes on the arm: the ring of :data:`RING_LAYOUT` has a place for each of 30."""
 
 WIDE_LAYOUT = LayoutConfig(arc_radius=0.64, arc_spacing=0.16, arc_positions=10)
 """The layout of 7..10 cubes: ten places 0.16 m apart on an arc 0.64 m from the arm's base (+-64 degrees).
@@ -124,9 +129,49 @@ not at its top cube: the camera's estimates lie 1.5 mm towards it, and aiming at
 cube in turn added that up level by level too."""
 
 
+RING_LAYOUT = LayoutConfig(arc_radius=0.5, arc_spacing=0.5 * math.radians(300) / 29, arc_positions=30,
+                           free_clearance=0.08, spread=True,
+                           shun_housing=True)
+"""The layout of 11..30 cubes: thirty places on a ring 0.5 m about the arm's base, 300 degrees of it
+(+-150 degrees, 10.3 degrees and 90 mm apart), the table reaching behind the arm.
+
+Why a ring this close: a tower of fifteen 4 cm cubes is 0.6 m high, and taking it apart
+carries the top cube at 0.67 m; the Panda holds the hand pointing down that high only
+within about 0.5 m of its base (0.4 mm off at 0.5 m, 6 mm at 0.55 m). Why one ring: a
+hand going down to the table on an outer ring puts the forearm 0.2-0.4 m above the inner
+ring, where a tower of five or more stands in its way. Why 90 mm: the open hand closes
+along the ring's radius (70 mm wide across it), and the forearm's housing, on the
+anticlockwise side of the arm, stays 5 mm clear of an upright tower of fifteen on the
+next place. Start towers are spread evenly over the places."""
+
+RING_PHYSICS = PhysicsConfig(table_half_extents=(0.62, 0.62, 0.02), table_centre=(0.0, 0.0, -0.02),
+                             solver_iterations=100)
+"""The physics of 11..30 cubes: a square table about the arm's base, its edge 0.12 m beyond the
+ring, and 100 solver iterations (at 50 a tower of eleven swayed by itself until it fell)."""
+
+RING_CONFIG = SimConfig(physics=RING_PHYSICS, layout=RING_LAYOUT,
+                        control=ControlConfig(ik_model=True, move_steps=700, descend_steps=300, place_pause=0.012,
+                                              aim_column=True, polar_moves=True, carry_ceiling=0.69,
+                                              move_speed=1.2, approach_gap=0.1))
+"""The settings of a scene of 11..30 cubes (:func:`config_for`): :data:`WIDE_CONFIG`'s control, and
+free moves along arcs about the base (a straight line between two places across the ring
+would pass over the arm's base). A move may take 700 steps: from one end of the ring to
+the other the base turns by 5.2 radians. The hand is never carried higher than 0.69 m
+(the reach at 0.5 m). Descents and lifts go at the free moves' speed (1.2 m/s) up to 4 cm
+above their goal, and only the last 4 cm at the guarded descent's speed: the hand goes up
+and down by as much as 0.65 m, and at 0.45 m/s all the way an action took over 2 s of
+simulated time. A descent may take 300 steps."""
+
+MAX_TOWER_HEIGHT = 15
+"""The tallest tower the arm builds and takes apart on :data:`RING_LAYOUT` (measured:
+``benchmarks/arm_thirty.py --towers``); a task whose start or goal needs a taller one is refused."""
+
+
 def config_for(n: int) -> SimConfig:
-    """The default settings of an n-cube scene: :data:`DEFAULT_CONFIG` for n <= 6, else :data:`WIDE_CONFIG`."""
-    return DEFAULT_CONFIG if n <= 6 else WIDE_CONFIG
+    """The settings of n cubes: :data:`DEFAULT_CONFIG` (n <= 6), :data:`WIDE_CONFIG`, :data:`RING_CONFIG` (n > 10)."""
+    if n <= 6:
+        return DEFAULT_CONFIG
+    return WIDE_CONFIG if n <= 10 else RING_CONFIG
 
 
 COLOURS: tuple[tuple[float, float, float, float], ...] = (
@@ -146,3 +191,13 @@ yellow), more than twice the segmentation's hue tolerance (rgbd.SegmentationLimi
 COLOUR_NAMES: tuple[str, ...] = ("red", "green", "blue", "yellow", "purple", "orange", "cyan", "magenta", "lime",
                                  "teal")
 """The paints' names, in the order of :data:`COLOURS` (cube A red, B green, ...): the legend's words."""
+
+
+def cube_colour(i: int) -> tuple[float, float, float, float]:
+    """The paint of cube ``i``: :data:`COLOURS` in turn, again from the first past ten."""
+    return COLOURS[i % len(COLOURS)]
+
+
+def colour_name(i: int) -> str:
+    """The word of cube ``i``'s paint (:func:`cube_colour`)."""
+    return COLOUR_NAMES[i % len(COLOUR_NAMES)]

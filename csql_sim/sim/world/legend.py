@@ -14,8 +14,8 @@ from collections.abc import Sequence
 from functools import cache, lru_cache
 from typing import TYPE_CHECKING
 
-from csql_sim.core.state.world import LETTERS
-from csql_sim.sim.world.config import COLOUR_NAMES, COLOURS
+from csql_sim.core.state.state import default_name, default_names
+from csql_sim.sim.world.config import colour_name, cube_colour
 
 if TYPE_CHECKING:
     import numpy as np
@@ -25,7 +25,7 @@ if TYPE_CHECKING:
 def legend_names(n: int, names: Sequence[str] | None = None) -> tuple[str, ...]:
     """The names of cubes 0..n-1: ``names`` as given, or the cube letters A, B, ..."""
     if names is None:
-        return tuple(LETTERS[:n])
+        return default_names(n)
     if len(names) != n:
         raise ValueError(f"{len(names)} names for {n} cubes")
     return tuple(names)
@@ -33,7 +33,7 @@ def legend_names(n: int, names: Sequence[str] | None = None) -> tuple[str, ...]:
 
 def cube_legend(n: int, names: Sequence[str] | None = None) -> dict[str, str]:
     """Object name -> cube colour (``{"a": "red", "b": "green"}``), in cube order (JSON's ``legend``)."""
-    return {name: COLOUR_NAMES[i] for i, name in enumerate(legend_names(n, names))}
+    return {name: colour_name(i) for i, name in enumerate(legend_names(n, names))}
 
 
 def legend_line(n: int, names: Sequence[str] | None = None) -> str:
@@ -59,12 +59,12 @@ def draw_legend(draw: ImageDraw.ImageDraw, width: int, size: float, names: Seque
     font = ImageFont.load_default(size=max(8, int(size * 0.8)))
     x, y, gap = 4.0, 4.0, max(3.0, size / 3)
     for i, name in enumerate(names):
-        label = name if name == LETTERS[i] else f"{name} ({LETTERS[i]})"
-        label = f"{label} = {COLOUR_NAMES[i]}" if full else label
+        label = name if name == default_name(i) else f"{name} ({default_name(i)})"
+        label = f"{label} = {colour_name(i)}" if full else label
         span = size + gap / 2 + draw.textlength(label, font=font) + gap
         if x > 4 and x + span > width - 4:
             x, y = 4.0, y + size + gap
-        colour = tuple(int(255 * c) for c in COLOURS[i][:3])
+        colour = tuple(int(255 * c) for c in cube_colour(i)[:3])
         draw.rectangle((x, y, x + size, y + size), fill=colour, outline=(255, 255, 255))
         draw.text((x + size + gap / 2, y + size / 2), label, fill=(255, 255, 255), font=font, anchor="lm",
                   stroke_width=1, stroke_fill=(0, 0, 0))

@@ -32,6 +32,24 @@ def row_fit(yaw: float) -> float | None:
     return yaw if abs(yaw) <= WRIST_YAW else None
 
 
+def polar_path(start: np.ndarray, target: np.ndarray) -> Callable[[float], tuple[np.ndarray, float]]:
+    """The arc from ``start`` to ``target`` about the base's axis (radius, angle and height linear in the fraction).
+
+    The returned function maps a fraction of the path to (its point, the path's length so far).
+    Angles are taken in (-pi, pi], so the arc never crosses the back of the arm.
+    """
+    r0, r1 = math.hypot(start[0], start[1]), math.hypot(target[0], target[1])
+    a0, a1 = math.atan2(start[1], start[0]), math.atan2(target[1], target[0])
+    dz = float(target[2] - start[2])
+    total = math.sqrt((r1 - r0) ** 2 + ((r0 + r1) / 2 * (a1 - a0)) ** 2 + dz ** 2)
+
+    def at(frac: float) -> tuple[np.ndarray, float]:
+        r, a = r0 + (r1 - r0) * frac, a0 + (a1 - a0) * frac
+        return np.array([r * math.cos(a), r * math.sin(a), start[2] + dz * frac]), total * frac
+
+    return at
+
+
 class Panda:
     """Controller of the scene's Panda (all calls on the scene's own client)."""
 
@@ -142,13 +160,16 @@ class Panda:
         self.yaw = yaw
         start = self.ee_position()
         dist = float(np.linalg.norm(target - start))
-        # joint-space waypoints on the straight line, so the path does not sag between them
-        count = max(1, math.ceil(dist / cc.waypoint_spacing))
-        qs = [self.joints()] + [np.array(self.ik(tuple(start + (target - start) * k / count), yaw))
-                                for k in range(1, count + 1)]
+        # joint-space waypoints on the path (a line, or an arc about the base), so it does not sag between them
+        path = polar_path(start, target) if cc.polar_moves else None
+        length = dist if path is None else path(1.0)[1]
+        count = max(1, math.ceil(length / cc.waypoint_spacing))
+        points = [start + (target - start) * k / count if path is None else path(k / count)[0]
+                  for k in range(1, count + 1)]
+        qs = [self.joints()] + [np.array(self.ik(tuple(p), yaw)) for p in points]
         joint_dist = float(sum(np.max(np.abs(b - a)) for a, b in zip(qs, qs[1:], strict=False)))
         every = cc.check_every
-        duration = max(dist / speed, joint_dist / cc.arm_max_velocity, every * dt)
+        duration = max(length / speed, joint_dist / cc.arm_max_velocity, every * dt)
         total = min(every * math.ceil(duration / dt / every), max_steps)
         done = 0
         while done < total:
@@ -173,6 +194,26 @@ class Panda:
                 self.hold_here(yaw)
                 return "guard"
         return "timeout"
+
+    def vertical(self, position: Vec3, yaw: float, guard: Guard | None = None) -> str:
+        """A descent or a lift to ``position``, returning as :meth:`move_to` does.
+
+        At ``descend_speed``, or (``approach_gap`` > 0) at ``move_speed`` except for the last
+        ``approach_gap`` of a descent.
+        """
+        cc = self.cc
+        gap = cc.approach_gap
+        if gap <= 0:
+            return self.move_to(position, yaw, cc.descend_speed, cc.descend_steps, guard)
+        z = float(self.ee_position()[2])
+        if position[2] > z:  # a lift
+            return self.move_to(position, yaw, cc.move_speed, cc.descend_steps, guard)
+        if z - position[2] > 2 * gap:
+            fast = self.move_to((position[0], position[1], position[2] + gap), yaw, cc.move_speed, cc.descend_steps,
+                                guard)
+            if fast == "guard":
+                return fast
+        return self.move_to(position, yaw, cc.descend_speed, cc.descend_steps, guard)
 
     def arrived(self, target: np.ndarray) -> bool:
         """Grasp point within reach_tolerance of ``target`` and nearly at rest."""

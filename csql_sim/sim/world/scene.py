@@ -1,14 +1,14 @@
 """The physical scene: a table, a Franka Panda and n cubes in one physics client.
 
 :class:`Scene` is a :class:`~csql_sim.sim.world.client.PhysicsClient` that builds the bodies
-and names them in :attr:`Scene.bodies` (``"table"``, ``"panda"``, ``"A"``, ``"B"``, ...).
+and names them in :attr:`Scene.bodies` (``"table"``, ``"panda"``, ``"A"``, ``"B"``, ..., ``"AA"``, ...).
 Where the cubes start is :mod:`csql_sim.sim.world.layout`'s job; setting recorded poses for
 rendering is :mod:`csql_sim.sim.video.replay`'s. This module does not import pybullet.
 """
 
 from __future__ import annotations
 
-from csql_sim.core.state.world import LETTERS
+from csql_sim.core.state.state import default_name
 from csql_sim.sim.world.arm_state import check_arm_blocks
 from csql_sim.sim.world.client import (
     PhysicsClient,
@@ -20,7 +20,7 @@ from csql_sim.sim.world.client import (
     rotation_matrix,
     view_matrix,
 )
-from csql_sim.sim.world.config import COLOURS, SimConfig, config_for
+from csql_sim.sim.world.config import SimConfig, config_for, cube_colour
 
 TABLE_RGBA = (0.72, 0.6, 0.45, 1.0)
 FINGER_LINKS = (9, 10)
@@ -31,7 +31,7 @@ class Scene(PhysicsClient):
     """A pybullet world with its own DIRECT client: table, Panda and ``n`` cubes.
 
     Args:
-        n: number of cubes, 2..10 (:data:`~csql_sim.sim.world.config.MAX_ARM_BLOCKS`).
+        n: number of cubes, 2..30 (:data:`~csql_sim.sim.world.config.MAX_ARM_BLOCKS`).
         config: geometry, physics and control settings (default: :func:`~csql_sim.sim.world.config.config_for` n).
         physics: False builds a replay-only scene for rendering (bodies, no stepping).
         renderer_plugin: (file, entry point) of a renderer plugin loaded before the bodies
@@ -49,7 +49,7 @@ class Scene(PhysicsClient):
         self._load_table()
         self._load_panda()
         for i in range(n):
-            self._load_cube(LETTERS[i], COLOURS[i])
+            self._load_cube(default_name(i), cube_colour(i))
         self.kinematics: PhysicsClient | None = None  # the arm's kinematic copy (ControlConfig.ik_model)
         if physics and config.control.ik_model:
             self.kinematics = PhysicsClient(config.physics)
@@ -93,7 +93,7 @@ class Scene(PhysicsClient):
 
     def block_body(self, i: int) -> int:
         """The body id of block ``i``."""
-        return self.bodies[LETTERS[i]]
+        return self.bodies[default_name(i)]
 
     def pose(self, name: str) -> Pose:
         """The base pose of the named body."""
