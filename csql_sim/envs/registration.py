@@ -17,7 +17,8 @@ entry point (group ``gymnasium.envs`` in ``pyproject.toml``), which calls
 
 Keyword arguments: ``blocks`` (2..30; past six the observations are large messages and
 past 26 numeric, ``observation="numeric"``; the states relational, see
-:class:`csql_sim.envs.symbolic.BlocksWorldEnv`), ``rules`` (a rule file for the dynamics or, on the arm, the action mask; up to six blocks),
+:class:`csql_sim.envs.symbolic.BlocksWorldEnv`), ``rules`` (a rule file for the dynamics or,
+on the arm, the action mask; up to six blocks),
 ``render_mode``, ``max_steps``, ``observation`` (``"message"``, the default, or
 ``"numeric"``: :mod:`csql_sim.envs.numeric`); on the arm also ``perception`` (``"pose"`` or
 ``"camera"``), ``width`` and ``height``.
