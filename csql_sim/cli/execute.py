@@ -75,7 +75,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                        "BFS or GN1 on the simulated arm; success from perception",
                        "csql-sim execute --problem p.pddl --plan p.plan --out p.mp4")
     p.add_argument("--problem", type=path_arg, required=True,
-                   help="a blocks-world PDDL problem (objects sorted by name are cubes A, B, ...; 2..10)")
+                   help="a blocks-world PDDL problem (objects sorted by name are cubes A, B, ...; 2..30)")
     p.add_argument("--domain", type=path_arg,
                    help="here its PDDL domain (optional): the 4-operator blocks domain or a move variant")
     p.add_argument("--plan", type=path_arg,

@@ -28,7 +28,7 @@ def declare_problems(args: argparse.Namespace, outputs: Outputs) -> None:
     from csql_sim.jobs.problems import drawn_names
 
     out = outputs.folder(args.out, "problem folder")
-    for name in drawn_names(args.distribution, args.blocks, args.count):
+    for name in drawn_names(args.distribution, args.blocks, args.count, args.max_height):
         outputs.file(out / name, "PDDL domain" if name == "domain.pddl" else "PDDL problem", "pddl")
 
 
@@ -39,7 +39,7 @@ def cmd_problems(args: argparse.Namespace) -> int:
 
     out = Path(args.out)
     written = []
-    for name, text in iter_drawn_problems(args.distribution, args.blocks, args.count, args.seed):
+    for name, text in iter_drawn_problems(args.distribution, args.blocks, args.count, args.seed, args.max_height):
         try:
             written.append(write_atomic(out / name, text))
         except (OSError, OutputError) as exc:
@@ -47,6 +47,7 @@ def cmd_problems(args: argparse.Namespace) -> int:
             raise OutputError(f"cannot write {os.fspath(out / name)!r} ({why}); {len(written)} of the files "
                               f"written before it are complete in {os.fspath(out)!r}") from None
     doc = {"distribution": args.distribution, "blocks": args.blocks, "count": args.count, "seed": args.seed,
+           "max_height": args.max_height,
            "written": [str(p) for p in written]}
     emit(args, doc, f"wrote {len(written)} files to {out} (domain.pddl and {len(written) - 1} problems)")
     return 0
@@ -63,6 +64,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help=blocks_help(2, MAX_DRAWN_BLOCKS, 25, "; a list such as 25,50,100 gives each size"))
     p.add_argument("--count", type=positive_int, default=1,
                    help="problems per size (default 1; at most 10,000 problems in all)")
+    p.add_argument("--max-height", type=positive_int, default=None, metavar="H",
+                   help="tall-towers only: draw only tasks whose start and goal towers are at most H high (pairs "
+                        "drawn until one fits, from the same generator; the arm builds towers of at most 15)")
     add_seed(p, "seed of the one generator that draws every problem")
     p.add_argument("--out", type=path_arg, required=True, help="folder for domain.pddl and the problems")
     add_json(p)

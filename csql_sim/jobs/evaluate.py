@@ -1,7 +1,7 @@
 """Sim-in-the-loop evaluation: many physical episodes in parallel, with a summary report.
 
 Up to six blocks the pairs come from the enumerated world (all of them, or a seeded
-sample) and the policy is BFS or a rule file. For 7..10 cubes (the arm's limit) the
+sample) and the policy is BFS or a rule file. For 7..30 cubes (the arm's limit) the
 states are relational, K pairs are drawn by counting (:mod:`csql_sim.core.model.pairs`), the
 policy is lifted (lifted rules or ``gn1``) and optimal lengths are the exact optimum's.
 """
@@ -285,7 +285,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
     """Run physical episodes for every start/goal pair in parallel and summarise them.
 
     Args:
-        n: number of blocks, 2..10 (past six: relational states, a lifted policy, sampled pairs).
+        n: number of blocks, 2..30 (past six: relational states, a lifted policy, sampled pairs).
         pairs: ``"all"`` or the size of a seeded sample of start/goal pairs (past six blocks
             K only, drawn uniformly by counting).
         seeds: episodes per pair (each episode has its own seed, reported with failures).
@@ -313,7 +313,7 @@ def evaluate(n: int = 3, pairs: str | int = "all", seeds: int = 1, perturb: bool
     from csql_sim.sim.world import check_arm_blocks
 
     check_arm_blocks(n)
-    check_perception(perception)  # bad options fail once, here, not in every episode
+    check_perception(perception, n)  # bad options fail once, here, not in every episode
     CameraNoise(*camera_noise)
     if perception != "camera" and any(camera_noise):  # pose perception takes no images: the noise would be lost
         raise CsqlError(f"camera noise {tuple(camera_noise)} needs perception 'camera', not {perception!r}")

@@ -196,7 +196,7 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
 
     check_arm_blocks(bp.n)
     check_tower_heights(bp.start, bp.goal)
-    check_perception(perception)
+    check_perception(perception, bp.n)
     options = video_options or VideoOptions()
     if video is not None:
         from csql_sim.sim.video import resolve_renderer

@@ -30,7 +30,9 @@ import numpy as np
 
 from csql_sim.core.files.ipc_plan import ipc_plan_text
 from csql_sim.core.model.search import bfs_plan
+from csql_sim.core.model.task_draws import check_max_height
 from csql_sim.core.model.task_draws import draw_task as draw_relational
+from csql_sim.core.state.state import default_names
 from csql_sim.core.state.world import MAX_BLOCKS, TABLE, State, WorldError
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
@@ -98,8 +100,9 @@ def problem_text(name: str, n: int, start: Towers, goal: Towers, names: str | li
 
 
 def task_problem_text(start: State, goal: State, name: str = "task") -> str:
-    """A csql-sim task (hand-empty start and goal) as an IPC problem; cube A is object ``a``."""
-    return problem_text(name, start.n, towers_of(start), towers_of(goal))
+    """A csql-sim task (hand-empty start and goal) as an IPC problem; cube A is object ``a`` (AA ``aa``)."""
+    names = [x.lower() for x in default_names(start.n)]
+    return problem_text(name, start.n, towers_of(start), towers_of(goal), names)
 
 
 def draw_task(n: int, rng: np.random.Generator) -> tuple[Towers, Towers]:
@@ -165,41 +168,50 @@ MAX_DRAWN_PROBLEMS = 10_000
 """The most problems one ``problems`` run writes (all sizes together), checked before anything is drawn."""
 
 
-def drawn_names(distribution: str, blocks: list[int], count: int) -> list[str]:
+def drawn_names(distribution: str, blocks: list[int], count: int, max_height: int | None = None) -> list[str]:
     """The file names :func:`iter_drawn_problems` gives, without drawing: ``domain.pddl``, then the problems.
 
     Raises:
-        CsqlError: ``count`` below 1, or more than :data:`MAX_DRAWN_PROBLEMS` problems in all.
+        CsqlError: ``count`` below 1, more than :data:`MAX_DRAWN_PROBLEMS` problems in all, or a
+            ``max_height`` the draw cannot meet (:func:`csql_sim.core.model.task_draws.check_max_height`).
     """
     if count < 1:
         raise CsqlError(f"count must be at least 1, got {count}")
+    for n in blocks:
+        try:
+            check_max_height(distribution, n, max_height)
+        except WorldError as exc:
+            raise CsqlError(str(exc)) from None
     if count * len(blocks) > MAX_DRAWN_PROBLEMS:
         raise CsqlError(f"{count} problems for each of {len(blocks)} size(s) is {count * len(blocks):,} problems; "
                         f"one run writes at most {MAX_DRAWN_PROBLEMS:,}")
     return ["domain.pddl", *(f"{distribution}-{n}-{k:02d}.pddl" for n in blocks for k in range(1, count + 1))]
 
 
-def iter_drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0
-                        ) -> Iterator[tuple[str, str]]:
+def iter_drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0,
+                        max_height: int | None = None) -> Iterator[tuple[str, str]]:
     """``(file name, text)`` of ``domain.pddl`` and ``count`` problems per size, each drawn when asked for.
 
     Problems are named ``<distribution>-<n>-<k>.pddl`` (k from 01); one generator seeded
-    with ``seed`` draws them all, size by size in the order given, start before goal.
+    with ``seed`` draws them all, size by size in the order given, start before goal;
+    ``max_height``: only tasks whose towers are at most that high (rejection sampling).
     """
-    drawn_names(distribution, blocks, count)  # the bounds, before the first draw
+    drawn_names(distribution, blocks, count, max_height)  # the bounds, before the first draw
     rng = np.random.default_rng(seed)
     yield "domain.pddl", DOMAIN_TEXT
     for n in blocks:
         for k in range(1, count + 1):
             name = f"{distribution}-{n}-{k:02d}"
             try:
-                start, goal = draw_relational(distribution, n, rng)
+                start, goal = draw_relational(distribution, n, rng, max_height)
             except WorldError as exc:
                 raise CsqlError(str(exc)) from None
-            header = f"; csql-sim problem: {distribution}, {n} blocks, seed {seed}, task {k}\n"
+            limit = "" if max_height is None else f", towers at most {max_height} high"
+            header = f"; csql-sim problem: {distribution}, {n} blocks{limit}, seed {seed}, task {k}\n"
             yield f"{name}.pddl", header + relational_problem_text(name, start, goal)
 
 
-def drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0) -> list[tuple[str, str]]:
+def drawn_problems(distribution: str, blocks: list[int], count: int, seed: int = 0,
+                   max_height: int | None = None) -> list[tuple[str, str]]:
     """:func:`iter_drawn_problems` as a list."""
-    return list(iter_drawn_problems(distribution, blocks, count, seed))
+    return list(iter_drawn_problems(distribution, blocks, count, seed, max_height))

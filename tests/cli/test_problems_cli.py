@@ -41,3 +41,24 @@ def test_bad_options_are_one_line_and_exit_2(tmp_path, capsys, argv):
         main(["problems", *argv, "--out", str(tmp_path / "x")])
     assert exc.value.code == 2
     assert capsys.readouterr().err.strip().count("\n") <= 1 and not (tmp_path / "x").exists()
+
+
+def test_max_height_files_are_the_same_per_seed_and_their_towers_fit(tmp_path):
+    from csql_sim.core.files.pddl_import import read_problem
+    from csql_sim.core.model.task_draws import tallest
+
+    for name in ("a", "b"):
+        assert main(["problems", "--blocks", "20", "--count", "3", "--max-height", "6", "--seed", "2", "--quiet",
+                     "--out", str(tmp_path / name)]) == 0
+    for k in (1, 2, 3):
+        a, b = (tmp_path / d / f"tall-towers-20-0{k}.pddl" for d in ("a", "b"))
+        assert a.read_bytes() == b.read_bytes() and "towers at most 6 high" in a.read_text()
+        bp = read_problem(a)
+        assert tallest(bp.start) <= 6 and tallest(bp.goal.nearest(bp.start)) <= 6
+
+
+def test_a_max_height_that_cannot_be_drawn_is_refused_in_one_line_and_nothing_written(tmp_path, capsys):
+    code = main(["problems", "--blocks", "30", "--max-height", "3", "--out", str(tmp_path / "p")])
+    out, err = capsys.readouterr()
+    assert code == 2 and out == "" and err.count("\n") == 1 and "probability" in err, err
+    assert not (tmp_path / "p").exists()

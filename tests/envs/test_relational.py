@@ -75,9 +75,11 @@ def test_bad_tasks_are_refused_in_one_line(options, needle):
 def test_past_six_blocks_rules_and_eleven_blocks_are_refused():
     with pytest.raises(CsqlError, match="give no rules"):
         BlocksWorldEnv(7, rules="rules.yaml")
-    with pytest.raises(CsqlError, match=r"blocks must be an integer in 2..10, got 11"):
-        BlocksWorldEnv(11)
-    assert check_env_blocks(np.int64(10)) == 10
+    with pytest.raises(CsqlError, match=r"blocks must be an integer in 2..30, got 31"):
+        BlocksWorldEnv(31)
+    assert check_env_blocks(np.int64(30)) == 30
+    with pytest.raises(CsqlError, match="observation='numeric'"):
+        BlocksWorldEnv(27)
 
 
 def test_the_pieces():

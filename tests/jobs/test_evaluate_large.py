@@ -11,6 +11,7 @@ from csql_sim.core.files.rulebase import RuleBase, save
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.state import default_names
 from csql_sim.core.state.state_count import pair_count, sample_pairs
 from csql_sim.core.state.world import State, action_name, legal_actions, successor
 from csql_sim.infra.errors import CsqlError
@@ -44,8 +45,8 @@ def test_only_lifted_policies_plan_past_six_blocks(tmp_path):
     with pytest.raises(CsqlError, match="not both"):
         PolicyData.read(ground, 8, named="gn1")
     assert isinstance(PolicyData.read(None, 8, named="gn1").policy(), Gn1Policy)
-    with pytest.raises(CsqlError, match="at most 10 cubes"):
-        evaluate(n=11, pairs=1, planner="gn1", progress=False)
+    with pytest.raises(CsqlError, match="at most 30 cubes"):
+        evaluate(n=31, pairs=1, planner="gn1", progress=False)
 
 
 def test_an_evaluation_of_seven_cubes_reports_the_exact_optimum(tmp_path):
@@ -69,10 +70,11 @@ def test_cli_evaluate_of_eight_cubes_with_gn1(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("argv, names", [
-    (["evaluate", "--blocks", "11", "--pairs", "2", "--planner", "gn1"], "at most 10 cubes"),
+    (["evaluate", "--blocks", "31", "--pairs", "2", "--planner", "gn1"], "at most 30 cubes"),
     (["evaluate", "--blocks", "8", "--pairs", "all", "--planner", "gn1"], "483,604,108,472 ordered start/goal pairs"),
     (["evaluate", "--blocks", "8", "--pairs", "2"], "BFS enumerates"),
-    (["render", "--start", "A,B,C,D,E,F,G,H,I,J,K", "--goal", "KJIHGFEDCBA", "--planner", "gn1"], "at most 10 cubes"),
+    (["render", "--start", ", ".join(default_names(31)), "--goal", " ".join(default_names(31)), "--planner", "gn1"],
+     "at most 30 cubes"),
     (["render", "--start", "A,B,C,D,E,F,G", "--goal", "GFEDCBA"], "BFS enumerates"),
 ])
 def test_cli_refusals_past_the_arm_or_the_enumerated_world(tmp_path, capsys, monkeypatch, argv, names):
@@ -110,9 +112,10 @@ def test_execute_a_task_of_eight_cubes_with_gn1():
     ({"planner": "bfs"}, "BFS enumerates"),
     ({"plan": ["(stack a b)"], "planner": None}, r"plan line 1: step 1 \(stack a b\) = stack\(A,B\) is not "
                                                  r"applicable in A,B,C,D,E,F,G,H: a is not held"),
-    ({"planner": "gn1", "start": "A,B,C,D,E,F,G,H,I,J,K", "goal": "KJIHGFEDCBA"}, "at most 10 cubes"),
+    ({"planner": "gn1", "start": ", ".join(default_names(31)), "goal": " ".join(default_names(31))},
+     "at most 30 cubes"),
 ])
-def test_execute_past_six_blocks_refuses_bfs_a_wrong_plan_and_eleven_cubes(kwargs, names):
+def test_execute_past_six_blocks_refuses_bfs_a_wrong_plan_and_31_cubes(kwargs, names):
     task = {"start": "A,B,C,D,E,F,G,H", "goal": "HGFEDCBA", **kwargs}
     with pytest.raises(CsqlError, match=names):
         execute_task(**task)

@@ -62,7 +62,8 @@ def _tokens(text: str) -> tuple[list[list[str]], list[str]]:
     """The towers (bottom up) and the held block of a configuration, as block names.
 
     One letter per block (``CBA``), or, where a tower's names are separated by spaces
-    (``C AA B``, the notation past 26 blocks), one name per word.
+    (``C AA B``, the notation past 26 blocks) or there are more letters than 26, one name
+    per word (``A, B, ..., AA``).
     """
     upper = text.upper()
     if not upper.replace(" ", ""):
@@ -71,7 +72,8 @@ def _tokens(text: str) -> tuple[list[list[str]], list[str]]:
         raise WorldError(f"configuration {text!r} holds more than one block ('+' twice)")
     towers_part, _, held_part = upper.partition("+")
     chunks = towers_part.split(",") if towers_part.strip() else []
-    words = any(len(chunk.split()) > 1 for chunk in chunks)
+    letters = sum(ch.isalpha() for ch in upper)
+    words = any(len(chunk.split()) > 1 for chunk in chunks) or letters > len(LETTERS)
 
     def split(chunk: str) -> list[str]:
         return chunk.split() if words else list(chunk.replace(" ", ""))

@@ -24,7 +24,7 @@ from csql_sim.sim.perception.poses import (
 )
 from csql_sim.sim.perception.rgbd import NO_NOISE, CameraNoise, observe_rgbd
 from csql_sim.sim.world.arm_state import ArmState, SimError, check_arm_blocks, letter
-from csql_sim.sim.world.config import SimConfig, config_for
+from csql_sim.sim.world.config import COLOURS, SimConfig, config_for
 from csql_sim.sim.world.layout import place_towers
 from csql_sim.sim.world.robot import Panda
 from csql_sim.sim.world.scene import Pose, Scene
@@ -32,14 +32,17 @@ from csql_sim.sim.world.scene import Pose, Scene
 PERCEPTION_MODES = ("pose", "camera")
 
 
-def check_perception(perception: str) -> str:
-    """``perception`` if it is one of :data:`PERCEPTION_MODES`.
+def check_perception(perception: str, n: int | None = None) -> str:
+    """``perception`` if it is one of :data:`PERCEPTION_MODES` (and, for ``n`` cubes, can tell them apart).
 
     Raises:
-        SimError: for any other mode.
+        SimError: for any other mode, or camera perception of more cubes than there are paints.
     """
     if perception not in PERCEPTION_MODES:
         raise SimError(f"perception must be one of {', '.join(PERCEPTION_MODES)}, got {perception!r}")
+    if perception == "camera" and n is not None and n > len(COLOURS):
+        raise SimError(f"camera perception tells cubes apart by their paint, and there are {len(COLOURS)} paints; "
+                       f"for {n} cubes use pose perception")
     return perception
 
 
@@ -48,7 +51,7 @@ class PhysicalWorld:
     """A scene with its Panda, the seeded generator and a perception mode.
 
     Args:
-        n: number of cubes, 2..10; states are :class:`~csql_sim.core.state.state.State` records.
+        n: number of cubes, 2..30; states are :class:`~csql_sim.core.state.state.State` records.
         seed: seeds the one generator used for putdown spots and perturbations.
         perception: ``"pose"`` (body poses) or ``"camera"`` (colour + depth images, rgbd.py).
         config: scene settings (default: :func:`~csql_sim.sim.world.config.config_for` n).
@@ -70,7 +73,7 @@ class PhysicalWorld:
     _seen: tuple[int, Observation] | None = field(init=False, default=None)  # (scene step, observation)
 
     def __post_init__(self) -> None:
-        check_perception(self.perception)
+        check_perception(self.perception, self.n)
         check_arm_blocks(self.n)
         self.config = config_for(self.n) if self.config is None else self.config
         self.cameras = perception_cameras(self.n) if self.cameras is None else self.cameras

@@ -72,6 +72,7 @@ class ControlConfig:
     settle_steps: int = 150  # step cap while waiting for the scene to settle
     settle_min_steps: int = 8  # always step at least this long when settling
     home_joints: tuple[float, ...] = (0.0, -0.3, 0.0, -2.2, 0.0, 1.9, 0.785)  # rad
+    start_joints: tuple[float, ...] | None = None  # the arm's pose when the scene is built (None: home_joints)
     ik_model: bool = False  # solve IK on a kinematic copy of the arm, from the home pose turned to the target
     ik_model_iterations: int = 300  # IK iterations on that copy (it starts from the home pose every time)
     place_pause: float = 0.0  # > 0: a place stops this far above its goal before the last guarded descent, m
@@ -145,14 +146,16 @@ anticlockwise side of the arm, stays 5 mm clear of an upright tower of fifteen o
 next place. Start towers are spread evenly over the places."""
 
 RING_PHYSICS = PhysicsConfig(table_half_extents=(0.62, 0.62, 0.02), table_centre=(0.0, 0.0, -0.02),
-                             solver_iterations=100)
+                             solver_iterations=200)
 """The physics of 11..30 cubes: a square table about the arm's base, its edge 0.12 m beyond the
-ring, and 100 solver iterations (at 50 a tower of eleven swayed by itself until it fell)."""
+ring, and 200 solver iterations: at 50 a tower of eleven swayed by itself until it fell, at
+100 one of fourteen; at 200 towers of fifteen to seventeen stand (eighteen sway)."""
 
 RING_CONFIG = SimConfig(physics=RING_PHYSICS, layout=RING_LAYOUT,
                         control=ControlConfig(ik_model=True, move_steps=700, descend_steps=300, place_pause=0.012,
                                               aim_column=True, polar_moves=True, carry_ceiling=0.69,
-                                              move_speed=1.2, approach_gap=0.1))
+                                              move_speed=1.2, approach_gap=0.1,
+                                              start_joints=(0.0, -0.494, 0.0, -1.36, 0.0, 0.866, 0.785)))
 """The settings of a scene of 11..30 cubes (:func:`config_for`): :data:`WIDE_CONFIG`'s control, and
 free moves along arcs about the base (a straight line between two places across the ring
 would pass over the arm's base). A move may take 700 steps: from one end of the ring to
@@ -160,7 +163,9 @@ the other the base turns by 5.2 radians. The hand is never carried higher than 0
 (the reach at 0.5 m). Descents and lifts go at the free moves' speed (1.2 m/s) up to 4 cm
 above their goal, and only the last 4 cm at the guarded descent's speed: the hand goes up
 and down by as much as 0.65 m, and at 0.45 m/s all the way an action took over 2 s of
-simulated time. A descent may take 300 steps."""
+simulated time. A descent may take 300 steps. The arm starts with the hand 0.75 m above the
+table, 0.25 m from its base (inside the ring, above a tower of fifteen): the home pose of
+fewer cubes holds the hand 0.4 m high at 0.46 m, where a start tower of ten would stand."""
 
 MAX_TOWER_HEIGHT = 15
 """The tallest tower the arm builds and takes apart on :data:`RING_LAYOUT` (measured:

@@ -75,7 +75,7 @@ class Scene(PhysicsClient):
                                    spinningFriction=pc.finger_spinning_friction)
         # couple the two fingers so that they stay symmetric about the hand's axis
         self.add_gear(body, *FINGER_LINKS, ratio=-1, erp=0.1, max_force=50)
-        for j, q in enumerate(cc.home_joints):
+        for j, q in enumerate(cc.start_joints or cc.home_joints):
             self.reset_joint(body, j, q)
         for j in FINGER_LINKS:
             self.reset_joint(body, j, cc.finger_open)

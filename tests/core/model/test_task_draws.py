@@ -32,3 +32,31 @@ def test_sizes_and_names_out_of_range_are_refused(n):
         draw_task("tall-towers", n, np.random.default_rng(0))
     with pytest.raises(WorldError):
         draw_task("towers", 10, np.random.default_rng(0))
+
+
+def test_max_height_draws_only_tasks_whose_towers_fit_and_the_same_per_seed():
+    from csql_sim.core.model.task_draws import tallest
+
+    tasks = [draw_task("tall-towers", 30, np.random.default_rng(7), max_height=12) for _ in range(2)]
+    assert tasks[0] == tasks[1]
+    rng = np.random.default_rng(3)
+    drawn = [draw_task("tall-towers", 30, rng, max_height=12) for _ in range(20)]
+    assert all(tallest(s) <= 12 and tallest(g) <= 12 for s, g in drawn)
+    assert max(max(tallest(s), tallest(g)) for s, g in drawn) == 12  # the limit, not a tighter one
+    assert draw_task("tall-towers", 30, np.random.default_rng(3), max_height=12) == drawn[0]
+
+
+def test_fit_probability_is_the_share_of_draws_that_fit():
+    from csql_sim.core.model.task_draws import fit_probability, tallest
+
+    assert fit_probability(12, 15) == 1.0 and fit_probability(5, 1) == pytest.approx(0.1 ** 4)
+    rng = np.random.default_rng(0)
+    share = np.mean([tallest(tall_towers(30, rng)) <= 10 for _ in range(4000)])
+    assert share == pytest.approx(fit_probability(30, 10), abs=0.03)
+
+
+@pytest.mark.parametrize("distribution, height, needle", [
+    ("tall-towers", 3, "probability"), ("uniform", 10, "tall-towers distribution"), ("tall-towers", 0, "positive")])
+def test_a_max_height_the_draw_cannot_meet_is_refused(distribution, height, needle):
+    with pytest.raises(WorldError, match=needle):
+        draw_task(distribution, 30, np.random.default_rng(0), max_height=height)

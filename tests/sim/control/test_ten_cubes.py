@@ -9,6 +9,7 @@ import pytest
 from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relational_message import format_large_message, parse_large_message
+from csql_sim.core.state.state import default_names
 from csql_sim.core.state.world import HAND, State
 from csql_sim.sim.control.executor import run_physical_episode
 from csql_sim.sim.control.physical import PhysicalWorld
@@ -30,7 +31,7 @@ def _hue_gap(a: float, b: float) -> float:
 
 
 def test_ten_colours_are_pairwise_further_apart_than_twice_the_hue_tolerance():
-    assert len(COLOURS) == MAX_ARM_BLOCKS == 10
+    assert len(COLOURS) == 10
     hues = paint_hues(10)
     gaps = [_hue_gap(a, b) for a, b in itertools.combinations(hues, 2)]
     assert min(gaps) > 2 * SEGMENTATION.hue, sorted(gaps)[:3]
@@ -89,7 +90,7 @@ def test_the_arc_layout_holds_ten_towers_and_leaves_a_spot_for_every_putdown():
     assert all(abs(x - table_x) < half[0] - 0.1 and abs(y - table_y) < half[1] - 0.1 for x, y, _ in places)
     placed = start_layout(parse_config("A,B,C,D,E,F,G,H,I,J"), WIDE_CONFIG)
     assert len({(round(p.x, 6), round(p.y, 6)) for p in placed}) == 10  # ten towers side by side
-    assert lay.arc_positions >= MAX_ARM_BLOCKS  # nine cubes on the table (one held) leave a place free
+    assert lay.arc_positions >= 10  # nine cubes on the table (one held) leave a place free
     assert putdown_spots(WIDE_CONFIG) == [(x, y) for x, y, _ in places]
     assert config_for(6) is DEFAULT_CONFIG and config_for(7) is WIDE_CONFIG  # six cubes: as before
 
@@ -114,12 +115,19 @@ def test_the_arm_reaches_every_place_from_the_table_to_above_a_tower_of_ten():
                     assert np.linalg.norm(np.subtract(reached, (x, y, z))) < 0.003, (i, z, turn)
 
 
-def test_more_than_ten_cubes_are_refused_with_the_reason():
-    with pytest.raises(SimError, match="at most 10 cubes .*table.*reach"):
-        Scene(11)
-    start, goal = parse_config("A,B,C,D,E,F,G,H,I,J,K"), parse_config("KJIHGFEDCBA")
-    with pytest.raises(SimError, match="at most 10 cubes"):
+def test_more_than_thirty_cubes_are_refused_with_the_reason():
+    assert MAX_ARM_BLOCKS == 30
+    with pytest.raises(SimError, match="at most 30 cubes .*ring.*reach"):
+        Scene(31)
+    start = parse_config(", ".join(default_names(31)))
+    goal = parse_config(" ".join(default_names(31)))
+    with pytest.raises(SimError, match="at most 30 cubes"):
         run_physical_episode(start, goal, Gn1Policy())
+
+
+def test_camera_perception_past_ten_cubes_is_refused_until_cubes_carry_markers():
+    with pytest.raises(SimError, match="10 paints"):
+        PhysicalWorld(11, perception="camera")
 
 
 def test_bfs_and_ground_policies_are_refused_past_six_blocks_before_any_physics():

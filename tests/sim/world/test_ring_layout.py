@@ -1,0 +1,60 @@
+"""The ring of thirty places past ten cubes: thirty spots, none overlapping, on the table, all within reach."""
+
+import itertools
+import math
+
+import numpy as np
+
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.state import default_names
+from csql_sim.sim.control.primitives import OFFSETS, housing_clear
+from csql_sim.sim.world.config import MAX_ARM_BLOCKS, MAX_TOWER_HEIGHT, RING_CONFIG, WIDE_CONFIG, config_for
+from csql_sim.sim.world.layout import arc_place, putdown_spots, start_layout
+from csql_sim.sim.world.robot import EE_LINK, KINEMATIC_BODY, LOWER, UPPER, Panda
+from csql_sim.sim.world.scene import Scene
+
+SIZE = RING_CONFIG.physics.cube_size
+
+
+def test_thirty_places_none_overlapping_all_on_the_table():
+    assert config_for(10) is WIDE_CONFIG and config_for(11) is config_for(30) is RING_CONFIG
+    spots = putdown_spots(RING_CONFIG)
+    assert len(spots) == len(set(spots)) == MAX_ARM_BLOCKS == 30
+    gaps = [math.dist(a, b) for a, b in itertools.combinations(spots, 2)]
+    assert min(gaps) > SIZE * math.sqrt(2) + 0.02  # two cubes at any yaw, 2 cm apart at least
+    assert min(gaps) >= RING_CONFIG.layout.free_clearance  # a cube on one place leaves the next one free
+    (cx, cy, _), half = RING_CONFIG.physics.table_centre, RING_CONFIG.physics.table_half_extents
+    assert all(abs(x - cx) < half[0] - 0.1 and abs(y - cy) < half[1] - 0.1 for x, y in spots)
+    placed = start_layout(parse_config(", ".join(default_names(30))), RING_CONFIG)
+    assert sorted((round(p.x, 9), round(p.y, 9)) for p in placed) == sorted(
+        (round(x, 9), round(y, 9)) for x, y in spots)  # every cube on the table at once: one place each
+    three = start_layout(parse_config("ABCDEFGHIJ,KLMNOPQRST,UVWXYZ"), RING_CONFIG)
+    angles = sorted({round(math.degrees(math.atan2(p.y, p.x))) for p in three})
+    assert len(angles) == 3 and min(b - a for a, b in itertools.pairwise(angles)) > 90  # start towers spread
+
+
+def test_every_place_is_within_reach_from_the_table_to_above_the_tallest_tower():
+    carry = min(MAX_TOWER_HEIGHT * SIZE + SIZE / 2 + OFFSETS.carry_clearance, RING_CONFIG.control.carry_ceiling)
+    heights = (SIZE / 2, SIZE / 2 + (MAX_TOWER_HEIGHT - 1) * SIZE, carry)  # a table cube, the top cube, the carry
+    assert carry >= MAX_TOWER_HEIGHT * SIZE + SIZE / 2 + 0.03  # the carried cube clears the tallest tower
+    with Scene(2, RING_CONFIG) as scene:
+        panda, model = Panda(scene), scene.kinematics
+        assert model is not None
+        for i in range(RING_CONFIG.layout.arc_positions):
+            x, y, yaw = arc_place(RING_CONFIG, i)
+            for z in heights:
+                hand = panda.wrist_fit(x, y)(yaw + math.pi / 2)  # the fingers close along the ring's radius
+                q = panda.ik((x, y, z), hand)
+                assert all(lo - 1e-6 <= v <= hi + 1e-6 for v, lo, hi in zip(q, LOWER, UPPER, strict=True))
+                for j, v in enumerate(q):
+                    model.reset_joint(KINEMATIC_BODY, j, v)
+                reached = model.link_state(KINEMATIC_BODY, EE_LINK)[0]
+                assert np.linalg.norm(np.subtract(reached, (x, y, z))) < 0.003, (i, z)
+
+
+def test_putdowns_shun_places_where_a_tall_neighbour_stands_in_the_housings_way():
+    (x0, y0), (x1, y1), (x2, y2) = putdown_spots(RING_CONFIG)[10:13]
+    tall = [(x1, y1, SIZE / 2 + k * SIZE) for k in range(6)]  # a tower of six on place 11
+    assert not housing_clear(tall, SIZE, x0, y0)  # its clockwise neighbour: the housing passes over place 11
+    assert housing_clear(tall, SIZE, x2, y2)  # its anticlockwise neighbour: the housing is on the other side
+    assert housing_clear(tall[:4], SIZE, x0, y0)  # a tower of four is below the housing
