@@ -19,7 +19,6 @@ from csql_sim.cli.args import (
     blocks_arg,
     blocks_help,
     command_parser,
-    int_type,
     path_arg,
     positive_int,
     rules_arg,
@@ -40,7 +39,6 @@ from csql_sim.cli.sim_options import (
     check_evaluate_options,
     check_render_options,
 )
-from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.core.state.world import MAX_BLOCKS, MIN_BLOCKS, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.outputs import Outputs
@@ -48,7 +46,6 @@ from csql_sim.jobs.baselines import NAMED_POLICIES
 from csql_sim.sim.world import MAX_ARM_BLOCKS
 
 DEFAULT_VIDEO = "video.mp4"
-_any_blocks = int_type(MIN_BLOCKS, MAX_LETTERS)
 
 if TYPE_CHECKING:
     from csql_sim.jobs.evaluate import EvalReport
@@ -57,7 +54,12 @@ if TYPE_CHECKING:
 
 def arm_blocks_arg(text: str) -> int:
     """Argparse type for the arm's ``--blocks``: 2..30 cubes; more are refused with the reason."""
-    n = _any_blocks(text)
+    try:
+        n = int(text.strip())
+    except ValueError:
+        n = 0
+    if n < MIN_BLOCKS:
+        raise argparse.ArgumentTypeError(f"must be an integer {MIN_BLOCKS}..{MAX_ARM_BLOCKS}, got {text!r}")
     if n > MAX_ARM_BLOCKS:
         raise argparse.ArgumentTypeError(
             f"the arm takes at most {MAX_ARM_BLOCKS} cubes (the table's ring has {MAX_ARM_BLOCKS} places within the "

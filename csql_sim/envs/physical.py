@@ -56,7 +56,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     ## Observation Space
     ``Text``: the perceived state's message, as in
     :class:`csql_sim.envs.symbolic.BlocksWorldEnv`: for n <= 6 the paper's form with the
-    goal code in the last field (``S0111000ttt0000C``); for n = 7..10 cubes the relational
+    goal code in the last field (``S0111000ttt0000C``); for n = 7..30 cubes the relational
     form (:func:`~csql_sim.core.state.relational_message.format_large_message`, ``3n + 5``
     characters), the goal written out as its on field and hand. With ``observation="numeric"``
     the same ``Dict`` of integer arrays as the symbolic environment's (:mod:`csql_sim.envs.numeric`).
@@ -64,8 +64,8 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     ## Starting State
     ``reset(options={"start": ..., "goal": ...})`` takes, for n <= 6, a
     :class:`~csql_sim.core.state.world.State`, a configuration (``"CBA"``) or a state index;
-    for n = 7..10 a :class:`~csql_sim.core.state.world.State`, a configuration
-    with letters A-J (``"JIHGFEDCBA"``) or a rank in ``0..state_count(n) - 1``
+    for n = 7..30 a :class:`~csql_sim.core.state.world.State`, a configuration
+    with names A..Z, AA, ... (``"JIHGFEDCBA"``) or a rank in ``0..state_count(n) - 1``
     (:func:`~csql_sim.core.state.state_count.unrank_state`). Either missing is drawn from
     ``np_random`` (past six uniformly by counting). The start scene is then built: towers
     placed at rest, a held block reached by a real grasp.

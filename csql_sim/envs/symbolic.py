@@ -1,7 +1,7 @@
 """The symbolic blocks world as a Gymnasium environment.
 
 * Observation: the state message (``S0111000ttt0000C``; the goal code is its last field);
-  past six blocks (7..10) the large message form, with the goal written out
+  past six blocks (7..26) the large message form, with the goal written out
   (:mod:`csql_sim.envs.relational`).
 * Actions: ``Discrete(len(all_actions(n)))``; action ``i`` has the paper's code ``i + 1``.
   ``info["action_mask"]`` (int8, 1 = legal) lists the legal ones. An illegal action
@@ -119,7 +119,7 @@ class BlocksWorldEnv(gym.Env):
     ``Text`` of fixed length. For n <= 6 (16 characters for n = 2, 3; 17 for n = 4; 18
     for n = 5; 19 for n = 6) the paper's state message, e.g. ``S0111000ttt0000C``: tag,
     action slot, clear flags, what each block stands on, the held block, and the goal
-    state's code. For n = 7..10 the relational form
+    state's code. For n = 7..26 the relational form
     (:func:`~csql_sim.core.state.relational_message.format_large_message`, ``3n + 5``
     characters: 26 for n = 7, 35 for n = 10), e.g. ``S001111111_______0fg0_a_ec`` for
     ``A,B,C,D,E,F,G`` towards ``D,FAEGB+C``: tag, a two-digit action slot (``00``: none),
@@ -136,8 +136,8 @@ class BlocksWorldEnv(gym.Env):
     ``reset(options={"start": ..., "goal": ...})`` takes each as
     - for n <= 6: a :class:`~csql_sim.core.state.world.State`, a configuration (``"CBA"``:
       A on B on C) or a state index;
-    - for n = 7..10: a :class:`~csql_sim.core.state.world.State`, a
-      configuration with letters A-J (``"JIHGFEDCBA"``, ``"A,B,CD+E"``) or a rank in
+    - for n = 7..30: a :class:`~csql_sim.core.state.world.State`, a
+      configuration with names A..Z, AA, ... (``"JIHGFEDCBA"``, ``"A,B,CD+E"``) or a rank in
       ``0..state_count(n) - 1`` (:func:`~csql_sim.core.state.state_count.unrank_state`);
     either missing is drawn uniformly from ``np_random`` (past six by counting:
     :func:`~csql_sim.core.state.state_count.sample_state`), distinct from the other.

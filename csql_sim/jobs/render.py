@@ -30,7 +30,7 @@ def render_episode(start: ArmState, goal: ArmState, out: str | os.PathLike, poli
     a one-line OutputError (its text kept in the temporary folder).
 
     Args:
-        start: the start configuration: a State (2..10 cubes).
+        start: the start configuration: a State (2..30 cubes).
         goal: the goal configuration.
         out: the .mp4 or .gif to write.
         policy: any Policy; the BFS planner when None (n <= 6; past six a lifted policy).

@@ -3,7 +3,7 @@
 One small predicate per relation, each with named tolerances in :class:`Tolerances`.
 Both perception modes produce an :class:`Observation` (estimated cube centres and the
 gripper's proprioception); :func:`interpret` turns it into a :class:`~csql_sim.core.state.world.State`
-(n <= 6) or a :class:`~csql_sim.core.state.state.State` (7..10 cubes).
+(n <= 6) or a :class:`~csql_sim.core.state.state.State` (7..30 cubes).
 """
 
 from __future__ import annotations
