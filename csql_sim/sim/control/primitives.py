@@ -65,11 +65,39 @@ def carry_height(obs: Observation, exclude: int | None, offsets: ApproachOffsets
     return max(tops + [0.0]) + obs.size / 2 + offsets.carry_clearance
 
 
+def carry_level(obs: Observation, exclude: int | None, panda: Panda, x: float, y: float,
+                offsets: ApproachOffsets = OFFSETS, margin: float = 0.15) -> float:
+    """The grasp point's height for carrying to above (x, y), at most ``carry_ceiling``.
+
+    Above every cube (:func:`carry_height`), or (``ControlConfig.local_carry``) above the
+    cubes in the sector the hand sweeps along its arc from where it is to (x, y), widened
+    by ``margin`` metres of arc at either end.
+    """
+    cc = panda.cc
+    if not cc.local_carry:
+        return min(carry_height(obs, exclude, offsets), cc.carry_ceiling)
+    hand = panda.ee_position()
+    a0, a1 = math.atan2(hand[1], hand[0]), math.atan2(y, x)
+    widen = margin / max(0.1, math.hypot(x, y))
+    lo, hi = min(a0, a1) - widen, max(a0, a1) + widen
+    tops = [b.position[2] + obs.size / 2 for i, b in enumerate(obs.blocks)
+            if i != exclude and lo <= math.atan2(b.position[1], b.position[0]) <= hi]
+    return min(max(tops + [0.0]) + obs.size / 2 + offsets.carry_clearance, cc.carry_ceiling)
+
+
+def rise_to(panda: Panda, z: float) -> None:
+    """Lift the hand straight up to height ``z`` first, if it is lower (the arc then never dips below z)."""
+    hand = panda.ee_position()
+    if hand[2] < z - 0.002:
+        panda.vertical((float(hand[0]), float(hand[1]), z), panda.yaw)
+
+
 def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generator) -> tuple[float, float] | None:
     """A random table spot at least ``free_clearance`` from every other cube.
 
     With ``LayoutConfig.shun_housing``, the spots where no tower stands in the forearm
-    housing's way (:func:`housing_clear`) are drawn from first, if there are any.
+    housing's way (:func:`housing_clear`) are drawn from first, if there are any; with
+    ``near_putdown`` the one nearest the held cube is taken (nothing drawn).
     """
     lay = scene.config.layout
     others = [b.position for i, b in enumerate(obs.blocks) if i != held]
@@ -79,6 +107,9 @@ def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generato
         spots = [s for s in spots if housing_clear(others, obs.size, *s)] or spots
     if not spots:
         return None
+    if lay.near_putdown:
+        hx, hy = obs.blocks[held].position[:2]
+        return min(spots, key=lambda s: math.hypot(s[0] - hx, s[1] - hy))
     return spots[int(rng.integers(len(spots)))]
 
 
@@ -185,8 +216,9 @@ class Pick:
         opening = obs.size + self.offsets.grasp_opening_margin
         yaw = choose_yaw(obs, x, y, goal_z, target.yaw, panda.yaw, {self.block}, opening, self.attempt,
                          panda.wrist_fit(x, y))
-        high = min(carry_height(obs, None, self.offsets), cc.carry_ceiling)
+        high = carry_level(obs, None, panda, x, y, self.offsets)
         panda.open(opening)
+        rise_to(panda, high)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps)
         arrived = panda.vertical((x, y, goal_z), yaw, guard=lambda: bool(panda.touching() - {body}))
         if arrived == "guard" and panda.ee_position()[2] - goal_z > self.offsets.descend_stop_early:
@@ -243,7 +275,8 @@ class Place:
         c, s = math.cos(turn), math.sin(turn)
         offset = np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
         x, y = tx - offset[0], ty - offset[1]
-        high = min(carry_height(obs, self.block, self.offsets), cc.carry_ceiling)
+        high = carry_level(obs, self.block, panda, x, y, self.offsets)
+        rise_to(panda, high)
         panda.move_to((x, y, high), yaw, cc.move_speed, cc.move_steps, during=carry_hook)
         if not panda.grips(body):
             return Status(False, f"{letter(self.block)} dropped during the carry", scene.steps - start)

@@ -44,6 +44,7 @@ class LayoutConfig:
     free_clearance: float = 0.085  # min xy distance of a putdown spot from any block, m
     spread: bool = False  # start towers spread evenly over the arc's places (else its middle places, side by side)
     shun_housing: bool = False  # putdowns prefer spots where no tall tower stands in the forearm housing's way
+    near_putdown: bool = False  # a putdown takes the free spot nearest the hand (else a random one)
     jitter_xy: float = 0.006  # --perturb: max start offset of a block, m
     jitter_yaw: float = 0.12  # --perturb: max start yaw of a block, rad
 
@@ -80,6 +81,7 @@ class ControlConfig:
     polar_moves: bool = False  # free moves follow an arc about the base (radius and angle linear), not a line
     carry_ceiling: float = 1.0  # the grasp point is never carried higher than this, m
     approach_gap: float = 0.0  # > 0: descents go at move_speed to this far above their goal, and lifts too, m
+    local_carry: bool = False  # carry above the cubes along the way (an arc's sector), not above every cube
 
 
 @dataclass(frozen=True)
@@ -132,7 +134,7 @@ cube in turn added that up level by level too."""
 
 RING_LAYOUT = LayoutConfig(arc_radius=0.5, arc_spacing=0.5 * math.radians(300) / 29, arc_positions=30,
                            free_clearance=0.08, spread=True,
-                           shun_housing=True)
+                           shun_housing=True, near_putdown=True)
 """The layout of 11..30 cubes: thirty places on a ring 0.5 m about the arm's base, 300 degrees of it
 (+-150 degrees, 10.3 degrees and 90 mm apart), the table reaching behind the arm.
 
@@ -155,7 +157,8 @@ RING_CONFIG = SimConfig(physics=RING_PHYSICS, layout=RING_LAYOUT,
                         control=ControlConfig(ik_model=True, move_steps=700, descend_steps=300, place_pause=0.012,
                                               aim_column=True, polar_moves=True, carry_ceiling=0.69,
                                               move_speed=1.2, approach_gap=0.1,
-                                              start_joints=(0.0, -0.494, 0.0, -1.36, 0.0, 0.866, 0.785)))
+                                              start_joints=(0.0, -0.494, 0.0, -1.36, 0.0, 0.866, 0.785),
+                                              local_carry=True))
 """The settings of a scene of 11..30 cubes (:func:`config_for`): :data:`WIDE_CONFIG`'s control, and
 free moves along arcs about the base (a straight line between two places across the ring
 would pass over the arm's base). A move may take 700 steps: from one end of the ring to
@@ -165,7 +168,10 @@ above their goal, and only the last 4 cm at the guarded descent's speed: the han
 and down by as much as 0.65 m, and at 0.45 m/s all the way an action took over 2 s of
 simulated time. A descent may take 300 steps. The arm starts with the hand 0.75 m above the
 table, 0.25 m from its base (inside the ring, above a tower of fifteen): the home pose of
-fewer cubes holds the hand 0.4 m high at 0.46 m, where a start tower of ten would stand."""
+fewer cubes holds the hand 0.4 m high at 0.46 m, where a start tower of ten would stand. The
+hand is carried above the cubes along its arc (``local_carry``), not above the tallest
+tower anywhere, and a putdown takes the free place nearest the hand: on a ring this large
+both halve the way the hand goes."""
 
 MAX_TOWER_HEIGHT = 15
 """The tallest tower the arm builds and takes apart on :data:`RING_LAYOUT` (measured:
