@@ -42,7 +42,7 @@ class LayoutConfig:
     free_x: tuple[float, ...] = (0.42, 0.50, 0.58)  # candidate putdown x, m
     free_y: tuple[float, ...] = (-0.24, -0.18, -0.12, -0.06, 0.0, 0.06, 0.12, 0.18, 0.24)  # m
     free_clearance: float = 0.085  # min xy distance of a putdown spot from any block, m
-    spread: bool = False  # start towers spread evenly over the arc's places (else its middle places, side by side)
+    tower_gap: int = 1  # start towers stand on the arc's middle places this many places apart (fewer if they must)
     shun_housing: bool = False  # putdowns prefer spots where no tall tower stands in the forearm housing's way
     near_putdown: bool = False  # a putdown takes the free spot nearest the hand (else a random one)
     jitter_xy: float = 0.006  # --perturb: max start offset of a block, m
@@ -133,7 +133,7 @@ cube in turn added that up level by level too."""
 
 
 RING_LAYOUT = LayoutConfig(arc_radius=0.5, arc_spacing=0.5 * math.radians(300) / 29, arc_positions=30,
-                           free_clearance=0.08, spread=True,
+                           free_clearance=0.08, tower_gap=2,
                            shun_housing=True, near_putdown=True)
 """The layout of 11..30 cubes: thirty places on a ring 0.5 m about the arm's base, 300 degrees of it
 (+-150 degrees, 10.3 degrees and 90 mm apart), the table reaching behind the arm.
@@ -145,7 +145,9 @@ hand going down to the table on an outer ring puts the forearm 0.2-0.4 m above t
 ring, where a tower of five or more stands in its way. Why 90 mm: the open hand closes
 along the ring's radius (70 mm wide across it), and the forearm's housing, on the
 anticlockwise side of the arm, stays 5 mm clear of an upright tower of fifteen on the
-next place. Start towers are spread evenly over the places."""
+next place. Start towers stand on every other place, from the middle of the ring (every
+place past fifteen towers): two places apart, no tower is in the housing's way when the
+hand goes down next to another, and the hand goes back and forth between them a short way."""
 
 RING_PHYSICS = PhysicsConfig(table_half_extents=(0.62, 0.62, 0.02), table_centre=(0.0, 0.0, -0.02),
                              solver_iterations=200)

@@ -2,7 +2,7 @@
 
 :func:`start_layout` computes one :class:`Placement` per cube (towers side by side at
 ``LayoutConfig.tower_x``, or on the arc of :data:`~csql_sim.sim.world.config.WIDE_LAYOUT` for 7..10
-cubes, spread over the ring of :data:`~csql_sim.sim.world.config.RING_LAYOUT` past ten; a held
+cubes, on every other place of the ring of :data:`~csql_sim.sim.world.config.RING_LAYOUT` past ten; a held
 block aside on the table for the caller to grasp), with
 optional jitter drawn from the episode's generator; :func:`place_towers` puts the cubes
 of a scene there. Placing cubes is scene construction, never part of an episode.
@@ -49,13 +49,12 @@ def arc_place(config: SimConfig, i: int) -> tuple[float, float, float]:
 
 
 def _arc_index(config: SimConfig, k: int, count: int) -> int:
-    """The arc place of the k-th of ``count`` start towers: the middle places, or spread evenly (``spread``)."""
+    """The arc place of the k-th of ``count`` start towers: the middle places, ``tower_gap`` apart if they fit."""
     places = config.layout.arc_positions
     if count > places:
         raise SimError(f"{count} start towers do not fit on the arc's {places} places")
-    if config.layout.spread:
-        return (2 * k + 1) * places // (2 * count)
-    return k + (places - count) // 2
+    gap = min(config.layout.tower_gap, (places - 1) // (count - 1)) if count > 1 else 1
+    return k * gap + (places - (count - 1) * gap - 1) // 2
 
 
 def tower_slot(config: SimConfig, k: int, count: int) -> tuple[float, float]:

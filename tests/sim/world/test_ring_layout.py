@@ -29,8 +29,10 @@ def test_thirty_places_none_overlapping_all_on_the_table():
     assert sorted((round(p.x, 9), round(p.y, 9)) for p in placed) == sorted(
         (round(x, 9), round(y, 9)) for x, y in spots)  # every cube on the table at once: one place each
     three = start_layout(parse_config("ABCDEFGHIJ,KLMNOPQRST,UVWXYZ"), RING_CONFIG)
-    angles = sorted({round(math.degrees(math.atan2(p.y, p.x))) for p in three})
-    assert len(angles) == 3 and min(b - a for a, b in itertools.pairwise(angles)) > 90  # start towers spread
+    spots3 = sorted({(round(p.x, 9), round(p.y, 9)) for p in three}, key=lambda s: math.atan2(s[1], s[0]))
+    assert len(spots3) == 3 and all(abs(math.dist(a, b) - 2 * 0.09) < 0.01  # on every other place
+                                    for a, b in itertools.pairwise(spots3))
+    assert all(abs(math.atan2(y, x)) < 0.5 for x, y in spots3)  # in the middle of the ring
 
 
 def test_every_place_is_within_reach_from_the_table_to_above_the_tallest_tower():
