@@ -176,8 +176,15 @@ tower anywhere, and a putdown takes the free place nearest the hand: on a ring t
 both halve the way the hand goes."""
 
 MAX_TOWER_HEIGHT = 15
-"""The tallest tower the arm builds and takes apart on :data:`RING_LAYOUT` (measured:
-``benchmarks/arm_thirty.py --towers``); a task whose start or goal needs a taller one is refused."""
+"""The tallest tower a task may need on :data:`RING_LAYOUT`; a task whose start, goal or plan
+needs a taller one is refused.
+
+Measured (``benchmarks/arm_thirty.py --towers 15,16,17``, GN1, pose perception): towers of
+15, 16 and 17 cubes built from the table and taken apart again, each alone in its scene.
+Fifteen is the limit because a hand carrying a cube must also pass over the towers between
+two places: under the reach's ceiling (0.69 m) the carried cube clears a tower of fifteen by
+the full 5 cm, one of sixteen by 2.8 cm, and cannot pass over one of seventeen. (Eighteen
+sways by itself until it falls, at 200 solver iterations.)"""
 
 
 def config_for(n: int) -> SimConfig:
