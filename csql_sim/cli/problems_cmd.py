@@ -21,6 +21,7 @@ from csql_sim.cli.output import emit
 from csql_sim.core.files.pddl_import import MAX_DRAWN_BLOCKS
 from csql_sim.core.model.task_draws import DISTRIBUTIONS
 from csql_sim.infra.outputs import Outputs
+from csql_sim.sim.world import MAX_TOWER_HEIGHT
 
 
 def declare_problems(args: argparse.Namespace, outputs: Outputs) -> None:
@@ -66,7 +67,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="problems per size (default 1; at most 10,000 problems in all)")
     p.add_argument("--max-height", type=positive_int, default=None, metavar="H",
                    help="tall-towers only: draw only tasks whose start and goal towers are at most H high (pairs "
-                        "drawn until one fits, from the same generator; the arm builds towers of at most 15)")
+                        "drawn until one fits, from the same generator; the arm builds towers of at most "
+                        f"{MAX_TOWER_HEIGHT})")
     add_seed(p, "seed of the one generator that draws every problem")
     p.add_argument("--out", type=path_arg, required=True, help="folder for domain.pddl and the problems")
     add_json(p)
