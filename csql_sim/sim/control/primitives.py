@@ -86,9 +86,13 @@ def carry_level(obs: Observation, exclude: int | None, panda: Panda, x: float, y
 
 
 def rise_to(panda: Panda, z: float) -> None:
-    """Lift the hand straight up to height ``z`` first, if it is lower (the arc then never dips below z)."""
+    """With ``local_carry``: lift the hand straight up to height ``z`` first, if it is lower.
+
+    The carry's height then holds along the whole arc (it is above the cubes of the arc's
+    sector only, and the move interpolates the height from where the hand is).
+    """
     hand = panda.ee_position()
-    if hand[2] < z - 0.002:
+    if panda.cc.local_carry and hand[2] < z - 0.002:
         panda.vertical((float(hand[0]), float(hand[1]), z), panda.yaw)
 
 
