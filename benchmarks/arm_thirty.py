@@ -1,6 +1,6 @@
 """Thirty cubes on the arm: tall-tower tasks of 12, 20 and 30 cubes, and the tallest tower; ``docs/results/arm.md``.
 
-Regenerates the tables "Thirty cubes" and "The tallest tower" of docs/results/arm.md.
+Regenerates docs/results/arm.md (its tables "Thirty cubes" and "The tallest tower").
 
 Tasks are drawn as ``csql-sim problems --distribution tall-towers --max-height H --seed S``
 draws them (the same generator, the same tasks), at the arm's tower limit by default,
