@@ -1,25 +1,28 @@
 """RGB-D perception: what a real colour-and-depth camera could give.
 
-Each fixed camera renders a colour image and a depth image (no segmentation ids). The
-cubes are segmented by colour (hue and saturation of their known paint), their pixels
-back-projected with depth, and the points of every view merged. Planes fitted to the
-points (RANSAC, then least squares) are the cube's visible faces: the most upward face
-gives the tilt, a side face the yaw, and each face pins the centre half a cube behind it.
-Optional Gaussian noise on depth (metres, along the optical axis) and colour (8-bit
-levels) stands for a real sensor.
+Each fixed camera renders a colour image and a depth image (no segmentation ids). A cube is
+known by the ArUco marker printed on its faces (:mod:`.fiducials`): the pixels round each
+marker read are back-projected with depth, and the points of every read of a cube, in every
+view, are merged. Planes fitted to the points (RANSAC, then least squares) are the cube's
+visible faces: the most upward face gives the tilt, a side face the yaw, and each face pins
+the centre half a cube behind it. A cube with no read in any view is unseen (never guessed
+from its colour, which is cosmetic); so is one read in places too far apart to be one cube.
+Optional Gaussian noise on depth (metres, along the optical axis) and colour (8-bit levels)
+stands for a real sensor.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.perception.camera import Camera, capture, perception_cameras, unproject
+from csql_sim.sim.perception.fiducials import READ_LIMITS, corner_pixels, face_pixels, plausible, read_markers
 from csql_sim.sim.perception.poses import BlockObs, Observation, wrap_quarter
-from csql_sim.sim.world.config import COLOURS
 from csql_sim.sim.world.robot import Panda
 from csql_sim.sim.world.scene import Scene
 
@@ -52,15 +55,6 @@ NO_NOISE = CameraNoise()
 
 
 @dataclass(frozen=True)
-class SegmentationLimits:
-    """Colour segmentation: a pixel belongs to the cube of the nearest paint hue."""
-
-    hue: float = 10.0  # degrees from the paint's hue
-    saturation: float = 0.5  # least saturation of a cube pixel (table and arm are greyer)
-    value: float = 0.12  # least brightness of a cube pixel
-
-
-@dataclass(frozen=True)
 class FaceFit:
     """Plane fitting of cube faces."""
 
@@ -74,41 +68,7 @@ class FaceFit:
     damping: float = 1e-4  # Levenberg damping of those steps (keeps unseen directions still)
 
 
-SEGMENTATION = SegmentationLimits()
 FACE_FIT = FaceFit()
-
-
-def hue_saturation_value(rgb: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Hue (degrees), saturation and value (0..1) of an (..., 3) uint8 image."""
-    c = rgb.astype(np.float64) / 255.0
-    mx, mn = c.max(axis=-1), c.min(axis=-1)
-    span = np.where(mx > mn, mx - mn, 1.0)
-    r, g, b = c[..., 0], c[..., 1], c[..., 2]
-    hue = np.where(mx == r, (g - b) / span, np.where(mx == g, 2.0 + (b - r) / span, 4.0 + (r - g) / span))
-    hue = (hue * 60.0) % 360.0
-    sat = np.where(mx > 0, (mx - mn) / np.where(mx > 0, mx, 1.0), 0.0)
-    return hue, sat, mx
-
-
-def paint_hues(n: int) -> np.ndarray:
-    """The hue (degrees) of each of the n cubes' paint."""
-    return np.array([hue_saturation_value(np.array([[int(round(255 * v)) for v in COLOURS[i][:3]]],
-                                                   dtype=np.uint8))[0][0] for i in range(n)])
-
-
-def segment(rgb: np.ndarray, hues: np.ndarray, limits: SegmentationLimits = SEGMENTATION) -> np.ndarray:
-    """Label image: the cube index of every pixel, -1 for anything else."""
-    labels = np.full(rgb.shape[:2], -1, dtype=np.int64)
-    mx = rgb.max(axis=-1).astype(np.int32)
-    mn = rgb.min(axis=-1).astype(np.int32)
-    vivid = (mx - mn > limits.saturation * mx) & (mx > limits.value * 255)
-    if not vivid.any():
-        return labels
-    hue = hue_saturation_value(rgb[vivid])[0]
-    diff = np.abs((hue[:, None] - hues + 180.0) % 360.0 - 180.0)
-    nearest = np.argmin(diff, axis=1)
-    labels[vivid] = np.where(diff[np.arange(len(hue)), nearest] < limits.hue, nearest, -1)
-    return labels
 
 
 def add_noise(rgb: np.ndarray, depth: np.ndarray, camera: Camera, noise: CameraNoise,
@@ -263,6 +223,74 @@ def estimate_cube(points: np.ndarray, eyes: np.ndarray, size: float, rng: np.ran
     return BlockObs((float(centre[0]), float(centre[1]), float(centre[2])), tilt, yaw, axes=frame)
 
 
+Render = Callable[[Camera], tuple[np.ndarray, np.ndarray]]
+"""A camera's colour image (h, w, 3 uint8) and depth buffer (h, w) of the scene now."""
+
+
+@dataclass
+class Reads:
+    """What the cameras saw of each cube: its face points, the eyes that saw them and the reads' centres."""
+
+    points: list[list[np.ndarray]]
+    eyes: list[list[np.ndarray]]
+    centres: list[list[np.ndarray]]
+
+    @classmethod
+    def empty(cls, n: int) -> Reads:
+        """No reads of n cubes."""
+        return cls([[] for _ in range(n)], [[] for _ in range(n)], [[] for _ in range(n)])
+
+    def count(self, i: int) -> int:
+        """The plausible reads of cube i."""
+        return len(self.centres[i])
+
+
+def read_view(reads: Reads, camera: Camera, rgb: np.ndarray, depth: np.ndarray, size: float) -> None:
+    """Add one view's plausible marker reads to ``reads``."""
+    eye = np.asarray(camera.eye, dtype=float)
+    for read in read_markers(rgb, len(reads.points)):
+        rows, cols = face_pixels(read, depth.shape)
+        if len(rows) < READ_LIMITS.min_pixels:
+            continue
+        if not plausible(unproject(camera, depth, *corner_pixels(read, depth.shape)), size):
+            continue
+        points = unproject(camera, depth, rows, cols)
+        reads.points[read.cube].append(points)
+        reads.eyes[read.cube].append(np.broadcast_to(eye, points.shape))
+        reads.centres[read.cube].append(points.mean(axis=0))
+
+
+def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: float,
+                 noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None) -> tuple[BlockObs, ...]:
+    """Every cube's estimate from the views' marker reads; a cube no view read (or read apart) is unseen.
+
+    Args:
+        render: the colour and depth images of a camera.
+        cameras: the views.
+        n: cubes 0..n-1 (marker ids).
+        size: their edge, m.
+        noise: sensor noise to add.
+        rng: draws the noise and the RANSAC samples (a fixed generator when None).
+    """
+    rng = rng if rng is not None else np.random.default_rng(0)
+    reads = Reads.empty(n)
+    for camera in cameras:
+        rgb, depth = render(camera)
+        if noise.active:
+            rgb, depth = add_noise(rgb, depth, camera, noise, rng)
+        read_view(reads, camera, rgb, depth, size)
+    blocks = []
+    for i in range(n):
+        centres = np.array(reads.centres[i]).reshape(-1, 3)
+        apart = len(centres) > 1 and np.ptp(centres, axis=0).max() > 1.5 * size  # one id, two places: no guess
+        if not len(centres) or apart:
+            blocks.append(BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False, reads=len(centres)))
+            continue
+        seen = estimate_cube(np.concatenate(reads.points[i]), np.concatenate(reads.eyes[i]), size, rng, noise.depth)
+        blocks.append(replace(seen, reads=len(centres)))
+    return tuple(blocks)
+
+
 def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] | None = None,
                  noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None) -> Observation:
     """Camera-mode observation from colour and depth images only (plus the arm's proprioception).
@@ -274,30 +302,14 @@ def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] | None 
         noise: sensor noise to add.
         rng: draws the noise and the RANSAC samples (a fixed generator when None).
     """
-    rng = rng if rng is not None else np.random.default_rng(0)
     cameras = perception_cameras(scene.n) if cameras is None else cameras
     size = scene.config.physics.cube_size
-    hues = paint_hues(scene.n)
-    clouds: list[list[np.ndarray]] = [[] for _ in range(scene.n)]
-    eyes: list[list[np.ndarray]] = [[] for _ in range(scene.n)]
-    for camera in cameras:
-        rgb, depth, _ = capture(scene, camera, camera.width, camera.height)
-        if noise.active:
-            rgb, depth = add_noise(rgb, depth, camera, noise, rng)
-        labels = segment(rgb, hues)
-        for i in range(scene.n):
-            rows, cols = np.nonzero(labels == i)
-            if len(rows):
-                clouds[i].append(unproject(camera, depth, rows, cols))
-                eyes[i].append(np.broadcast_to(np.asarray(camera.eye, dtype=float), (len(rows), 3)))
-    blocks = []
-    for i in range(scene.n):
-        count = sum(len(c) for c in clouds[i])
-        if count < FACE_FIT.min_pixels:
-            blocks.append(BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False))
-            continue
-        blocks.append(estimate_cube(np.concatenate(clouds[i]), np.concatenate(eyes[i]), size, rng, noise.depth))
-    return Observation(tuple(blocks), tuple(panda.ee_position()), panda.finger_width(), size)
+
+    def render(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
+        return capture(scene, camera, camera.width, camera.height)[:2]
+
+    blocks = locate_cubes(render, cameras, scene.n, size, noise, rng)
+    return Observation(blocks, tuple(panda.ee_position()), panda.finger_width(), size)
 
 
-__all__ = ["CameraNoise", "NO_NOISE", "estimate_cube", "observe_rgbd", "segment"]
+__all__ = ["CameraNoise", "NO_NOISE", "estimate_cube", "locate_cubes", "observe_rgbd"]
