@@ -84,3 +84,18 @@ def unproject(camera: Camera, depth: np.ndarray, rows: np.ndarray, cols: np.ndar
     z = 2.0 * depth[rows, cols] - 1.0
     pts = inv @ np.stack([x, y, z, np.ones_like(x)])
     return (pts[:3] / pts[3]).T
+
+
+def pixel_rays(camera: Camera, shape: tuple[int, int], xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Origins and unit directions (k, 3 each) of the rays through sub-pixel points ``xy`` (k, 2: x, y)."""
+    h, w = shape
+    view, proj = camera.matrices(w, h)
+    inv = np.linalg.inv(np.asarray(proj).reshape(4, 4, order="F") @ np.asarray(view).reshape(4, 4, order="F"))
+    x = 2.0 * (xy[:, 0] + 0.5) / w - 1.0
+    y = 1.0 - 2.0 * (xy[:, 1] + 0.5) / h
+    ends = []
+    for z in (-1.0, 1.0):
+        pts = inv @ np.stack([x, y, np.full_like(x, z), np.ones_like(x)])
+        ends.append((pts[:3] / pts[3]).T)
+    direction = ends[1] - ends[0]
+    return ends[0], direction / np.linalg.norm(direction, axis=1, keepdims=True)

@@ -14,14 +14,21 @@ stands for a real sensor.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.perception.camera import Camera, capture, perception_cameras, unproject
-from csql_sim.sim.perception.fiducials import READ_LIMITS, corner_pixels, face_pixels, plausible, read_markers
+from csql_sim.sim.perception.camera import Camera, capture, perception_cameras, pixel_rays, unproject
+from csql_sim.sim.perception.fiducials import (
+    READ_LIMITS,
+    corner_pixels,
+    face_pixels,
+    marker_edge,
+    plausible,
+    read_markers,
+)
 from csql_sim.sim.perception.poses import BlockObs, Observation, wrap_quarter
 from csql_sim.sim.world.robot import Panda
 from csql_sim.sim.world.scene import Scene
@@ -127,8 +134,13 @@ def fit_faces(points: np.ndarray, eyes: np.ndarray, rng: np.random.Generator, no
     return faces
 
 
-def _frame(faces: list[tuple[np.ndarray, float, np.ndarray]], points: np.ndarray) -> np.ndarray:
-    """Three orthonormal cube axes (rows), the most upward first."""
+def _frame(faces: list[tuple[np.ndarray, float, np.ndarray]], points: np.ndarray,
+           edges: Sequence[np.ndarray] = ()) -> np.ndarray:
+    """Three orthonormal cube axes (rows), the most upward first.
+
+    Where the faces pin one axis only, the markers' ``edges`` give the second (else the
+    points' footprint does).
+    """
     normals = sorted((f[0] for f in faces), key=lambda n: -abs(n[2]))
     axes: list[np.ndarray] = []
     for n in normals:
@@ -138,10 +150,26 @@ def _frame(faces: list[tuple[np.ndarray, float, np.ndarray]], points: np.ndarray
     if not axes:
         axes.append(np.array([0.0, 0.0, 1.0]))
     if len(axes) == 1:
-        axes.append(_in_plane_axis(axes[0], points))
+        edge = _edge_axis(axes[0], edges)
+        axes.append(_in_plane_axis(axes[0], points) if edge is None else edge)
     if len(axes) == 2:
         axes.append(np.cross(axes[0], axes[1]))
     return np.array(axes)
+
+
+def _edge_axis(up: np.ndarray, edges: Sequence[np.ndarray]) -> np.ndarray | None:
+    """The mean of the marker edges (modulo quarter turns) in the plane normal to ``up``, or None."""
+    total: np.ndarray | None = None
+    for e in edges:
+        if abs(e @ up) > 0.5:  # an edge along ``up`` says nothing of the turn about it
+            continue
+        v = e - (e @ up) * up
+        v /= np.linalg.norm(v)
+        if total is not None:
+            turns = (v, -v, np.cross(up, v), -np.cross(up, v))
+            v = max(turns, key=lambda t: float(t @ total))
+        total = v if total is None else total + v
+    return None if total is None else total / np.linalg.norm(total)
 
 
 def _in_plane_axis(up: np.ndarray, points: np.ndarray) -> np.ndarray:
@@ -193,15 +221,15 @@ def refine_pose(points: np.ndarray, axes: np.ndarray, centre: np.ndarray, size: 
 
 
 def estimate_cube(points: np.ndarray, eyes: np.ndarray, size: float, rng: np.random.Generator,
-                  noise: float = 0.0) -> BlockObs:
+                  noise: float = 0.0, edges: Sequence[np.ndarray] = ()) -> BlockObs:
     """Centre, tilt and yaw of a cube from its visible surface points (world frame).
 
     Fitted faces give a first frame and centre (each face pins the centre half a cube
     behind it; an axis no face pins takes the points' centroid); a cube model fitted to
-    all the points refines both.
+    all the points refines both. ``edges``: unit edge directions of the markers read on it.
     """
     faces = fit_faces(points, eyes, rng, noise)
-    axes = _frame(faces, points)
+    axes = _frame(faces, points, edges)
     rows, rhs = [], []
     for normal, offset, _ in faces:
         rows.append(normal)
@@ -234,11 +262,12 @@ class Reads:
     points: list[list[np.ndarray]]
     eyes: list[list[np.ndarray]]
     centres: list[list[np.ndarray]]
+    edges: list[list[np.ndarray]]
 
     @classmethod
     def empty(cls, n: int) -> Reads:
         """No reads of n cubes."""
-        return cls([[] for _ in range(n)], [[] for _ in range(n)], [[] for _ in range(n)])
+        return cls(*([[] for _ in range(n)] for _ in range(4)))
 
     def count(self, i: int) -> int:
         """The plausible reads of cube i."""
@@ -255,6 +284,14 @@ def read_view(reads: Reads, camera: Camera, rgb: np.ndarray, depth: np.ndarray, 
         if not plausible(unproject(camera, depth, *corner_pixels(read, depth.shape)), size):
             continue
         points = unproject(camera, depth, rows, cols)
+        near = np.linalg.norm(points - np.median(points, axis=0), axis=1) < READ_LIMITS.face_radius * size
+        points = points[near]  # not the pixels past the face's edge (the table or the sky behind)
+        if len(points) < READ_LIMITS.min_pixels:
+            continue
+        normal, offset = _plane(points)
+        edge = marker_edge(read, *pixel_rays(camera, depth.shape, read.corners), normal, offset)
+        if edge is not None:
+            reads.edges[read.cube].append(edge)
         reads.points[read.cube].append(points)
         reads.eyes[read.cube].append(np.broadcast_to(eye, points.shape))
         reads.centres[read.cube].append(points.mean(axis=0))
@@ -286,7 +323,8 @@ def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: floa
         if not len(centres) or apart:
             blocks.append(BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False, reads=len(centres)))
             continue
-        seen = estimate_cube(np.concatenate(reads.points[i]), np.concatenate(reads.eyes[i]), size, rng, noise.depth)
+        seen = estimate_cube(np.concatenate(reads.points[i]), np.concatenate(reads.eyes[i]), size, rng, noise.depth,
+                             reads.edges[i])
         blocks.append(replace(seen, reads=len(centres)))
     return tuple(blocks)
 
