@@ -104,6 +104,7 @@ class Tally:
     unseen: int = 0
     states: int = 0
     seconds: float = 0.0
+    failures: list[str] = field(default_factory=list)
 
 
 def perceive_frame(scene: MarkerScene, cameras: tuple[Camera, ...], noise: CameraNoise,
@@ -135,7 +136,12 @@ def perceive_frame(scene: MarkerScene, cameras: tuple[Camera, ...], noise: Camer
     if all(b.visible for b in blocks):
         obs = Observation(blocks, (0.0, 0.0, 2.0), 0.08, size)  # the hand open, far above: nothing held
         perceived = interpret(obs, CAMERA_TOLERANCES)
-        tally.states += int(perceived.state is not None and perceived.state.support == scene.support)
+        right = perceived.state is not None and perceived.state.support == scene.support
+        tally.states += int(right)
+        if not right:
+            tilts = ", ".join(f"{i}: {math.degrees(b.tilt):.1f} deg ({b.reads} reads)" for i, b in enumerate(blocks)
+                              if b.tilt is not None and b.tilt > CAMERA_TOLERANCES.tilt / 2)
+            tally.failures.append(f"{perceived.reason or 'another state'}; tilted over half the tolerance: {tilts}")
 
 
 def measure(n: int, args: argparse.Namespace, noise: CameraNoise) -> Tally:
@@ -198,8 +204,13 @@ def main(argv: list[str] | None = None) -> int:
     print("| cubes | frames | reads / frame | wrong-id reads | pose error mean (mm) | max (mm) | misidentified "
           "| unseen | state read | s / frame |")
     print("|---|---|---|---|---|---|---|---|---|---|")
+    failures = []
     for n in args.sizes:
-        print(row(n, measure(n, args, args.noise)), flush=True)
+        tally = measure(n, args, args.noise)
+        print(row(n, tally), flush=True)
+        failures += [f"{n} cubes: {reason}" for reason in tally.failures]
+    for line in failures:
+        print(f"state not read, {line}")
     return 0
 
 
