@@ -22,9 +22,11 @@ Bad input is one line on stderr and exit status 2.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import tempfile
 from dataclasses import replace
+from functools import cache
 from pathlib import Path
 
 import cv2
@@ -41,7 +43,6 @@ N = 30
 FAMILIES = {"aruco 4x4_50": cv2.aruco.DICT_4X4_50, "apriltag tag16h5": cv2.aruco.DICT_APRILTAG_16h5,
             "apriltag tag36h11": cv2.aruco.DICT_APRILTAG_36h11}
 RESOLUTIONS = ((640, 480), (960, 720), (1280, 960))
-DETECTORS: list[object] = []
 
 
 def face_image(family: str, i: int, face_px: int = 160) -> np.ndarray:
@@ -56,18 +57,34 @@ def face_image(family: str, i: int, face_px: int = 160) -> np.ndarray:
     return image
 
 
+@cache
+def _apriltag_detector(name: str):  # noqa: ANN202 - a pupil_apriltags.Detector
+    """The detector of one AprilTag family, kept for the life of the process.
+
+    Here a pupil-apriltags detector freed while another lived corrupted the heap, and one
+    detector of both families read no tag36h11 at all; so each family has its own, never freed
+    (:func:`main` leaves by ``os._exit``).
+    """
+    import pupil_apriltags
+
+    return pupil_apriltags.Detector(families=name)
+
+
 def reader(family: str):  # noqa: ANN201 - a callable: RGB image -> [(id, centre xy)]
     """The family's usual detector."""
     if family.startswith("aruco"):
         return lambda rgb: [(r.cube, r.centre) for r in read_markers(rgb, N)]
-    import pupil_apriltags
+    name = family.split()[-1]
 
-    detector = pupil_apriltags.Detector(families=family.split()[-1])
-    DETECTORS.append(detector)  # kept alive: freeing one detector corrupted the next one's heap here
     def read(rgb: np.ndarray) -> list[tuple[int, np.ndarray]]:
-        return [(d.tag_id, np.asarray(d.center)) for d in detector.detect(cv2.cvtColor(rgb, cv2.COLOR_RGB2GRAY))]
+        found = _apriltag_detector(name).detect(cv2.cvtColor(rgb, cv2.COLOR_RGB2GRAY))
+        return [(d.tag_id, np.asarray(d.center)) for d in found if _name(d.tag_family) == name]
 
     return read
+
+
+def _name(family: bytes | str) -> str:
+    return family.decode() if isinstance(family, bytes) else family
 
 
 def count(family: str, args: argparse.Namespace, folder: Path) -> dict[tuple[int, int], tuple[int, int, int]]:
@@ -129,4 +146,6 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    status = main()
+    sys.stdout.flush()
+    os._exit(status)  # not sys.exit: freeing the AprilTag detectors at shutdown crashed here

@@ -42,6 +42,8 @@ from csql_sim.sim.world.scene import PANDA_URDF
 
 SPOT_RADII = (0.46, 0.60, 0.74)  # m from the arm's base: three rows of spots
 SPOT_SPACING = 0.13  # m between neighbouring spots on a row
+HAND_HOME_XY = (0.463, 0.0)  # m: under the Panda's hand at home (fingers 0.40-0.45 m up): no tower there
+HAND_CLEARANCE = 0.12  # m
 
 
 @dataclass
@@ -55,12 +57,12 @@ class MarkerScene:
 
 
 def spots() -> list[tuple[float, float]]:
-    """Table spots within the Panda's reach, on three arcs about its base (+-60 degrees)."""
+    """Table spots within the Panda's reach, on three arcs about its base (+-60 degrees), none under the hand."""
     out = []
     for r in SPOT_RADII:
         k = int(r * math.radians(120) / SPOT_SPACING)
         out += [(r * math.cos(a), r * math.sin(a)) for a in np.linspace(-math.radians(60), math.radians(60), k + 1)]
-    return out
+    return [xy for xy in out if math.dist(xy, HAND_HOME_XY) > HAND_CLEARANCE]
 
 
 def marker_scene(n: int, max_height: int, rng: np.random.Generator) -> MarkerScene:
@@ -76,11 +78,12 @@ def marker_scene(n: int, max_height: int, rng: np.random.Generator) -> MarkerSce
     apply_markers(client, bodies, COLOURS)
     order = rng.permutation(n)
     places = spots()
-    chosen = rng.choice(len(places), size=n, replace=False)
+    chosen = rng.permutation(len(places))
     centres, support = np.zeros((n, 3)), [TABLE] * n
     k = t = 0
     while k < n:
-        height = int(rng.integers(1, min(max_height, n - k) + 1))
+        least = math.ceil((n - k) / (len(places) - t))  # the cubes left must fit on the spots left
+        height = int(rng.integers(least, min(max_height, n - k) + 1))
         x, y = places[chosen[t]]
         yaw = math.atan2(y, x) + rng.uniform(-0.15, 0.15)
         for level in range(height):

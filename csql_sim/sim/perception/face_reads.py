@@ -57,9 +57,14 @@ class FaceRead:
 
 
 def fit_plane(points: np.ndarray, noise: float) -> tuple[np.ndarray, float, np.ndarray]:
-    """Least-squares plane (unit normal, offset) of points, refitted without those far off it; and the kept mask."""
-    keep = np.ones(len(points), dtype=bool)
-    for _ in range(2):
+    """Least-squares plane (unit normal, offset) of points, and the mask of the points kept.
+
+    The first fit takes the three quarters of the points nearest their median point; each
+    refit keeps the points within 2 mm (plus 3 x the depth noise) of the last plane.
+    """
+    spread = np.linalg.norm(points - np.median(points, axis=0), axis=1)
+    keep = spread <= np.percentile(spread, 75)
+    for _ in range(3):
         centre = points[keep].mean(axis=0)
         normal = np.linalg.svd(points[keep] - centre, full_matrices=False)[2][2]
         offset = float(normal @ centre)

@@ -14,8 +14,8 @@ from csql_sim.sim.control.executor import run_physical_episode
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.control.primitives import OFFSETS
 from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, capture, perception_cameras
-from csql_sim.sim.perception.poses import interpret, observe_poses, state_message
 from csql_sim.sim.perception.fiducials import read_markers
+from csql_sim.sim.perception.poses import interpret, observe_poses, state_message
 from csql_sim.sim.perception.rgbd import observe_rgbd
 from csql_sim.sim.world.arm_state import SimError, parse_arm_state, to_arm_state
 from csql_sim.sim.world.config import DEFAULT_CONFIG, MAX_ARM_BLOCKS, WIDE_CONFIG, config_for

@@ -8,8 +8,8 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import HAND, BlocksWorld, all_states
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, PERCEPTION_CAMERA, capture
-from csql_sim.sim.perception.poses import interpret, observe_poses, state_message
 from csql_sim.sim.perception.fiducials import read_markers
+from csql_sim.sim.perception.poses import interpret, observe_poses, state_message
 from csql_sim.sim.perception.rgbd import NO_NOISE, CameraNoise, observe_rgbd
 
 
