@@ -51,7 +51,8 @@ class Scene(PhysicsClient):
         self._load_panda()
         for i in range(n):
             self._load_cube(LETTERS[i], COLOURS[i])
-        apply_markers(self, [self.bodies[LETTERS[i]] for i in range(n)], COLOURS)
+        if not self.opengl:  # the EGL plugin draws no mesh given by its vertices: painted boxes there (videos only)
+            apply_markers(self, [self.bodies[LETTERS[i]] for i in range(n)], COLOURS)
         self.kinematics: PhysicsClient | None = None  # the arm's kinematic copy (ControlConfig.ik_model)
         if physics and config.control.ik_model:
             self.kinematics = PhysicsClient(config.physics)
@@ -84,7 +85,9 @@ class Scene(PhysicsClient):
 
     def _load_cube(self, name: str, rgba: tuple[float, float, float, float]) -> None:
         pc = self.config.physics
-        self.bodies[name] = self.add_box((pc.cube_size / 2,) * 3, pc.cube_mass, PRINTED, (0.0, 0.0, -1.0), True,
+        marked = not self.opengl
+        self.bodies[name] = self.add_box((pc.cube_size / 2,) * 3, pc.cube_mass, PRINTED if marked else rgba,
+                                         (0.0, 0.0, -1.0), marked,
                                          lateralFriction=pc.cube_friction,
                                          spinningFriction=pc.cube_spinning_friction, rollingFriction=0.0)
 
