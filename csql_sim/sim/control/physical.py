@@ -24,7 +24,7 @@ from csql_sim.sim.perception.poses import (
 )
 from csql_sim.sim.perception.rgbd import NO_NOISE, CameraNoise, observe_rgbd
 from csql_sim.sim.world.arm_state import ArmState, SimError, check_arm_blocks, letter
-from csql_sim.sim.world.config import COLOURS, SimConfig, config_for
+from csql_sim.sim.world.config import SimConfig, config_for
 from csql_sim.sim.world.layout import place_towers
 from csql_sim.sim.world.robot import Panda
 from csql_sim.sim.world.scene import Pose, Scene
@@ -33,16 +33,16 @@ PERCEPTION_MODES = ("pose", "camera")
 
 
 def check_perception(perception: str, n: int | None = None) -> str:
-    """``perception`` if it is one of :data:`PERCEPTION_MODES` (and, for ``n`` cubes, can tell them apart).
+    """``perception`` if it is one of :data:`PERCEPTION_MODES`.
+
+    ``n`` is accepted for the callers' sake: the camera tells every one of the arm's cubes apart by
+    its printed marker (:mod:`csql_sim.sim.world.markers`), so no number of cubes is refused here.
 
     Raises:
-        SimError: for any other mode, or camera perception of more cubes than there are paints.
+        SimError: for any other mode.
     """
     if perception not in PERCEPTION_MODES:
         raise SimError(f"perception must be one of {', '.join(PERCEPTION_MODES)}, got {perception!r}")
-    if perception == "camera" and n is not None and n > len(COLOURS):
-        raise SimError(f"camera perception tells cubes apart by their paint, and there are {len(COLOURS)} paints; "
-                       f"for {n} cubes use pose perception")
     return perception
 
 

@@ -29,22 +29,25 @@ class Camera:
         return view_matrix(self.eye, self.target, self.up), projection_matrix(self.fov, w / h, self.near, self.far)
 
 
-PERCEPTION_CAMERA = Camera()
+PERCEPTION_CAMERA = Camera(width=640, height=480)
 PERCEPTION_CAMERAS = (
     PERCEPTION_CAMERA,  # in front of the table, facing the robot
-    Camera(eye=(0.55, 0.85, 0.6), target=(0.5, 0.0, 0.05)),  # from the left
-    Camera(eye=(0.55, -0.85, 0.6), target=(0.5, 0.0, 0.05)),  # from the right
+    Camera(eye=(0.55, 0.85, 0.6), target=(0.5, 0.0, 0.05), width=640, height=480),  # from the left
+    Camera(eye=(0.55, -0.85, 0.6), target=(0.5, 0.0, 0.05), width=640, height=480),  # from the right
 )
-"""Three views; each cube is located in the view that sees most of it."""
+"""Three views of up to six cubes, each cube placed from the marker reads of all of them.
+
+640 x 480: a 4 cm face 0.9 m away spans about 28 pixels, its marker's cells 3 pixels each."""
 RENDER_CAMERA = Camera(eye=(1.4, 0.6, 0.7), target=(0.3, 0.0, 0.3), fov=50.0, width=640, height=480)
 """The video view: the whole arm (base to raised hand) and the cubes, from the front right."""
 WIDE_PERCEPTION_CAMERAS = (
-    Camera(eye=(1.45, 0.0, 1.0), target=(0.42, 0.0, 0.12), fov=55.0, width=480, height=360),  # in front, further back
-    Camera(eye=(0.4, 1.25, 0.95), target=(0.42, 0.0, 0.12), fov=55.0, width=480, height=360),  # from the left
-    Camera(eye=(0.4, -1.25, 0.95), target=(0.42, 0.0, 0.12), fov=55.0, width=480, height=360),  # from the right
+    Camera(eye=(1.45, 0.0, 1.0), target=(0.42, 0.0, 0.12), fov=55.0, width=1280, height=960),  # in front, further back
+    Camera(eye=(0.4, 1.25, 0.95), target=(0.42, 0.0, 0.12), fov=55.0, width=1280, height=960),  # from the left
+    Camera(eye=(0.4, -1.25, 0.95), target=(0.42, 0.0, 0.12), fov=55.0, width=1280, height=960),  # from the right
 )
-"""The views of 7..10 cubes (:func:`perception_cameras`): the whole arc of places, and a tower of ten
-at either end of it, in every view."""
+"""The views of 7 or more cubes (:func:`perception_cameras`): the whole arc of places, and a tower of ten
+at either end of it, in every view. 1280 x 960: a 4 cm face 1.3 m away spans about 30 pixels
+(at 960 x 720 some cubes of a ten-cube scene were read in one view only, at 480 x 360 none)."""
 WIDE_RENDER_CAMERA = RENDER_CAMERA
 """The video view of 7..10 cubes (:func:`render_camera`)."""
 
@@ -81,3 +84,18 @@ def unproject(camera: Camera, depth: np.ndarray, rows: np.ndarray, cols: np.ndar
     z = 2.0 * depth[rows, cols] - 1.0
     pts = inv @ np.stack([x, y, z, np.ones_like(x)])
     return (pts[:3] / pts[3]).T
+
+
+def pixel_rays(camera: Camera, shape: tuple[int, int], xy: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Origins and unit directions (k, 3 each) of the rays through sub-pixel points ``xy`` (k, 2: x, y)."""
+    h, w = shape
+    view, proj = camera.matrices(w, h)
+    inv = np.linalg.inv(np.asarray(proj).reshape(4, 4, order="F") @ np.asarray(view).reshape(4, 4, order="F"))
+    x = 2.0 * (xy[:, 0] + 0.5) / w - 1.0
+    y = 1.0 - 2.0 * (xy[:, 1] + 0.5) / h
+    ends = []
+    for z in (-1.0, 1.0):
+        pts = inv @ np.stack([x, y, np.full_like(x, z), np.ones_like(x)])
+        ends.append((pts[:3] / pts[3]).T)
+    direction = ends[1] - ends[0]
+    return ends[0], direction / np.linalg.norm(direction, axis=1, keepdims=True)

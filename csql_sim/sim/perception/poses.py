@@ -49,6 +49,7 @@ class BlockObs:
         yaw: rotation about the vertical, modulo 90 degrees, rad.
         visible: False if the camera saw none of it.
         axes: the cube's three face normals (world frame, rows), or None if unknown.
+        reads: camera mode: the marker reads that placed it (0: unseen); pose mode: 0.
     """
 
     position: tuple[float, float, float]
@@ -56,6 +57,7 @@ class BlockObs:
     yaw: float
     visible: bool = True
     axes: tuple[tuple[float, float, float], ...] | None = None
+    reads: int = 0
 
 
 @dataclass(frozen=True)
@@ -75,6 +77,7 @@ class Perceived:
     state: ArmState | None
     reason: str = ""
     stray: int | None = None  # a visible cube, not held, that rests flat nowhere (recovery can fix it)
+    unseen: tuple[int, ...] = ()  # cubes no camera read: perception reports no state rather than guess theirs
 
 
 def tilt_and_yaw(orientation: tuple[float, float, float, float]) -> tuple[float, float]:
@@ -173,10 +176,13 @@ def interpret(obs: Observation, tol: Tolerances = TOLERANCES) -> Perceived:
         if near:
             support[unplaced[0]] = HAND
             unplaced = []
+    unseen = tuple(x for x in unplaced if not obs.blocks[x].visible)
+    if unseen:
+        many = len(unseen) > 1
+        return Perceived(None, f"unseen cube{'s' * many} {', '.join(letter(x) for x in unseen)}: no camera read "
+                               f"{'their markers' if many else 'its marker'}", unseen=unseen)
     if unplaced:
         x = unplaced[0]
-        if not obs.blocks[x].visible:
-            return Perceived(None, f"block {letter(x)} is out of sight")
         where = ", ".join(f"{v:.3f}" for v in obs.blocks[x].position)
         return Perceived(None, f"block {letter(x)} is not resting flat anywhere (at {where})", stray=x)
     try:

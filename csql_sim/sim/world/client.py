@@ -97,6 +97,26 @@ def projection_matrix(fov: float, aspect: float, near: float, far: float) -> lis
     return list(pybullet.computeProjectionMatrixFOV(fov, aspect, near, far))
 
 
+def box_mesh(half_extents: Vec3) -> tuple[list[Vec3], list[Vec3], list[tuple[float, float]], list[int]]:
+    """Vertices, normals, uvs and triangle indices of a box whose every face maps the whole texture.
+
+    Seen from outside, each face has u along one edge and v along the next (right-handed with the
+    outward normal), so a marker printed on the texture reads unmirrored on all six faces.
+    """
+    half, eye = np.asarray(half_extents, dtype=float), np.eye(3)
+    vertices, normals, uvs, indices = [], [], [], []
+    for axis in range(3):
+        for n in (eye[axis], -eye[axis]):
+            a = eye[(axis + 1) % 3]
+            b = np.cross(n, a)
+            indices += [len(vertices) + k for k in (0, 1, 2, 0, 2, 3)]
+            for u, v in ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)):
+                vertices.append(tuple(float(c) for c in half * (n + (2 * u - 1) * a + (2 * v - 1) * b)))
+                normals.append(tuple(float(c) for c in n))
+                uvs.append((u, v))
+    return vertices, normals, uvs, indices
+
+
 @dataclass(frozen=True)
 class Pose:
     """Position and orientation quaternion (x, y, z, w) of a body."""
@@ -159,15 +179,32 @@ class PhysicsClient:
     # ------------------------------------------------------------ creating bodies
 
     def add_box(self, half_extents: Vec3, mass: float, rgba: tuple[float, float, float, float],
-                position: Vec3, **dynamics: float) -> int:
-        """A box body (mass 0: static) at ``position``; ``dynamics`` go to changeDynamics of its base."""
+                position: Vec3, textured: bool = False, **dynamics: float) -> int:
+        """A box body (mass 0: static) at ``position``; ``dynamics`` go to changeDynamics of its base.
+
+        ``textured``: the visual is a box mesh whose every face shows the whole of a texture set
+        later (:meth:`set_texture`); pybullet's own box visual maps a texture to a few texels per face.
+        """
         cid = self.client
         col = pybullet.createCollisionShape(pybullet.GEOM_BOX, halfExtents=half_extents, physicsClientId=cid)
-        vis = pybullet.createVisualShape(pybullet.GEOM_BOX, halfExtents=half_extents, rgbaColor=rgba,
-                                         physicsClientId=cid)
+        if textured:
+            vertices, normals, uvs, indices = box_mesh(half_extents)
+            vis = pybullet.createVisualShape(pybullet.GEOM_MESH, vertices=vertices, normals=normals, uvs=uvs,
+                                             indices=indices, rgbaColor=rgba, physicsClientId=cid)
+        else:
+            vis = pybullet.createVisualShape(pybullet.GEOM_BOX, halfExtents=half_extents, rgbaColor=rgba,
+                                             physicsClientId=cid)
         body = pybullet.createMultiBody(mass, col, vis, basePosition=position, physicsClientId=cid)
         pybullet.changeDynamics(body, -1, **dynamics, physicsClientId=cid)
         return body
+
+    def load_texture(self, path: str) -> int:
+        """The texture id of an image file (PNG), loaded into this client."""
+        return pybullet.loadTexture(path, physicsClientId=self.client)
+
+    def set_texture(self, body: int, texture: int) -> None:
+        """Show ``texture`` on the base visual of ``body`` (a :meth:`add_box` with ``textured``)."""
+        pybullet.changeVisualShape(body, -1, textureUniqueId=texture, physicsClientId=self.client)
 
     def load_fixed_urdf(self, path: str) -> int:
         """A fixed-base articulated body from pybullet_data, self-collision excluding parents."""

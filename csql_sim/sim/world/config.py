@@ -206,8 +206,8 @@ COLOURS: tuple[tuple[float, float, float, float], ...] = (
     (0.55, 0.85, 0.1, 1.0),  # I lime, hue 84
     (0.1, 0.65, 0.45, 1.0),  # J teal, hue 158
 )
-"""The cubes' paint. Sorted by hue the ten paints are at least 21 degrees apart (orange to
-yellow), more than twice the segmentation's hue tolerance (rgbd.SegmentationLimits.hue)."""
+"""The cubes' paint, cosmetic: cubes are told apart by their printed markers
+(:mod:`csql_sim.sim.world.markers`), so past ten the paints repeat (:func:`cube_colour`)."""
 COLOUR_NAMES: tuple[str, ...] = ("red", "green", "blue", "yellow", "purple", "orange", "cyan", "magenta", "lime",
                                  "teal")
 """The paints' names, in the order of :data:`COLOURS` (cube A red, B green, ...): the legend's words."""

@@ -20,7 +20,8 @@ from csql_sim.sim.world.client import (
     rotation_matrix,
     view_matrix,
 )
-from csql_sim.sim.world.config import SimConfig, config_for, cube_colour
+from csql_sim.sim.world.config import COLOURS, SimConfig, config_for, cube_colour
+from csql_sim.sim.world.markers import PRINTED, apply_markers
 
 TABLE_RGBA = (0.72, 0.6, 0.45, 1.0)
 FINGER_LINKS = (9, 10)
@@ -50,6 +51,8 @@ class Scene(PhysicsClient):
         self._load_panda()
         for i in range(n):
             self._load_cube(default_name(i), cube_colour(i))
+        if not self.opengl:  # the EGL plugin draws no mesh given by its vertices: painted boxes there (videos only)
+            apply_markers(self, [self.bodies[default_name(i)] for i in range(n)], COLOURS)
         self.kinematics: PhysicsClient | None = None  # the arm's kinematic copy (ControlConfig.ik_model)
         if physics and config.control.ik_model:
             self.kinematics = PhysicsClient(config.physics)
@@ -82,7 +85,9 @@ class Scene(PhysicsClient):
 
     def _load_cube(self, name: str, rgba: tuple[float, float, float, float]) -> None:
         pc = self.config.physics
-        self.bodies[name] = self.add_box((pc.cube_size / 2,) * 3, pc.cube_mass, rgba, (0.0, 0.0, -1.0),
+        marked = not self.opengl
+        self.bodies[name] = self.add_box((pc.cube_size / 2,) * 3, pc.cube_mass, PRINTED if marked else rgba,
+                                         (0.0, 0.0, -1.0), marked,
                                          lateralFriction=pc.cube_friction,
                                          spinningFriction=pc.cube_spinning_friction, rollingFriction=0.0)
 

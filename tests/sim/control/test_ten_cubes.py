@@ -1,4 +1,4 @@
-"""Ten cubes on the arm: colours the camera tells apart, the arc layout, reach, perception, refusals."""
+"""Ten cubes on the arm: markers the camera reads, the arc layout, reach, perception, refusals."""
 
 import itertools
 import math
@@ -15,10 +15,11 @@ from csql_sim.sim.control.executor import run_physical_episode
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.control.primitives import OFFSETS
 from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, capture, perception_cameras
+from csql_sim.sim.perception.fiducials import read_markers
 from csql_sim.sim.perception.poses import interpret, observe_poses, state_message
-from csql_sim.sim.perception.rgbd import SEGMENTATION, observe_rgbd, paint_hues, segment
+from csql_sim.sim.perception.rgbd import observe_rgbd
 from csql_sim.sim.world.arm_state import SimError, parse_arm_state, to_arm_state
-from csql_sim.sim.world.config import COLOURS, DEFAULT_CONFIG, MAX_ARM_BLOCKS, WIDE_CONFIG, config_for
+from csql_sim.sim.world.config import DEFAULT_CONFIG, MAX_ARM_BLOCKS, WIDE_CONFIG, config_for
 from csql_sim.sim.world.layout import arc_place, putdown_spots, start_layout
 from csql_sim.sim.world.robot import EE_LINK, KINEMATIC_BODY, LOWER, UPPER
 from csql_sim.sim.world.scene import Scene
@@ -26,35 +27,18 @@ from csql_sim.sim.world.scene import Scene
 TEN = ["JIHGFEDCBA", "A,B,C,D,E,F,G,H,I,J", "DCBA,E,GF,JIH", "AB,CD,EFG,HI+J"]
 
 
-def _hue_gap(a: float, b: float) -> float:
-    return abs((a - b + 180.0) % 360.0 - 180.0)
-
-
-def test_ten_colours_are_pairwise_further_apart_than_twice_the_hue_tolerance():
-    assert len(COLOURS) == 10
-    hues = paint_hues(10)
-    gaps = [_hue_gap(a, b) for a, b in itertools.combinations(hues, 2)]
-    assert min(gaps) > 2 * SEGMENTATION.hue, sorted(gaps)[:3]
-    for rgba in COLOURS:  # vivid enough to be told from the table and the arm
-        r, g, b = rgba[:3]
-        assert max(r, g, b) > 0.6 and (max(r, g, b) - min(r, g, b)) / max(r, g, b) > 0.7
-
-
-def test_every_view_segments_ten_cubes_as_the_renderer_draws_them():
+def test_every_view_reads_the_markers_of_ten_cubes_as_the_renderer_draws_them():
     with PhysicalWorld(10, seed=1) as world:
         world.build(parse_config("A,B,C,D,E,F,G,H,I,J"))
-        hues = paint_hues(10)
         seen = np.zeros(10, dtype=int)
+        bodies = [world.scene.block_body(i) for i in range(10)]
         for cam in perception_cameras(10):
             rgb, _, ids = capture(world.scene, cam, cam.width, cam.height, segmentation=True)
-            labels = segment(rgb, hues)
-            bodies = [world.scene.block_body(i) for i in range(10)]
-            for i in range(10):
-                truth, mine = ids == bodies[i], labels == i
-                if truth.sum():
-                    seen[i] += 1
-                    assert (truth & mine).sum() / (truth | mine).sum() > 0.97, (cam, i)
-            assert ((labels >= 0) & ~np.isin(ids, bodies)).sum() == 0  # nothing else is taken for a cube
+            reads = read_markers(rgb, 10)
+            for read in reads:  # the body under every read's centre is the cube of its id
+                col, row = np.rint(read.centre).astype(int)
+                assert ids[row, col] == bodies[read.cube], (cam, read.cube)
+            seen[sorted({r.cube for r in reads})] += 1
         assert (seen >= 2).all(), seen  # every cube in at least two views
 
 
@@ -125,9 +109,12 @@ def test_more_than_thirty_cubes_are_refused_with_the_reason():
         run_physical_episode(start, goal, Gn1Policy())
 
 
-def test_camera_perception_past_ten_cubes_is_refused_until_cubes_carry_markers():
-    with pytest.raises(SimError, match="10 paints"):
-        PhysicalWorld(11, perception="camera")
+def test_camera_perception_takes_thirty_cubes_and_reads_every_marker_of_the_built_scene():
+    with PhysicalWorld(30, perception="camera", seed=0) as world:
+        start = parse_config(", ".join(default_names(30)))
+        world.build(start)
+        seen = world.perceive()
+        assert seen.state == start and not seen.unseen, seen.reason
 
 
 def test_bfs_and_ground_policies_are_refused_past_six_blocks_before_any_physics():

@@ -20,8 +20,8 @@ def test_names_past_z_and_no_message_past_26_cubes():
 
 
 @pytest.mark.slow
-def test_a_twenty_cube_tall_tower_task_reaches_its_goal_with_pose_perception(arm):
+def test_a_twenty_cube_tall_tower_task_reaches_its_goal_with_camera_perception(arm):
     start, goal = draw_task("tall-towers", 20, np.random.default_rng(2), max_height=MAX_TOWER_HEIGHT)
-    result = arm.execute(planner="gn1", start=start.notation(), goal=goal.notation(), perception="pose")
+    result = arm.execute(planner="gn1", start=start.notation(), goal=goal.notation(), perception="camera")
     assert_reached(result)
     assert parse_config(result.final, 20) == goal

@@ -1,0 +1,75 @@
+"""Camera perception by markers: the right cube, or an unseen one; never a guess."""
+
+import numpy as np
+import pytest
+
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.state_count import sample_state
+from csql_sim.sim.control.physical import PhysicalWorld
+from csql_sim.sim.perception.camera import CAMERA_TOLERANCES
+from csql_sim.sim.perception.poses import interpret
+from csql_sim.sim.perception.rgbd import CameraNoise, observe_rgbd
+from csql_sim.sim.world.config import COLOURS
+from csql_sim.sim.world.markers import erase_markers, marker_texture
+
+NOISE = CameraNoise(depth=0.0015, colour=4.0)
+"""The documented sensor noise (``--camera-noise 1.5,4``)."""
+
+
+def _seen(world, noise=NOISE):
+    return interpret(observe_rgbd(world.scene, world.panda, noise=noise, rng=np.random.default_rng(5)),
+                     CAMERA_TOLERANCES)
+
+
+def test_a_cube_with_its_markers_erased_is_unseen_not_guessed():
+    with PhysicalWorld(4, seed=2, perception="camera") as world:
+        world.build(parse_config("AB,C,D"))
+        assert world.perceive().state == parse_config("AB,C,D")
+        erase_markers(world.scene, [world.scene.block_body(2)], [COLOURS[2]])  # C keeps its paint, loses its marker
+        perceived = world.perceive()
+        assert perceived.state is None and perceived.unseen == (2,)
+        assert "unseen cube C" in perceived.reason
+
+
+def test_a_cube_covered_by_another_body_is_unseen_not_guessed():
+    with PhysicalWorld(3, seed=2) as world:
+        world.build(parse_config("A,B,C"))
+        x, y, z = world.scene.block_pose(1).position
+        world.scene.add_box((0.035, 0.035, 0.035), 0.0, (0.5, 0.5, 0.5, 1.0), (x, y, z))  # a box over B
+        perceived = _seen(world)
+        assert perceived.state is None and perceived.unseen == (1,)
+
+
+def test_one_marker_in_two_places_is_no_cube_at_all():
+    with PhysicalWorld(3, seed=2) as world:
+        world.build(parse_config("A,B,C"))
+        scene = world.scene
+        scene.set_texture(scene.block_body(1), scene.load_texture(str(marker_texture(0, COLOURS[1]))))  # B wears A's
+        perceived = _seen(world)
+        assert perceived.state is None and perceived.unseen == (0, 1)
+
+
+def test_a_held_cube_is_seen_in_the_hand_or_placed_there_by_elimination():
+    state = parse_config("AB,C+D")
+    with PhysicalWorld(4, seed=1) as world:
+        world.build(state)
+        assert _seen(world).state == state
+
+
+def _ten(seed):
+    state = sample_state(10, np.random.default_rng(seed))
+    with PhysicalWorld(10, seed=seed) as world:
+        world.build(state)
+        world.settle()
+        perceived = _seen(world)
+    assert perceived.state == state, (state.notation(), perceived.reason)
+
+
+def test_ten_cubes_with_sensor_noise_are_perceived_as_built():
+    _ten(0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(1, 9))
+def test_seeded_ten_cube_scenes_with_sensor_noise_are_perceived_as_built(seed):
+    _ten(seed)
