@@ -32,7 +32,7 @@ from csql_sim.core.policies.lifted_policy import (
     LiftedQClassifier,
     loads_lifted_policy,
 )
-from csql_sim.core.state.move_relations import Move
+from csql_sim.core.state.moves import Move
 from csql_sim.core.state.world import State
 
 COMMITTEE_VERSION = 2

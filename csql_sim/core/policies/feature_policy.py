@@ -37,7 +37,8 @@ from csql_sim.core.policies.lifted_policy import (
     classifier_lines,
     most_specific,
 )
-from csql_sim.core.state.move_relations import Move, pick_action, put_action, towards
+from csql_sim.core.state.move_relations import towards
+from csql_sim.core.state.moves import Move, pick_action, put_action
 from csql_sim.core.state.world import Action, State, successor
 from csql_sim.infra.errors import CsqlError
 

@@ -26,7 +26,8 @@ import itertools
 from collections.abc import Callable
 
 from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier
-from csql_sim.core.state.move_relations import ATOMS, KINDS
+from csql_sim.core.state.move_relations import ATOMS
+from csql_sim.core.state.moves import KINDS
 
 Bits = tuple[int, ...]
 

@@ -43,7 +43,8 @@ from dataclasses import dataclass
 from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.files.kinds import MAX_LIFTED_Q_BYTES
 from csql_sim.core.policies.contract import Policy
-from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, towards
+from csql_sim.core.state.move_relations import ATOMS, MoveRelations, towards
+from csql_sim.core.state.moves import KINDS, Move, pick_action, put_action
 from csql_sim.core.state.relation_tracker import KeptRelations, RelationTracker
 from csql_sim.core.state.world import Action, State
 from csql_sim.infra import formats

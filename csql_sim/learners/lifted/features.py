@@ -26,7 +26,8 @@ from csql_sim.core.features.denotation import Denotations
 from csql_sim.core.features.formulation import Formulation, primitive_arrays
 from csql_sim.core.features.generate import generate_concepts
 from csql_sim.core.features.move_features import HOLDS, SLOTS, Literal, object_of, parsed
-from csql_sim.core.state.move_relations import Move, after, moves, target_goal
+from csql_sim.core.state.move_relations import target_goal
+from csql_sim.core.state.moves import Move, after, moves
 from csql_sim.core.state.world import State, all_states
 
 MAX_TABLE_OBJECTS = 8

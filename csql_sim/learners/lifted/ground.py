@@ -13,7 +13,7 @@ from collections.abc import Callable
 import numpy as np
 
 from csql_sim.core.state.goal_relations import well_placed
-from csql_sim.core.state.move_relations import Move, after, moves
+from csql_sim.core.state.moves import Move, after, moves
 from csql_sim.core.state.world import State
 
 Relations = Callable[[State, State], tuple[tuple[Move, ...], np.ndarray]]

@@ -53,13 +53,8 @@ from csql_sim.core.features.move_features import Literal
 from csql_sim.core.model.lifted_model import LiftedWorldModel
 from csql_sim.core.policies.feature_policy import FeaturePolicy, used_literals
 from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier
-from csql_sim.core.state.move_relations import (
-    ATOMS,
-    Move,
-    pick_action,
-    put_action,
-    target_goal,
-)
+from csql_sim.core.state.move_relations import ATOMS, target_goal
+from csql_sim.core.state.moves import Move, pick_action, put_action
 from csql_sim.core.state.state_count import sample_hand_empty, sample_state
 from csql_sim.core.state.world import State
 from csql_sim.infra.assets import asset_text

@@ -21,7 +21,8 @@ import numpy as np
 from csql_sim.core.features.formulation import Formulation
 from csql_sim.core.features.move_features import Literal
 from csql_sim.core.policies.lifted_policy import LiftedQClassifier
-from csql_sim.core.state.move_relations import ATOMS, Move, MoveRelations
+from csql_sim.core.state.move_relations import ATOMS, MoveRelations
+from csql_sim.core.state.moves import Move
 from csql_sim.core.state.world import State
 from csql_sim.learners.lifted.features import FeatureSpace, FeatureTable, build_space
 from csql_sim.learners.lifted.rules import Literals, Rule

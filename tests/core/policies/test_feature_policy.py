@@ -13,7 +13,8 @@ from csql_sim.core.policies.gn1 import Gn1Policy
 from csql_sim.core.policies.lifted_policy import LiftedPolicyError, LiftedQClassifier
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.core.state.move_relations import pick_action, towards
+from csql_sim.core.state.move_relations import towards
+from csql_sim.core.state.moves import pick_action
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import all_states, successor

@@ -1,6 +1,6 @@
 """The ground Q-classifiers of LQ-CS: one-move backups through the model, made on demand."""
 
-from csql_sim.core.state.move_relations import moves
+from csql_sim.core.state.moves import moves
 from csql_sim.core.state.notation import parse_config
 from csql_sim.learners.lifted.ground import GroundValues
 from csql_sim.learners.lifted.vocab import GivenAtoms
