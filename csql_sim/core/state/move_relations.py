@@ -5,7 +5,7 @@ block moved, and ``?d``, where it goes). Moves are judged towards the **target**
 (:func:`target_goal`); a goal that holds a block ends with that block's pick.
 
 The relations of a move, in this order, are the atoms a condition tests (``1`` holds,
-``0`` does not, ``#`` either; :data:`ATOMS`):
+``0`` does not, ``#`` either; their names are :data:`~csql_sim.core.state.atom_names.ATOMS`):
 
 ====================  ===================================================================
 ``misplaced(?x)``     ?x is not well placed (:func:`~csql_sim.core.state.goal_relations.well_placed`)
@@ -37,9 +37,7 @@ from csql_sim.core.state.goal_relations import deadlocked, well_placed
 from csql_sim.core.state.moves import Move, after, moves, pick_action
 from csql_sim.core.state.world import TABLE, Action, State
 
-ATOMS = ("misplaced(?x)", "goal-on(?x,?d)", "ready(?d)", "deadlocked(?x)", "above-needed(?x)", "least-stuck(?x)",
-         "deadlock", "holding", "cover(?x)")
-"""The relations of a move, in condition order."""
+
 def target_goal(state: State, goal: State) -> State:
     """The goal without its held block g: g where it stands if nothing must go on it there, else on the table."""
     g = goal.held
@@ -85,7 +83,7 @@ def _ready(state: State, placed: tuple[bool, ...], d: int, mover: int) -> bool:
 
 
 class MoveRelations:
-    """The relations of every legal move of one state towards one target (:data:`ATOMS`)."""
+    """The relations of every legal move of one state towards one target (the given atoms)."""
 
     def __init__(self, state: State, target: State) -> None:
         self.state, self.target = state, target
@@ -99,7 +97,7 @@ class MoveRelations:
         self.cover = deadlock_cover(state, target) if self.stuck else frozenset()
 
     def bits(self, move: Move) -> tuple[int, ...]:
-        """The move's relations, 1 or 0 each, in :data:`ATOMS` order."""
+        """The move's relations, 1 or 0 each, in the order of the atoms' names."""
         s, t, x, d = self.state, self.target, move.block, move.onto
         return (
             int(not self.placed[x]),

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from csql_sim.core.state.world import TABLE, Action, ActionKind, State
+from csql_sim.core.state.world import HAND, TABLE, Action, ActionKind, State, is_legal
 
 KINDS = ("table", "block")
 """A move's kind: to the table, or onto a block."""
@@ -62,4 +62,22 @@ def moves(state: State) -> tuple[Move, ...]:
     return tuple(out)
 
 
-__all__ = ["KINDS", "Move", "after", "moves", "pick_action", "put_action"]
+def last_action(state: State, goal: State) -> Action | None:
+    """The one legal action that leads from ``state`` to ``goal``, if there is one (one action of lookahead).
+
+    Only the goal is read: the action is the task's last, the one whose reward ends it.
+    """
+    diff = [b for b, (s, g) in enumerate(zip(state.support, goal.support, strict=True)) if s != g]
+    if len(diff) != 1:
+        return None
+    b, onto = diff[0], goal.support[diff[0]]
+    if onto == HAND:
+        action = pick_action(state, b)
+    elif state.held == b:
+        action = put_action(Move(b, onto))
+    else:
+        return None
+    return action if is_legal(state, action) else None
+
+
+__all__ = ["KINDS", "Move", "after", "last_action", "moves", "pick_action", "put_action"]

@@ -26,7 +26,6 @@ from csql_sim.core.features.denotation import Denotations
 from csql_sim.core.features.formulation import Formulation, primitive_arrays
 from csql_sim.core.features.generate import generate_concepts
 from csql_sim.core.features.move_features import HOLDS, SLOTS, Literal, object_of, parsed
-from csql_sim.core.state.move_relations import target_goal
 from csql_sim.core.state.moves import Move, after, moves
 from csql_sim.core.state.world import State, all_states
 
@@ -136,9 +135,7 @@ class FeatureTable:
         form = space.form
         self.space, self.form = space, form
         states = training_states(form, n)
-        held = [g for g in goals if g.held is not None]  # their targets depend on the start
-        targets = dict.fromkeys([*(g for g in goals if g.held is None),
-                                 *(target_goal(s, g) for g in held for s in states)])
+        targets = dict.fromkeys(goals)  # as they are: a goal that holds a block too
         self.index = {(s, t): i for i, (s, t) in enumerate((s, t) for t in targets for s in states)}
         pairs = list(self.index)
         objects = n + len(form.constants)

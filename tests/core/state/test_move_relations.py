@@ -2,8 +2,9 @@
 
 import numpy as np
 
+from csql_sim.core.state.atom_names import ATOMS
 from csql_sim.core.state.goal_relations import deadlocked, well_placed
-from csql_sim.core.state.move_relations import ATOMS, MoveRelations, target_goal
+from csql_sim.core.state.move_relations import MoveRelations, target_goal
 from csql_sim.core.state.moves import Move, after
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs

@@ -2,12 +2,12 @@
 
 from csql_sim.core.state.moves import moves
 from csql_sim.core.state.notation import parse_config
+from csql_sim.learners.lifted.given import GivenAtoms, MisplacedCosts
 from csql_sim.learners.lifted.ground import GroundValues
-from csql_sim.learners.lifted.vocab import GivenAtoms
 
 
 def test_a_backup_counts_moves_plus_early_per_block_left_misplaced():
-    ground = GroundValues(GivenAtoms().relations, early=0.25)
+    ground = GroundValues(GivenAtoms().relations, MisplacedCosts(0.25))
     state, target = parse_config("A,B,C"), parse_config("ABC")
     i = ground.of(state, target)
     assert ground.of(state, target) == i and ground.low[i] == 2  # B and C are misplaced
