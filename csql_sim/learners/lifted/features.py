@@ -24,7 +24,7 @@ import numpy as np
 
 from csql_sim.core.features.denotation import Denotations
 from csql_sim.core.features.formulation import Formulation, primitive_arrays
-from csql_sim.core.features.generate import generate_concepts
+from csql_sim.core.features.generate import BASE, generate_concepts
 from csql_sim.core.features.move_features import HOLDS, SLOTS, Literal, object_of, parsed
 from csql_sim.core.state.moves import Move, after, moves
 from csql_sim.core.state.world import State, all_states
@@ -59,7 +59,7 @@ def training_states(form: Formulation, n: int) -> list[State]:
 
 
 def build_space(form: Formulation, n: int, goals: list[State], rng: np.random.Generator,
-                complexity: int, sample: int = 200) -> FeatureSpace:
+                complexity: int, sample: int = 200, constructors: tuple[str, ...] = BASE) -> FeatureSpace:
     """The feature space of a training world (module docstring)."""
     states = training_states(form, n)
     picked = [(states[int(rng.integers(len(states)))], goals[int(rng.integers(len(goals)))]) for _ in range(sample)]
@@ -77,7 +77,7 @@ def build_space(form: Formulation, n: int, goals: list[State], rng: np.random.Ge
             batch_t.append(t)
     prims, objects = primitive_arrays(form, batch_s, batch_t)
     den = Denotations(prims, objects, form.constants)
-    pool = generate_concepts(form, den, complexity)
+    pool = generate_concepts(form, den, complexity, constructors)
     cols = _MoveColumns(np.array(owner), np.array(succ), np.array(xs), np.array(ds))
     seen: set[bytes] = set()
     literals: list[Literal] = []

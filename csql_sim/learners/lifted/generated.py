@@ -18,6 +18,7 @@ from collections.abc import Callable, Collection, Hashable
 import numpy as np
 
 from csql_sim.core.features.formulation import BUILTIN, MAX_DOMAIN_BYTES, Formulation, load_formulation
+from csql_sim.core.features.generate import BASE, EXTENDED
 from csql_sim.core.features.move_features import Literal
 from csql_sim.core.policies.lifted_classifier import LiftedQClassifier
 from csql_sim.core.state.moves import Move
@@ -42,8 +43,10 @@ class GeneratedFeatures(Vocabulary):
     fresh_stats = True
     commits = True
 
-    def __init__(self, form: Formulation, domain: str, complexity: int, sample: int) -> None:
+    def __init__(self, form: Formulation, domain: str, complexity: int, sample: int,
+                 constructors: tuple[str, ...] = BASE) -> None:
         self.form, self.domain, self.complexity, self.sample = form, domain, complexity, sample
+        self.constructors = constructors
         self.hand = form.hand
         self.costs = RewardCosts(2 if form.hand else 1)
         self.space: FeatureSpace | None = None
@@ -54,7 +57,8 @@ class GeneratedFeatures(Vocabulary):
         if not self.form.hand:
             goals = [g for g in goals if g.held is None] or goals
         if self.space is None:
-            self.space = build_space(self.form, n, goals, rng, self.complexity, self.sample)
+            self.space = build_space(self.form, n, goals, rng, self.complexity, self.sample,
+                                     self.constructors)
             self.width = len(self.space.literals)
         self.tables[n] = FeatureTable(self.space, n, goals)
 
@@ -82,11 +86,12 @@ class GeneratedFeatures(Vocabulary):
 
 
 def generated_vocabulary(params: LiftedParams) -> GeneratedFeatures:
-    """The generated features the parameters name (``domain``, ``complexity``, ``sample``)."""
+    """The generated features the parameters name (``domain``, ``complexity``, ``grammar``, ``sample``)."""
     form = load_formulation(params.domain)
     domain = asset_text("domains", BUILTIN[params.domain]) if params.domain in BUILTIN else \
         read_text_file(params.domain, MAX_DOMAIN_BYTES, "PDDL domain")
-    return GeneratedFeatures(form, domain, params.complexity, params.sample)
+    constructors = EXTENDED if params.grammar == "extended" else BASE
+    return GeneratedFeatures(form, domain, params.complexity, params.sample, constructors)
 
 
 def train_generated(params: LiftedParams, rng: np.random.Generator,

@@ -11,6 +11,8 @@ from csql_sim.learners.paper.params import ParamsError
 TRAIN_SIZES = (3, 4, 5)
 """The world sizes a lifted learner may train on."""
 FEATURES = ("given", "generated")
+GRAMMARS = ("base", "extended")
+"""The constructor sets of generated features (:class:`LiftedParams` ``grammar``)."""
 """What the lifted classifiers may read."""
 READ_ATOMS = tuple(a for a in ATOMS if a != "least-stuck(?x)")
 """The given atoms the classifiers read by default: all but ``least-stuck(?x)`` (:class:`LiftedParams`)."""
@@ -55,6 +57,9 @@ class LiftedParams:
         domain: the formulation of ``generated`` features: ``4op``, ``move`` or a PDDL domain
             file (:func:`~csql_sim.core.features.formulation.load_formulation`). Default ``4op``.
         complexity: the grammar's complexity bound K for ``generated``. Range 1..10; default 8.
+        grammar: the constructors generated: ``base`` (:data:`~csql_sim.core.features.generate.BASE`)
+            or ``extended`` (:data:`~csql_sim.core.features.generate.EXTENDED`: role composition,
+            union, restriction and loops too). Default ``base``.
         sample: (state, goal) pairs the generated features are pruned on (with every move of
             each). Range 10..5000; default 200.
         atoms: with ``given``, the atoms the classifiers may read; an atom left out is ``#`` in
@@ -79,6 +84,7 @@ class LiftedParams:
     features: str = "given"
     domain: str = "4op"
     complexity: int = 8
+    grammar: str = "base"
     sample: int = 200
     atoms: tuple[str, ...] = READ_ATOMS
 
@@ -109,6 +115,7 @@ class LiftedParams:
             "features": self.features in FEATURES,
             "domain": isinstance(self.domain, str) and bool(self.domain),
             "complexity": isinstance(self.complexity, int) and 1 <= self.complexity <= 10,
+            "grammar": self.grammar in GRAMMARS,
             "sample": isinstance(self.sample, int) and 10 <= self.sample <= 5000,
             "atoms": bool(self.atoms) and all(a in ATOMS for a in self.atoms),
         }
@@ -119,9 +126,10 @@ class LiftedParams:
 
     def as_dict(self) -> dict:
         """The parameters as plain values (the generated features' own only when they are used)."""
-        own = ("atoms", "early") if self.features == "generated" else ("features", "domain", "complexity", "sample")
+        own = ("atoms", "early") if self.features == "generated" else \
+            ("features", "domain", "complexity", "grammar", "sample")
         return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)
                 if f.name not in own}
 
 
-__all__ = ["FEATURES", "READ_ATOMS", "TRAIN_SIZES", "LiftedParams"]
+__all__ = ["FEATURES", "GRAMMARS", "READ_ATOMS", "TRAIN_SIZES", "LiftedParams"]
