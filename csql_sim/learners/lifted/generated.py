@@ -42,6 +42,9 @@ class GeneratedFeatures(Vocabulary):
     warmup = 3
     fresh_stats = True
     commits = True
+    replay_passes = 16
+    """Values start at 0, not at a lower bound: a sweep runs value iteration until it settles (five-block
+    worlds are at most a dozen moves deep), so the advantages learned next read exact values."""
 
     def __init__(self, form: Formulation, domain: str, complexity: int, sample: int,
                  constructors: tuple[str, ...] = BASE) -> None:

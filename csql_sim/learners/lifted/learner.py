@@ -199,16 +199,23 @@ class _Learner:
         return options[ranks.index(min(ranks))]
 
     def replay(self) -> None:
-        """A sweep through the model: back up every remembered hand-empty state once more; its successors join.
+        """A sweep through the model: back up every remembered hand-empty state again; its successors join.
 
+        Up to the vocabulary's ``replay_passes`` passes, fewer when a pass changes no value.
         Repeated every ``sweep`` trials, these passes are value iteration over the training goals'
         worlds, spreading from the states met: the ground values (and with them the lifted
         advantages) soon measure moves exactly instead of their start values.
         """
         g = self.ground
-        for i in range(len(g.keys)):
-            if not g.final[i] and g.keys[i][0].held is None:
-                g.backup(i)
+        for _ in range(self.vocab.replay_passes):
+            changed = False
+            for i in range(len(g.keys)):
+                if not g.final[i] and g.keys[i][0].held is None:
+                    before = g.excess[i]
+                    g.backup(i)
+                    changed = changed or g.excess[i] != before
+            if not changed:
+                return
 
     def frozen(self) -> tuple[LiftedQClassifier, ...]:
         """The classifiers now, sorted by kind and condition."""

@@ -39,6 +39,8 @@ class Vocabulary:
     """Whether a move is a pick and a put with a held block between them (states with a held block are drawn)."""
     commits = False
     """Whether the put after a pick is the move's own (else the held state chooses it again)."""
+    replay_passes = 1
+    """Passes of value iteration per sweep through the model (fewer when one changes no value)."""
     costs: Costs
 
     def prepare(self, n: int, goals: list[State], rng: np.random.Generator) -> None:
