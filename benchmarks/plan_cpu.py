@@ -1,6 +1,6 @@
 """CPU seconds of ``csql-sim plan --problem`` on a large task: the whole command, and its phases in one run.
 
-Regenerates the planning-time table of docs/results/large_problems.md (CPU seconds per phase).
+Regenerates docs/results/large_problems.md, its table of CPU seconds of one 500-block plan command.
 
     python benchmarks/plan_cpu.py [--blocks 500] [--seed 0] [--rules builtin|FILE] [--repeat 3]
                                   [--optimum-budget 1] [--problem FILE]
