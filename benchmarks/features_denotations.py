@@ -35,7 +35,8 @@ from csql_sim.core.features.formulation import load_formulation, parse_formulati
 from csql_sim.core.features.generate import generate_concepts
 from csql_sim.core.features.move_features import parse_literal, parsed
 from csql_sim.core.model.task_draws import draw_task
-from csql_sim.core.state.move_relations import after, moves, towards
+from csql_sim.core.state.move_relations import towards
+from csql_sim.core.state.moves import after, moves
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import TABLE, State
 

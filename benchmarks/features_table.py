@@ -56,10 +56,12 @@ from csql_sim.core.policies.gn2 import Gn2Policy
 from csql_sim.core.policies.hand_ordering import hand_ordering
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.core.state.move_relations import ATOMS, MoveRelations, target_goal
+from csql_sim.core.state.atom_names import ATOMS
+from csql_sim.core.state.move_relations import MoveRelations, target_goal
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.learners.lifted.committee import train_committee
-from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.params import LiftedParams
+from csql_sim.learners.lifted.ql import train_lifted
 
 BENCH_SIZES = (6, 7, 8, 10, 15, 20, 26)
 VARIANTS = {"given": {}, "generated-4op": {"features": "generated", "domain": "4op"},

@@ -27,7 +27,9 @@ import numpy as np
 
 from csql_sim.core.measure.optimum import optimal_moves
 from csql_sim.core.model.task_draws import tall_towers
-from csql_sim.core.state.move_relations import ATOMS, Move, MoveRelations, after
+from csql_sim.core.state.atom_names import ATOMS
+from csql_sim.core.state.move_relations import MoveRelations
+from csql_sim.core.state.moves import Move, after
 from csql_sim.core.state.state import State
 from csql_sim.core.state.state_count import sample_hand_empty
 from csql_sim.core.state.world import TABLE

@@ -29,7 +29,8 @@ from lifted_learning_seeds import score  # the script beside this one
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.policies.lifted_policy import LiftedPolicy
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.params import LiftedParams
+from csql_sim.learners.lifted.ql import train_lifted
 
 
 def seeds_of(text: str) -> list[int]:

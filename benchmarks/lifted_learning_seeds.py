@@ -37,7 +37,8 @@ from csql_sim.core.policies.gn2 import Gn2Policy
 from csql_sim.core.policies.hand_ordering import hand_ordering, hand_ordering_without_cover
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.params import LiftedParams
+from csql_sim.learners.lifted.ql import train_lifted
 
 
 def score(policy, pairs: list, optima: list[int]) -> tuple[float, float]:

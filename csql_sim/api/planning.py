@@ -80,8 +80,7 @@ def planner_of(rules: Source | LiftedRules | None, planner: str | None) -> str:
 
 def policy_maker(rules: Source | LiftedRules | None, planner: str, progress: bool = False) -> Callable[[int], Policy]:
     """The planner's policy for a problem of n blocks (loaded once; CsqlError where it cannot plan n)."""
-    from csql_sim.core.policies.committee_policy import loads_lifted_file
-    from csql_sim.core.policies.loader import load_policy
+    from csql_sim.core.policies.loader import load_policy, loads_lifted_file
 
     cache: dict[int, Policy] = {}
 

@@ -122,7 +122,7 @@ def _lines(run: LiftedRun, sizes: tuple[int, ...], member: int) -> list[str]:
 
 def _atoms(text: str) -> tuple[str, ...]:
     """A comma list of given atoms by name, with or without their arguments, or ``all``."""
-    from csql_sim.core.state.move_relations import ATOMS
+    from csql_sim.core.state.atom_names import ATOMS
 
     short = {a.split("(")[0]: a for a in ATOMS}
     names = [w.strip() for w in text.split(",")]

@@ -104,7 +104,7 @@ def show_lifted(args: argparse.Namespace, kind: str) -> int:
         from csql_sim.core.policies.agreement import agreement
         from csql_sim.core.policies.feature_policy import FeaturePolicy
         from csql_sim.core.policies.loader import load_policy
-        from csql_sim.core.state.move_relations import ATOMS
+        from csql_sim.core.state.atom_names import ATOMS
 
         policy = load_policy(args.rules)
         meta, field = policy.meta, "classifiers"

@@ -17,7 +17,7 @@ from hostile_cli import Run, digest
 
 from csql_sim.core.features.move_features import Literal
 from csql_sim.core.policies.committee_policy import dumps_committee
-from csql_sim.core.policies.lifted_policy import LiftedQClassifier
+from csql_sim.core.policies.lifted_classifier import LiftedQClassifier
 from csql_sim.infra.assets import asset_text
 
 WELL_PLACED = "all(star(on),eq(on,on_g))"

@@ -54,6 +54,11 @@ class Denotations:
             self.memo[node] = value
         return value
 
+    def count(self, node: Node) -> np.ndarray:
+        """The numerical feature of ``node`` in every pair: ``|C|`` of a concept, ``|R|`` of a role (pairs,)."""
+        value = self.of(node)
+        return value.reshape(value.shape[0], -1).sum(axis=1)
+
     def _compute(self, node: Node) -> np.ndarray:
         op, a = node.op, node.args
         if op == "top":
@@ -181,7 +186,20 @@ def apply(op: str, args: list[np.ndarray]) -> np.ndarray:
         if op == "star":
             out = out | np.eye(out.shape[1], dtype=bool)[None]
         return out
+    if op == "self":  # R(x, x)
+        return np.diagonal(args[0], axis1=1, axis2=2).copy()
+    if op == "comp":  # some y with R(x, y) and S(y, z)
+        return _product(args[0], args[1])
+    if op == "or":
+        return args[0] | args[1]
+    if op == "restrict":  # R(x, y) with y in C
+        return args[0] & args[1][:, None, :]
     raise GrammarError(f"unknown constructor {op!r}")
+
+
+def _product(r: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The boolean product of two batches of relations (float32 counts: exact below 2^24 objects)."""
+    return np.matmul(r.astype(np.float32), s.astype(np.float32)) > 0
 
 
 def closure(r: np.ndarray, succ: np.ndarray | None = None, pred_: np.ndarray | None = None) -> np.ndarray:
@@ -194,7 +212,7 @@ def closure(r: np.ndarray, succ: np.ndarray | None = None, pred_: np.ndarray | N
         return _functional_closure(r.transpose(0, 2, 1), pred_).transpose(0, 2, 1)
     out = r.copy()
     while True:
-        step = out | (np.matmul(out.astype(np.uint8), out.astype(np.uint8)) > 0)
+        step = out | _product(out, out)
         if (step == out).all():
             return out
         out = step

@@ -16,14 +16,28 @@ written             notation      denotes
 ``some(R,C)``       ∃R.C          the x with some y in C and R(x, y)
 ``all(R,C)``        ∀R.C          the x whose every R-successor y is in C
 ``eq(R,S)``         (R = S)       the x whose R-successors are its S-successors (role-value map)
+``self(R)``         ∃R.Self       the x with R(x, x): on a cycle, when R is a closure
 ``r``               r             the pairs of binary predicate ``r``
 ``inv(R)``          R⁻¹           R reversed
 ``plus(R)``         R⁺            the transitive closure of R
 ``star(R)``         R*            the reflexive-transitive closure of R
+``comp(R,S)``       R ∘ S         the (x, z) with some y, R(x, y) and S(y, z) (composition)
+``or(R,S)``         R ⊔ S         the pairs of either (role union)
+``restrict(R,C)``   R|C           the (x, y) of R with y in C
 ==================  ============  =====================================================
 
-Numerical features are counts ``|C|``. The **complexity** of an expression counts each
-constructor and each primitive as 1 (``all(star(on),eq(on,on_g))`` has 6). Nodes are
+Composition, union and restriction make orderings between blocks expressible as roles, and
+their closures and cycles as concepts. The deadlock graph's edges, for instance: b must wait
+for the block on it (``inv(on)``) and for the block on its goal support
+(``comp(on_g,inv(on))``), so ``self(plus(or(inv(on),comp(on_g,inv(on)))))`` holds the
+blocks on a cycle of those waits (complexity 10: within reach of the bound K, if not of the
+default).
+
+**Counts** are the numerical features: ``|C|`` of a concept and ``|R|`` of a role, in each
+state (:meth:`~csql_sim.core.features.denotation.Denotations.count`); a count has the
+complexity of its node. The **complexity** of an expression counts each constructor and
+each primitive as 1 (``all(star(on),eq(on,on_g))`` has 6); the generator enumerates every
+expression up to the bound K and no further, so what it can say is explicit. Nodes are
 immutable and hashable; :func:`parse` reads the written form back, and :meth:`Node.words`
 gives the notation.
 """
@@ -35,8 +49,8 @@ from dataclasses import dataclass
 
 from csql_sim.infra.errors import CsqlError
 
-CONCEPT_OPS = ("top", "pred", "proj", "nom", "not", "and", "some", "all", "eq")
-ROLE_OPS = ("role", "inv", "plus", "star")
+CONCEPT_OPS = ("top", "pred", "proj", "nom", "not", "and", "some", "all", "eq", "self")
+ROLE_OPS = ("role", "inv", "plus", "star", "comp", "or", "restrict")
 MAX_LENGTH = 1000
 """The longest written expression read (characters): generated features have complexity up to about 10."""
 MAX_DEPTH = 32
@@ -100,7 +114,9 @@ class Node:
         forms = {"not": lambda: f"¬{wrap[0]}", "and": lambda: f"{wrap[0]} ⊓ {wrap[1]}",
                  "some": lambda: f"∃{wrap[0]}.{wrap[1]}", "all": lambda: f"∀{wrap[0]}.{wrap[1]}",
                  "eq": lambda: f"({inner[0]} = {inner[1]})", "inv": lambda: f"{wrap[0]}⁻¹",
-                 "plus": lambda: f"{wrap[0]}⁺", "star": lambda: f"{wrap[0]}*"}
+                 "plus": lambda: f"{wrap[0]}⁺", "star": lambda: f"{wrap[0]}*",
+                 "self": lambda: f"∃{wrap[0]}.Self", "comp": lambda: f"{wrap[0]} ∘ {wrap[1]}",
+                 "or": lambda: f"{wrap[0]} ⊔ {wrap[1]}", "restrict": lambda: f"{wrap[0]}|{wrap[1]}"}
         return forms[op]()
 
 
@@ -113,7 +129,7 @@ def _atomic(words: str) -> bool:
     for ch in words:
         depth += ch in "({"
         depth -= ch in ")}"
-        if depth == 0 and ch in " ⊓=":
+        if depth == 0 and ch in " ⊓=|":
             return False
     return True
 
@@ -147,7 +163,8 @@ def parse(text: str, is_role: bool = False) -> Node:
 
 
 _ARITY = {"not": ("c",), "and": ("c", "c"), "some": ("r", "c"), "all": ("r", "c"), "eq": ("r", "r"),
-          "inv": ("r",), "plus": ("r",), "star": ("r",)}
+          "self": ("r",), "inv": ("r",), "plus": ("r",), "star": ("r",), "comp": ("r", "r"), "or": ("r", "r"),
+          "restrict": ("r", "c")}
 
 
 def _check_depth(tokens: list[str], text: str) -> None:

@@ -1,7 +1,7 @@
 """The features of a move: what a lifted classifier over generated features reads.
 
 A move binds ``?x`` (the block moved) and ``?d`` (where it goes), from a state s to the
-hand-empty state s' after it (:func:`~csql_sim.core.state.move_relations.after`: one move
+hand-empty state s' after it (:func:`~csql_sim.core.state.moves.after`: one move
 of lookahead through the world model). For every feature concept C
 (:mod:`~csql_sim.core.features.generate`) a move has six **literals** (:data:`SLOTS`):
 
@@ -31,7 +31,7 @@ import numpy as np
 from csql_sim.core.features.denotation import Denotations
 from csql_sim.core.features.formulation import Formulation, support_arrays
 from csql_sim.core.features.grammar import Node, parse
-from csql_sim.core.state.move_relations import Move, moves
+from csql_sim.core.state.moves import Move, moves
 from csql_sim.core.state.world import TABLE, State
 
 SLOTS = ("x", "d", "x'", "down", "up", "any")

@@ -94,4 +94,6 @@ class LiftedWorldModel:
         rule = self.post.get(action.kind)
         if rule is None or not self.is_legal(state, action):
             raise WorldError(f"the lifted rules give no next state for {action.kind.value} here")
-        return state.with_support(apply_output(rule, state.support, self._binding(action)))  # the names ride along
+        support = apply_output(rule, state.support, self._binding(action))
+        changed = tuple(i for i, (a, b) in enumerate(zip(state.support, support, strict=True)) if a != b)
+        return state.with_changes(support, changed)  # the names ride along

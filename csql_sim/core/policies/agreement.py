@@ -1,6 +1,6 @@
 """Agreement with the hand ordering: how often a lifted file's policy picks the hand ordering's move.
 
-A **move** is a pick and the put that follows (:class:`~csql_sim.core.state.move_relations.Move`):
+A **move** is a pick and the put that follows (:class:`~csql_sim.core.state.moves.Move`):
 a policy's move in a hand-empty state is the block it picks and where it then puts it (``act``
 twice); holding a block, it is where it puts it. It is asked through the policy contract, so
 given-atom files, generated-feature files, committees and the named baselines are all measured
@@ -28,7 +28,7 @@ import numpy as np
 
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.hand_ordering import hand_ordering
-from csql_sim.core.state.move_relations import Move
+from csql_sim.core.state.moves import Move
 from csql_sim.core.state.state import State
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import TABLE, ActionKind, successor

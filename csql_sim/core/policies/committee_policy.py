@@ -5,13 +5,14 @@ each from its own generator, spawned from the run's, with its own training world
 member ranks a move by the advantage of its most specific matching classifier, as
 :class:`~csql_sim.core.policies.feature_policy.FeaturePolicy` does; :class:`CommitteePolicy` takes the
 move of least **mean** advantage over the members (a move that some member matches not ranks after
-those every member matches; ties: move order), with the feature policy's pick rule. Averaging
+those every member matches; ties: move order), acting as the feature policy acts. Averaging
 populations learned apart is bagging: a literal that one population chose by an accident of five-block
 worlds, and that misjudges a situation of twenty blocks, is outvoted by members that chose otherwise.
 
 A committee's file is the lifted Q-classifier format at version 2: the domain's PDDL, the formulation,
 ``meta``, and ``members``, each with the literals its classifiers test (``atoms``) and its
-classifiers. A file of one population is version 1, as before; :func:`loads_lifted_file` reads all.
+classifiers. A file of one population is version 1, as before;
+:func:`csql_sim.core.policies.loader.loads_lifted_file` reads all.
 """
 
 from __future__ import annotations
@@ -21,18 +22,14 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.features.move_features import Literal, literal_values
-from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.feature_policy import FeaturePolicy, feature_policy_from_doc, used_literals
-from csql_sim.core.policies.lifted_policy import (
+from csql_sim.core.policies.lifted_classifier import (
     LIFTED_Q_FORMAT,
-    LIFTED_Q_VERSION,
     LiftedPolicyError,
     LiftedQClassifier,
-    loads_lifted_policy,
 )
-from csql_sim.core.state.move_relations import Move
+from csql_sim.core.state.moves import Move
 from csql_sim.core.state.world import State
 
 COMMITTEE_VERSION = 2
@@ -55,13 +52,13 @@ class CommitteePolicy(FeaturePolicy):
         self._union = union
         self._columns = tuple(np.array([at[lit] for lit in m.literals], np.int64) for m in self.members)
 
-    def advantages(self, state: State, target: State) -> tuple[list[Move], list[float | None]]:
+    def advantages(self, state: State, goal: State) -> tuple[list[Move], list[float | None]]:
         """The legal moves and each one's mean advantage over the members that match it (None: none does).
 
         A move that some member does not match gets its mean plus the largest advantage any
         member gave, times the members missing, so that it ranks after the moves all of them match.
         """
-        options, values = literal_values(self._union, self.form, state, target)  # once, for every member
+        options, values = literal_values(self._union, self.form, state, goal)  # once, for every member
         columns = [m.advantages_of(options, values[:, cols])
                    for m, cols in zip(self.members, self._columns, strict=True)]
         worst = max((a for column in columns for a in column if a is not None), default=0.0)
@@ -101,16 +98,4 @@ def committee_from_doc(doc: dict, source: str) -> CommitteePolicy:
     return CommitteePolicy(policies, policies[0].meta)
 
 
-def loads_lifted_file(text: str, source: str) -> Policy:
-    """A lifted Q-classifier file's policy: a committee, one population over generated features, or the given atoms."""
-    doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, (LIFTED_Q_VERSION, COMMITTEE_VERSION),
-                              LiftedPolicyError)
-    if doc["version"] == COMMITTEE_VERSION:
-        return committee_from_doc(doc, source)
-    if "members" in doc:
-        raise LiftedPolicyError(f"{source}: 'members' (a committee) needs version {COMMITTEE_VERSION}")
-    return feature_policy_from_doc(doc, source) if "domain" in doc else loads_lifted_policy(text, source)
-
-
-__all__ = ["COMMITTEE_VERSION", "MAX_MEMBERS", "CommitteePolicy", "committee_from_doc", "dumps_committee",
-           "loads_lifted_file"]
+__all__ = ["COMMITTEE_VERSION", "MAX_MEMBERS", "CommitteePolicy", "committee_from_doc", "dumps_committee"]

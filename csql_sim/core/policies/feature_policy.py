@@ -8,15 +8,13 @@ classifier tests, and the PDDL domain whose predicates they read, so it plans on
 
 :class:`FeaturePolicy` binds ``?x`` and ``?d`` to every legal move, evaluates the literals on
 the state and on the state after each move (one move of lookahead) and takes the move of
-least advantage of its most specific matching classifier (ties: the first in move order),
-as :class:`~csql_sim.core.policies.lifted_policy.LiftedPolicy` does. In a domain with a hand
-it picks the block up, then chooses the put again holding it; a pick whose put, so chosen,
-would set the block back where it stood is passed over for the next move in rank (one
-action of lookahead through the model: the pick). Such a pick leaves the state as it was, so
-the greedy policy would repeat it for ever; the rule changes nothing on a task it solves
-without it. In the move domain a move is one action: it is executed as a pick and the put of
-the move chosen (the one step between them is not a state of that domain, so nothing is
-chosen there).
+least advantage of its most specific matching classifier (ties: the first in move order).
+The features read the goal as it is (a goal that holds a block included); the policy knows
+no other concept of the task. A move is executed as its pick, then the put of the move
+chosen (in the move domain the step between them is not a state; in the four-operator
+domain the put is the one chosen with the move, so a pick is never undone by its own put).
+Only holding a block at the start is a put chosen holding it. An action that reaches the
+goal is taken (one action of lookahead: the reward of the task's last action).
 """
 
 from __future__ import annotations
@@ -29,7 +27,7 @@ import numpy as np
 from csql_sim.core.features.formulation import BUILTIN, Formulation, parse_formulation
 from csql_sim.core.features.move_features import Literal, literal_values, parse_literal, parsed
 from csql_sim.core.policies.contract import Policy
-from csql_sim.core.policies.lifted_policy import (
+from csql_sim.core.policies.lifted_classifier import (
     LIFTED_Q_FORMAT,
     LIFTED_Q_VERSION,
     LiftedPolicyError,
@@ -37,7 +35,7 @@ from csql_sim.core.policies.lifted_policy import (
     classifier_lines,
     most_specific,
 )
-from csql_sim.core.state.move_relations import Move, pick_action, put_action, towards
+from csql_sim.core.state.moves import Move, last_action, pick_action, put_action
 from csql_sim.core.state.world import Action, State, successor
 from csql_sim.infra.errors import CsqlError
 
@@ -66,9 +64,9 @@ class FeaturePolicy(Policy):
             self._match[key] = most_specific(self.classifiers, tuple(int(b) for b in bits), kind)
         return self._match[key]
 
-    def advantages(self, state: State, target: State) -> tuple[list[Move], list[float | None]]:
+    def advantages(self, state: State, goal: State) -> tuple[list[Move], list[float | None]]:
         """The legal moves (in move order) and each one's advantage (None where no classifier matches)."""
-        options, values = literal_values(self.literals, self.form, state, target)
+        options, values = literal_values(self.literals, self.form, state, goal)
         return options, self.advantages_of(options, values)
 
     def advantages_of(self, options: tuple[Move, ...], values: np.ndarray) -> list[float | None]:
@@ -76,58 +74,40 @@ class FeaturePolicy(Policy):
         found = [self.classifier_for(bits, move.kind) for move, bits in zip(options, values, strict=True)]
         return [None if c is None else c.advantage for c in found]
 
-    def ranked(self, state: State, target: State) -> list[Move]:
+    def ranked(self, state: State, goal: State) -> list[Move]:
         """The legal moves some classifier matches, by least advantage (ties: move order)."""
-        options, advantages = self.advantages(state, target)
+        options, advantages = self.advantages(state, goal)
         scored = [(a, at, move) for at, (move, a) in enumerate(zip(options, advantages, strict=True)) if a is not None]
         return [move for _, _, move in sorted(scored, key=lambda r: r[:2])]
 
-    def choose(self, state: State, target: State) -> Move | None:
+    def choose(self, state: State, goal: State) -> Move | None:
         """The move of least advantage (ties: move order), or None when no classifier matches any."""
-        ranked = self.ranked(state, target)
+        ranked = self.ranked(state, goal)
         return ranked[0] if ranked else None
 
     def act(self, state: State, goal: State) -> Action | None:
-        """The next action towards ``goal``: None at the goal or when no classifier matches."""
-        target, last = towards(state, goal)
-        if target is None:
+        """The next action towards ``goal``: None at the goal or when no classifier matches.
+
+        An action that reaches the goal is taken (one action of lookahead). Holding a block
+        after its pick, the put of the move chosen before the pick; otherwise the move of
+        least advantage, its pick first.
+        """
+        if state == goal:
+            return None
+        last = last_action(state, goal)
+        if last is not None:
             return last
         chosen, self._chosen = self._chosen, None
         if state.held is not None and chosen is not None and chosen[:2] == (state, goal):
             return put_action(chosen[2])
-        if state.held is not None:
-            move = self.choose(state, target)
-            return None if move is None else put_action(move)
-        ranked = self.ranked(state, target)
-        if not ranked:
+        move = self.choose(state, goal)
+        if move is None:
             return None
-        if self.form.hand:
-            move, put = self._pick_that_moves(state, goal, ranked)
-        else:  # a move of the move domain is one action: its pick, then its own put
-            move = put = ranked[0]
+        if state.held is not None:
+            return put_action(move)
         action = pick_action(state, move.block)
-        if put is not None:
-            self._chosen = (successor(state, action), goal, put)
+        self._chosen = (successor(state, action), goal, move)
         return action
-
-    def _pick_that_moves(self, state: State, goal: State, ranked: list[Move]) -> tuple[Move, Move | None]:
-        """The first ranked move whose put, chosen holding its block, does not set it back; and that put.
-
-        The put is None when the pick reaches the goal (a goal that holds the block). When every
-        pick would be undone, the first move and its put.
-        """
-        first, seen = None, set()
-        for move in ranked:
-            if move.block in seen:  # the put chosen holding a block does not depend on the move ranked
-                continue
-            seen.add(move.block)
-            held = successor(state, pick_action(state, move.block))
-            target, _ = towards(held, goal)
-            put = None if target is None else self.choose(held, target)
-            if put is None or put.onto != state.support[move.block]:
-                return move, put
-            first = first or (move, put)
-        return first
 
     def text(self) -> list[str]:
         """The classifiers' lines."""

@@ -24,7 +24,8 @@ from __future__ import annotations
 
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.state.goal_relations import deadlocked, goal_place_ready, well_placed
-from csql_sim.core.state.move_relations import pick_action, target_goal
+from csql_sim.core.state.move_relations import target_goal
+from csql_sim.core.state.moves import pick_action
 from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 
 

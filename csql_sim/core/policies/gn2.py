@@ -72,7 +72,8 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from csql_sim.core.policies.contract import Policy
-from csql_sim.core.state.move_relations import Move, pick_action, towards
+from csql_sim.core.state.move_relations import towards
+from csql_sim.core.state.moves import Move, pick_action
 from csql_sim.core.state.relation_tracker import KeptRelations, RelationTracker
 from csql_sim.core.state.world import TABLE, Action, ActionKind, State
 

@@ -1,7 +1,7 @@
 """The hand ordering: a fixed ranking of the given atoms, written once (a comparator, not a learner).
 
 The lifted Q-classifiers (:mod:`csql_sim.core.policies.lifted_policy`) rank the moves of a
-state by the relations of :data:`~csql_sim.core.state.move_relations.ATOMS`. The **hand
+state by the relations of :data:`~csql_sim.core.state.atom_names.ATOMS`. The **hand
 ordering** ranks them by hand over the same atoms, ``cover`` included; the first move (in
 move order) of the best rank is taken:
 
@@ -25,8 +25,10 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable
 
-from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier
-from csql_sim.core.state.move_relations import ATOMS, KINDS
+from csql_sim.core.policies.lifted_classifier import LiftedQClassifier
+from csql_sim.core.policies.lifted_policy import LiftedPolicy
+from csql_sim.core.state.atom_names import ATOMS
+from csql_sim.core.state.moves import KINDS
 
 Bits = tuple[int, ...]
 

@@ -6,7 +6,7 @@ written, in the paper's style of ``#`` for don't care, as::
 
     Q 1110#1### move(?x,?d)->table  advantage=0.007 error=0.015 experience=4743
 
-* the condition, one character per atom of :data:`~csql_sim.core.state.move_relations.ATOMS`
+* the condition, one character per atom of :data:`~csql_sim.core.state.atom_names.ATOMS`
   (``misplaced(?x)``, ``goal-on(?x,?d)``, ``ready(?d)``, ``deadlocked(?x)``,
   ``above-needed(?x)``, ``least-stuck(?x)``, ``deadlock``, ``holding``, ``cover(?x)``): ``1``
   holds, ``0`` does not, ``#`` either; a file written with the first seven or eight atoms only
@@ -34,102 +34,27 @@ version 1, with the atoms named, the classifiers as lines and the run's provenan
 from __future__ import annotations
 
 import json
-import math
 import os
-import re
 from collections.abc import Iterable
-from dataclasses import dataclass
 
 from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.files.kinds import MAX_LIFTED_Q_BYTES
 from csql_sim.core.policies.contract import Policy
-from csql_sim.core.state.move_relations import ATOMS, KINDS, Move, MoveRelations, pick_action, put_action, towards
+from csql_sim.core.policies.lifted_classifier import (
+    LIFTED_Q_FORMAT,
+    LIFTED_Q_VERSION,
+    MAX_CLASSIFIERS,
+    LiftedPolicyError,
+    LiftedQClassifier,
+    classifier_lines,
+    most_specific,
+)
+from csql_sim.core.state.atom_names import ATOMS
+from csql_sim.core.state.move_relations import MoveRelations, towards
+from csql_sim.core.state.moves import Move, pick_action, put_action
 from csql_sim.core.state.relation_tracker import KeptRelations, RelationTracker
 from csql_sim.core.state.world import Action, State
-from csql_sim.infra import formats
-from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import read_text_file
-
-LIFTED_Q_FORMAT = formats.LIFTED_Q
-LIFTED_Q_VERSION = 1
-MAX_CLASSIFIERS = 4096
-MAX_EXPERIENCE_DIGITS = 18
-"""A classifier's experience (updates) fits in 18 digits; longer is a corrupt or hostile file."""
-_NUM = r"(-?\d+(?:\.\d+)?)"
-_LINE = re.compile(r"Q ([01#]+) move\(\?x,\?d\)->(table|block)\s+advantage=" + _NUM +
-            r"\s+error=(\d+(?:\.\d+)?)\s+experience=(\d+)")
-
-
-class LiftedPolicyError(CsqlError):
-    """A lifted Q-classifier file or line that does not follow the documented form."""
-
-
-def condition_holds(condition: str, bits: tuple[int, ...]) -> bool:
-    """Whether a condition (``1``, ``0``, ``#`` per atom) holds for a move's relations."""
-    return all(c == "#" or int(c) == b for c, b in zip(condition, bits, strict=True))
-
-
-@dataclass(frozen=True)
-class LiftedQClassifier:
-    """One lifted Q-classifier (see the module docstring)."""
-
-    condition: str
-    kind: str
-    advantage: float = 0.0
-    error: float = 0.0
-    experience: int = 0
-
-    def __post_init__(self) -> None:
-        if not self.condition or set(self.condition) - set("01#"):
-            raise LiftedPolicyError(f"condition {self.condition!r}: expected characters 0, 1, # (one per atom)")
-        if self.kind not in KINDS:
-            raise LiftedPolicyError(f"move kind {self.kind!r}: expected one of {', '.join(KINDS)}")
-
-    def matches(self, bits: tuple[int, ...], kind: str) -> bool:
-        """Whether the condition holds for a move with relations ``bits`` of kind ``kind``."""
-        return kind == self.kind and condition_holds(self.condition, bits)
-
-    @property
-    def generality(self) -> int:
-        """The number of ``#`` in the condition."""
-        return self.condition.count("#")
-
-    def text(self) -> str:
-        """The classifier's line."""
-        return (f"Q {self.condition} move(?x,?d)->{self.kind}  advantage={self.advantage:.3f} "
-                f"error={self.error:.3f} experience={self.experience}")
-
-    def words(self, atoms: tuple[str, ...] = ATOMS) -> str:
-        """The condition in words: the atoms that must hold (and, with ``not``, must not)."""
-        parts = [atom if c == "1" else f"not {atom}" for atom, c in zip(atoms, self.condition, strict=True) if c != "#"]
-        return f"move ?x to {'the table' if self.kind == 'table' else 'block ?d'} if {' and '.join(parts) or 'always'}"
-
-
-def parse_lifted_q(line: str) -> LiftedQClassifier:
-    """Read one classifier line (:meth:`LiftedQClassifier.text`)."""
-    found = _LINE.fullmatch(line.strip())
-    if not found:
-        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: expected 'Q <condition> move(?x,?d)->table|block "
-                                "advantage=A error=R experience=N'")
-    cond, kind, advantage, error, experience = found.groups()
-    if len(experience) > MAX_EXPERIENCE_DIGITS:
-        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: experience has {len(experience):,} digits "
-                                f"(at most {MAX_EXPERIENCE_DIGITS})")
-    numbers = float(advantage), float(error)
-    if not all(math.isfinite(x) for x in numbers):
-        raise LiftedPolicyError(f"lifted Q-classifier {line[:80]!r}: advantage and error must be finite numbers")
-    return LiftedQClassifier(cond, kind, *numbers, int(experience))
-
-
-def most_specific(classifiers: Iterable[LiftedQClassifier], bits: tuple[int, ...], kind: str
-                  ) -> LiftedQClassifier | None:
-    """The matching classifier with the fewest ``#`` (ties: the smaller error, then list order)."""
-    best = None
-    for c in classifiers:
-        if c.matches(bits, kind) and (best is None or (c.generality, c.error) < (best.generality, best.error)):
-            best = c
-    return best
-
 
 OLDEST_ATOMS = 7
 """The fewest atoms a readable file names: files written before ``holding`` and ``cover`` are read."""
@@ -265,36 +190,10 @@ def loads_lifted_policy(text: str, source: str = "lifted Q-classifier file") -> 
     return LiftedPolicy(classifiers, meta)
 
 
-def classifier_lines(lines: object, source: str, width: int, pad: str = "") -> list[LiftedQClassifier]:
-    """The classifiers of a file's ``classifiers`` list, each condition ``width`` atoms long."""
-    if not isinstance(lines, list) or not all(isinstance(x, str) for x in lines):
-        raise LiftedPolicyError(f"{source}: 'classifiers' must be a list of lines")
-    if not 0 < len(lines) <= MAX_CLASSIFIERS:
-        raise LiftedPolicyError(f"{source} holds {len(lines)} classifiers; expected 1..{MAX_CLASSIFIERS}")
-    try:
-        out = [_padded(parse_lifted_q, x, pad) for x in lines]
-    except LiftedPolicyError as exc:
-        raise LiftedPolicyError(f"{source}: {exc}") from None
-    wrong = next((c for c in out if len(c.condition) != width), None)
-    if wrong is not None:
-        raise LiftedPolicyError(f"{source}: condition {wrong.condition!r} has {len(wrong.condition)} atoms, "
-                                f"the file names {width}")
-    return out
-
-
-def _padded(parse, line: str, pad: str) -> LiftedQClassifier:
-    """One line read with ``pad`` (``#`` for atoms the file predates) after its condition."""
-    if pad:
-        head, sep, rest = line.strip().partition(" move(")
-        line = head + pad + sep + rest
-    return parse(line)
-
-
 def load_lifted_policy(path: str | os.PathLike) -> LiftedPolicy:
     """Read a lifted Q-classifier file (regular file, size-capped)."""
     text = read_text_file(path, MAX_LIFTED_Q_BYTES, "lifted Q-classifier file")
     return loads_lifted_policy(text, f"lifted Q-classifier file {os.fspath(path)!r}")
 
 
-__all__ = ["LiftedPolicy", "LiftedQClassifier", "dumps_lifted_policy", "load_lifted_policy",
-           "loads_lifted_policy", "most_specific", "parse_lifted_q"]
+__all__ = ["LiftedPolicy", "dumps_lifted_policy", "load_lifted_policy", "loads_lifted_policy"]

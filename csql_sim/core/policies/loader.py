@@ -20,6 +20,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable
 
+from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.files import kinds
 from csql_sim.core.files.kinds import RuleFile, read_rule_file
 from csql_sim.core.files.rulebase import RuleBase
@@ -27,10 +28,13 @@ from csql_sim.core.files.rulebase_npz import arrays_from_bytes
 from csql_sim.core.files.rulebase_npz import loads as npz_loads
 from csql_sim.core.files.rulebase_yaml import RuleBaseError, loads
 from csql_sim.core.model.search import BfsPolicy
-from csql_sim.core.policies.committee_policy import loads_lifted_file
+from csql_sim.core.policies.committee_policy import COMMITTEE_VERSION, committee_from_doc
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.default_hierarchy import DefaultHierarchy
+from csql_sim.core.policies.feature_policy import feature_policy_from_doc
 from csql_sim.core.policies.greedy_table import GreedyTable
+from csql_sim.core.policies.lifted_classifier import LIFTED_Q_FORMAT, LIFTED_Q_VERSION, LiftedPolicyError
+from csql_sim.core.policies.lifted_policy import loads_lifted_policy
 from csql_sim.core.policies.sharded_policy import ShardedPolicy
 from csql_sim.core.state.state_count import count_text, state_count
 from csql_sim.core.state.world import MAX_BLOCKS
@@ -130,3 +134,14 @@ def load_policy(path: str | os.PathLike | None, n: int | None = None, progress: 
         if large and kind != kinds.LIFTED:  # a ground rule file is for one n <= 6: its header says which
             raise CsqlError(f"{exc}; {LIFTED_HINT}") from None
         raise
+
+
+def loads_lifted_file(text: str, source: str) -> Policy:
+    """A lifted Q-classifier file's policy: a committee, one population over generated features, or the given atoms."""
+    doc = read_versioned_json(text, source, LIFTED_Q_FORMAT, (LIFTED_Q_VERSION, COMMITTEE_VERSION),
+                              LiftedPolicyError)
+    if doc["version"] == COMMITTEE_VERSION:
+        return committee_from_doc(doc, source)
+    if "members" in doc:
+        raise LiftedPolicyError(f"{source}: 'members' (a committee) needs version {COMMITTEE_VERSION}")
+    return feature_policy_from_doc(doc, source) if "domain" in doc else loads_lifted_policy(text, source)

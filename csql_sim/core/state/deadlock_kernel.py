@@ -144,25 +144,25 @@ def deadlock_counts(support: np.ndarray, above: np.ndarray, goal: np.ndarray, pl
 
 @njit(cache=True)
 def _returns(b: int, n: int, first: np.ndarray, kinds: np.ndarray, ends: np.ndarray, visitors: np.ndarray,
-             seen: np.ndarray, queue: np.ndarray) -> bool:
+             seen: np.ndarray, stamp: int, queue: np.ndarray) -> bool:
     """Whether the events' graph has a path from b's one event (b not a visitor) back to it.
 
     Event v is v's final move (its only move when v is no visitor), event v + n a visitor's
     table visit. Constraint i runs from ``ends[i, 0]`` to ``ends[i, 1]`` (``first[a]`` to
     ``first[a + 1]`` are the constraints leaving block a); ``kinds[i]`` says which ends are
-    first moves (1: the source, 2: the target).
+    first moves (1: the source, 2: the target). An event is seen in this search when ``seen``
+    holds ``stamp`` there (a new stamp per search: nothing to clear).
     """
-    seen[:] = False
     queue[0], head, tail = b, 0, 1
-    seen[b] = True
+    seen[b] = stamp
     while head < tail:
         e = queue[head]
         head += 1
         v = e % n
         table = e >= n
         if table:  # a table visit precedes its block's final move
-            if not seen[v]:
-                seen[v] = True
+            if seen[v] != stamp:
+                seen[v] = stamp
                 queue[tail] = v
                 tail += 1
         for i in range(first[v], first[v + 1]):
@@ -172,8 +172,8 @@ def _returns(b: int, n: int, first: np.ndarray, kinds: np.ndarray, ends: np.ndar
             f = w + n if (kinds[i] & 2) and visitors[w] else w
             if f == b:
                 return True
-            if not seen[f]:
-                seen[f] = True
+            if seen[f] != stamp:
+                seen[f] = stamp
                 queue[tail] = f
                 tail += 1
     return False
@@ -220,14 +220,16 @@ def deadlock_cover(support: np.ndarray, above: np.ndarray, goal: np.ndarray, pla
             c = support[c]
             heights[b] += 1
     cover[:] = stuck
-    seen = np.zeros(2 * n, np.bool_)
+    seen = np.zeros(2 * n, np.int64)
     queue = np.zeros(2 * n, np.int64)
     size = int(stuck.sum())
+    stamp = 0
     for b in np.argsort(heights * n + np.arange(n)):
         if not cover[b]:
             continue
         cover[b] = False
-        if _returns(b, n, first, kinds, ends, cover, seen, queue):
+        stamp += 1
+        if _returns(b, n, first, kinds, ends, cover, seen, stamp, queue):
             cover[b] = True
         else:
             size -= 1

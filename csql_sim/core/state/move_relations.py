@@ -1,13 +1,11 @@
 """Moves and the relations that describe them: what a lifted Q-classifier's condition reads.
 
-A **move** binds the variables of the lifted Q-classifiers: ``?x``, the block moved, and
-``?d``, where it goes (the table or a block ``?y``). In the paper's four operators a move is
-a pick and the put that follows (two steps); when a block is already held, the move is the
-put alone. Moves are judged towards the **target**, the goal without a held block
+The legal moves are :mod:`csql_sim.core.state.moves`'s (the move generator: ``?x``, the
+block moved, and ``?d``, where it goes). Moves are judged towards the **target**, the goal without a held block
 (:func:`target_goal`); a goal that holds a block ends with that block's pick.
 
 The relations of a move, in this order, are the atoms a condition tests (``1`` holds,
-``0`` does not, ``#`` either; :data:`ATOMS`):
+``0`` does not, ``#`` either; their names are :data:`~csql_sim.core.state.atom_names.ATOMS`):
 
 ====================  ===================================================================
 ``misplaced(?x)``     ?x is not well placed (:func:`~csql_sim.core.state.goal_relations.well_placed`)
@@ -34,43 +32,10 @@ lookahead is one move through the lifted world model; nothing searches further.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 from csql_sim.core.state.deadlock_cover import deadlock_cover
 from csql_sim.core.state.goal_relations import deadlocked, well_placed
-from csql_sim.core.state.world import TABLE, Action, ActionKind, State
-
-ATOMS = ("misplaced(?x)", "goal-on(?x,?d)", "ready(?d)", "deadlocked(?x)", "above-needed(?x)", "least-stuck(?x)",
-         "deadlock", "holding", "cover(?x)")
-"""The relations of a move, in condition order."""
-KINDS = ("table", "block")
-"""A move's kind: to the table, or onto a block."""
-
-
-@dataclass(frozen=True)
-class Move:
-    """Block ``block`` to ``onto`` (TABLE or a block index)."""
-
-    block: int
-    onto: int
-
-    @property
-    def kind(self) -> str:
-        """``table`` or ``block``."""
-        return "table" if self.onto == TABLE else "block"
-
-
-def pick_action(state: State, b: int) -> Action:
-    """The action that lifts block b from where it stands."""
-    s = state.support[b]
-    return Action(ActionKind.PICKUP, b) if s == TABLE else Action(ActionKind.UNSTACK, b, s)
-
-
-def put_action(move: Move) -> Action:
-    """The action that puts the moved block down."""
-    if move.onto == TABLE:
-        return Action(ActionKind.PUTDOWN, move.block)
-    return Action(ActionKind.STACK, move.block, move.onto)
+from csql_sim.core.state.moves import Move, after, moves, pick_action
+from csql_sim.core.state.world import TABLE, Action, State
 
 
 def target_goal(state: State, goal: State) -> State:
@@ -98,26 +63,6 @@ def towards(state: State, goal: State) -> tuple[State | None, Action | None]:
     return target, None
 
 
-def after(state: State, move: Move) -> State:
-    """The hand-empty state after ``move`` (the pick, if any, and the put)."""
-    support = list(state.support)
-    support[move.block] = move.onto
-    return State(tuple(support))
-
-
-def moves(state: State) -> tuple[Move, ...]:
-    """The legal moves: the held block's puts, or every clear block to the table and onto every other clear block."""
-    held = state.held
-    clear = [b for b in range(state.n) if state.is_clear(b)]
-    movers = [held] if held is not None else clear
-    out = []
-    for x in movers:
-        if state.support[x] != TABLE:
-            out.append(Move(x, TABLE))
-        out.extend(Move(x, y) for y in clear if y != x and state.support[x] != y)
-    return tuple(out)
-
-
 def _needed_below(state: State, target: State, placed: tuple[bool, ...], b: int) -> bool:
     supports = {target.support[c] for c in range(state.n) if not placed[c]}
     below = state.support[b]
@@ -138,7 +83,7 @@ def _ready(state: State, placed: tuple[bool, ...], d: int, mover: int) -> bool:
 
 
 class MoveRelations:
-    """The relations of every legal move of one state towards one target (:data:`ATOMS`)."""
+    """The relations of every legal move of one state towards one target (the given atoms)."""
 
     def __init__(self, state: State, target: State) -> None:
         self.state, self.target = state, target
@@ -152,7 +97,7 @@ class MoveRelations:
         self.cover = deadlock_cover(state, target) if self.stuck else frozenset()
 
     def bits(self, move: Move) -> tuple[int, ...]:
-        """The move's relations, 1 or 0 each, in :data:`ATOMS` order."""
+        """The move's relations, 1 or 0 each, in the order of the atoms' names."""
         s, t, x, d = self.state, self.target, move.block, move.onto
         return (
             int(not self.placed[x]),

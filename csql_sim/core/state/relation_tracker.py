@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from csql_sim.core.state.deadlock_kernel import deadlock_counts, deadlock_cover, deadlocked
-from csql_sim.core.state.move_relations import Move
+from csql_sim.core.state.moves import Move
 from csql_sim.core.state.state import State
 from csql_sim.core.state.world import HAND, TABLE, Action, ActionKind, WorldError
 
@@ -194,7 +194,7 @@ class RelationTracker:
     # ---------------------------------------------------------------- the relations of moves
 
     def moves(self) -> tuple[Move, ...]:
-        """The legal moves, in the order of :func:`~csql_sim.core.state.move_relations.moves`."""
+        """The legal moves, in the order of :func:`~csql_sim.core.state.moves.moves`."""
         clear = sorted(self.clear)
         movers = [self.held] if self.held is not None else clear
         out = []

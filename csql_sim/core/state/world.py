@@ -157,7 +157,7 @@ def successor(state: State, action: Action) -> State:
         support[action.block] = TABLE
     else:
         support[action.block] = action.target
-    return state.with_support(tuple(support))
+    return state.with_changes(tuple(support), (action.block,))
 
 
 def _generate_states(n: int) -> Iterator[State]:

@@ -1,8 +1,9 @@
 """A committee: K populations of lifted Q-classifiers over generated features, learned apart from one seed.
 
-:func:`train_committee` runs LQ-CS (:func:`~csql_sim.learners.lifted.ql.train_lifted`) K times from
-an empty population. Member 1 trains on the run's generator itself, so a committee of one is the
-single run of the same seed, classifier for classifier; member k > 1 on the (k - 1)-th of
+:func:`train_committee` runs LQ-CS over generated features
+(:func:`~csql_sim.learners.lifted.generated.train_generated`) K times from an empty population.
+Member 1 trains on the run's generator itself, so a committee of one is the single run of the
+same seed, classifier for classifier; member k > 1 on the (k - 1)-th of
 ``rng.spawn(K - 1)``, taken before member 1 trains (spawning leaves the parent's stream as it is).
 Each member samples its own training worlds and generates and prunes its own features on them.
 The members' plans are combined only when planning
@@ -21,7 +22,9 @@ from csql_sim.core.policies.feature_policy import FeaturePolicy
 from csql_sim.infra.backends import Backend, TaskFailure, map_tasks
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.workers import worker_count
-from csql_sim.learners.lifted.ql import LiftedParams, LiftedRun, train_lifted
+from csql_sim.learners.lifted.generated import train_generated
+from csql_sim.learners.lifted.learner import LiftedRun
+from csql_sim.learners.lifted.params import LiftedParams
 from csql_sim.learners.paper.params import ParamsError
 
 
@@ -70,7 +73,7 @@ def train_committee(params: LiftedParams, rng: np.random.Generator, size: int,
     runs = []
     for k, generator in enumerate(generators):
         step = None if progress is None else _offset(progress, k * params.trials, size * params.trials)
-        runs.append(train_lifted(params, generator, progress=step))
+        runs.append(train_generated(params, generator, progress=step))
     return CommitteeRun(tuple(runs))
 
 
@@ -95,7 +98,7 @@ def _train_apart(params: LiftedParams, generators: list[np.random.Generator], wo
 def _train_member(job: tuple[LiftedParams, np.random.Generator]) -> LiftedRun:
     """One member's training (in a worker)."""
     params, generator = job
-    return train_lifted(params, generator)
+    return train_generated(params, generator)
 
 
 def _offset(progress: Callable[[int, int], None], before: int, total: int) -> Callable[[int, int], None]:

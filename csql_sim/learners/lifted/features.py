@@ -24,9 +24,9 @@ import numpy as np
 
 from csql_sim.core.features.denotation import Denotations
 from csql_sim.core.features.formulation import Formulation, primitive_arrays
-from csql_sim.core.features.generate import generate_concepts
+from csql_sim.core.features.generate import BASE, generate_concepts
 from csql_sim.core.features.move_features import HOLDS, SLOTS, Literal, object_of, parsed
-from csql_sim.core.state.move_relations import Move, after, moves, target_goal
+from csql_sim.core.state.moves import Move, after, moves
 from csql_sim.core.state.world import State, all_states
 
 MAX_TABLE_OBJECTS = 8
@@ -59,7 +59,7 @@ def training_states(form: Formulation, n: int) -> list[State]:
 
 
 def build_space(form: Formulation, n: int, goals: list[State], rng: np.random.Generator,
-                complexity: int, sample: int = 200) -> FeatureSpace:
+                complexity: int, sample: int = 200, constructors: tuple[str, ...] = BASE) -> FeatureSpace:
     """The feature space of a training world (module docstring)."""
     states = training_states(form, n)
     picked = [(states[int(rng.integers(len(states)))], goals[int(rng.integers(len(goals)))]) for _ in range(sample)]
@@ -77,7 +77,7 @@ def build_space(form: Formulation, n: int, goals: list[State], rng: np.random.Ge
             batch_t.append(t)
     prims, objects = primitive_arrays(form, batch_s, batch_t)
     den = Denotations(prims, objects, form.constants)
-    pool = generate_concepts(form, den, complexity)
+    pool = generate_concepts(form, den, complexity, constructors)
     cols = _MoveColumns(np.array(owner), np.array(succ), np.array(xs), np.array(ds))
     seen: set[bytes] = set()
     literals: list[Literal] = []
@@ -135,9 +135,7 @@ class FeatureTable:
         form = space.form
         self.space, self.form = space, form
         states = training_states(form, n)
-        held = [g for g in goals if g.held is not None]  # their targets depend on the start
-        targets = dict.fromkeys([*(g for g in goals if g.held is None),
-                                 *(target_goal(s, g) for g in held for s in states)])
+        targets = dict.fromkeys(goals)  # as they are: a goal that holds a block too
         self.index = {(s, t): i for i, (s, t) in enumerate((s, t) for t in targets for s in states)}
         pairs = list(self.index)
         objects = n + len(form.constants)

@@ -1,9 +1,11 @@
-"""The ground Q-classifiers of LQ-CS (:mod:`csql_sim.learners.lifted.ql`): its working memory of one small world.
+"""The ground Q-classifiers of LQ-CS (:mod:`csql_sim.learners.lifted.learner`): its working memory of one small world.
 
-One ground Q-classifier per (state, target) met, made on demand and kept by index: the
-value of the state in moves is its misplaced blocks (a lower bound) plus a learned excess.
-A backup looks one move ahead through every legal move (:func:`after`), each move costing
-1 plus ``early`` per block still misplaced after it.
+One ground Q-classifier per (state, target) met, made on demand and kept by index. Its value
+in moves is a **start** given by the vocabulary's :class:`Costs` (a lower bound, or 0) plus a
+learned excess. A backup looks one move ahead through every legal move (:func:`after`), each
+move costing what :meth:`Costs.step` says. :class:`RewardCosts` reads the task's reward alone:
+-1 per action and 0 at the goal, in moves (an action of the four-operator domain is half a
+move, a pick and its put one).
 """
 
 from __future__ import annotations
@@ -12,27 +14,63 @@ from collections.abc import Callable
 
 import numpy as np
 
-from csql_sim.core.state.goal_relations import well_placed
-from csql_sim.core.state.move_relations import Move, after, moves
+from csql_sim.core.state.moves import Move, after, last_action, moves
 from csql_sim.core.state.world import State
 
 Relations = Callable[[State, State], tuple[tuple[Move, ...], np.ndarray]]
 """A vocabulary's moves and feature vectors of a (state, target) pair."""
 
 
+class Costs:
+    """What a state is worth before any backup, and what a move costs (in moves)."""
+
+    def start(self, state: State, target: State) -> tuple[float, bool]:
+        """The state's value before any backup and whether it is final (never backed up: the task is done)."""
+        raise NotImplementedError
+
+    def step(self, state: State, start_after: float) -> float:
+        """The cost of a move from ``state`` to a state whose start value is ``start_after``."""
+        raise NotImplementedError
+
+
+class RewardCosts(Costs):
+    """The task's reward alone: -1 per action, 0 at the goal; values in moves (``per_move`` actions each).
+
+    A state one action from the goal (the pick of a goal's held block, or the put of the last
+    block) is final, worth that action; every other state starts at 0 (optimistic).
+
+    Args:
+        per_move: actions per move: 2 with a hand (a pick and a put), 1 in the move domain.
+    """
+
+    def __init__(self, per_move: int) -> None:
+        self.action = 1.0 / per_move
+
+    def start(self, state: State, target: State) -> tuple[float, bool]:
+        if state == target:
+            return 0.0, True
+        if last_action(state, target) is not None:
+            return self.action, True
+        return 0.0, False
+
+    def step(self, state: State, start_after: float) -> float:
+        return self.action if state.held is not None else 1.0
+
+
 class GroundValues:
     """The ground Q-classifiers, made on demand: one per (state, target) met, by index.
 
-    Each holds the state's misplaced blocks (the lower bound of its value in moves), its learned
-    excess over that bound and its successors' indices (through :func:`after`, in move order),
-    remembered; and its moves' feature vectors (``relations``), remembered when ``cache``.
+    Each holds the state's start value (:meth:`Costs.start`), its learned excess over it, whether
+    it is final, and its successors' indices (through :func:`after`, in move order), remembered;
+    and its moves' feature vectors (``relations``), remembered when ``cache``.
     """
 
-    def __init__(self, relations: Relations, early: float = 0.0, cache: bool = True) -> None:
-        self.early, self._relations, self.cache = early, relations, cache
+    def __init__(self, relations: Relations, costs: Costs, cache: bool = True) -> None:
+        self.costs, self._relations, self.cache = costs, relations, cache
         self.index: dict[tuple[State, State], int] = {}
         self.keys: list[tuple[State, State]] = []
-        self.low: list[int] = []
+        self.low: list[float] = []
+        self.final: list[bool] = []
         self.excess: list[float] = []
         self.nexts: list[list[int] | None] = []
         self.relations: list[tuple[tuple[Move, ...], np.ndarray] | None] = []
@@ -44,7 +82,9 @@ class GroundValues:
         if i is None:
             i = self.index[key] = len(self.keys)
             self.keys.append(key)
-            self.low.append(well_placed(state, target).count(False))
+            low, final = self.costs.start(state, target)
+            self.low.append(low)
+            self.final.append(final)
             self.excess.append(0.0)
             self.nexts.append(None)
             self.relations.append(None)
@@ -68,10 +108,11 @@ class GroundValues:
         return found
 
     def backup(self, i: int) -> list[float]:
-        """Q of every move of state i: 1 + early x misplaced(s') + Q(s'); the excess becomes the least."""
-        q = [1.0 + (1.0 + self.early) * self.low[j] + self.excess[j] for j in self.successors(i)]
+        """Q of every move of state i: its step cost plus the successor's value; the excess becomes the least."""
+        state = self.keys[i][0]
+        q = [self.costs.step(state, self.low[j]) + self.low[j] + self.excess[j] for j in self.successors(i)]
         self.excess[i] = min(q) - self.low[i]
         return q
 
 
-__all__ = ["GroundValues"]
+__all__ = ["Costs", "GroundValues", "RewardCosts"]

@@ -1,15 +1,14 @@
-"""What LQ-CS's lifted classifiers read: the given atoms, or features generated from the domain's predicates.
+"""What LQ-CS's lifted classifiers read, and what they learn from: a vocabulary.
 
-A **vocabulary** gives the learner each move's feature vector, the condition a new classifier
-is covered with, and the classifiers' written form:
+A **vocabulary** gives the learner (:mod:`csql_sim.learners.lifted.learner`) each move's
+feature vector, the condition a new classifier is covered with, the classifiers' written
+form, the target a trial plans towards and the costs its ground values learn from:
 
-* :class:`GivenAtoms` (``features="given"``): the nine relations written by hand
-  (:data:`~csql_sim.core.state.move_relations.ATOMS`); a move no classifier matches is
-  covered by its relations exactly;
-* :class:`GeneratedFeatures` (``features="generated"``): the literals of concepts the learner
-  generates from a PDDL domain's predicates (:mod:`~csql_sim.learners.lifted.features`);
-  with thousands of them an exact cover would never generalize, so the cover is the most
-  general classifier of the move's kind, and specialization chooses the features.
+* :class:`~csql_sim.learners.lifted.given.GivenAtoms` (``features="given"``): the nine
+  relations written by hand; a move no classifier matches is covered by its relations exactly;
+* :class:`~csql_sim.learners.lifted.generated.GeneratedFeatures` (``features="generated"``):
+  the literals of concepts the learner generates from a PDDL domain's predicates
+  (:mod:`~csql_sim.learners.lifted.features`), learned from the task's reward alone.
 """
 
 from __future__ import annotations
@@ -18,12 +17,11 @@ from collections.abc import Hashable
 
 import numpy as np
 
-from csql_sim.core.features.formulation import Formulation
 from csql_sim.core.features.move_features import Literal
-from csql_sim.core.policies.lifted_policy import LiftedQClassifier
-from csql_sim.core.state.move_relations import ATOMS, Move, MoveRelations
+from csql_sim.core.policies.lifted_classifier import LiftedQClassifier
+from csql_sim.core.state.moves import Move
 from csql_sim.core.state.world import State
-from csql_sim.learners.lifted.features import FeatureSpace, FeatureTable, build_space
+from csql_sim.learners.lifted.ground import Costs
 from csql_sim.learners.lifted.rules import Literals, Rule
 
 
@@ -37,9 +35,20 @@ class Vocabulary:
     """Sweeps before the first specialization."""
     fresh_stats = False
     """Whether the split statistics restart at every sweep (they then read the values of the last sweep's trials)."""
+    hand = True
+    """Whether a move is a pick and a put with a held block between them (states with a held block are drawn)."""
+    commits = False
+    """Whether the put after a pick is the move's own (else the held state chooses it again)."""
+    replay_passes = 1
+    """Passes of value iteration per sweep through the model (fewer when one changes no value)."""
+    costs: Costs
 
     def prepare(self, n: int, goals: list[State], rng: np.random.Generator) -> None:
         """Get ready for worlds of n blocks with these training goals (first met)."""
+
+    def target(self, start: State, goal: State) -> State:
+        """What a trial from ``start`` plans towards: the goal (a vocabulary may read it otherwise)."""
+        return goal
 
     def relations(self, state: State, target: State) -> tuple[tuple[Move, ...], np.ndarray]:
         """The legal moves of ``state`` and their feature vectors (moves, width), uint8."""
@@ -54,70 +63,14 @@ class Vocabulary:
         return bits.tobytes(), kind
 
     def classifier(self, rule: Rule) -> LiftedQClassifier:
-        """A learned rule as a lifted Q-classifier line (condition over :meth:`atoms`)."""
+        """A learned rule as a lifted Q-classifier line (condition over the vocabulary's features)."""
         fixed = dict(rule.literals)
         condition = "".join("#" if i not in fixed else str(fixed[i]) for i in range(self.width))
         return LiftedQClassifier(condition, rule.kind, round(rule.advantage, 3), round(rule.error, 3), rule.experience)
 
-
-class GivenAtoms(Vocabulary):
-    """The nine relations of a move written by hand (:data:`ATOMS`), of which the classifiers read ``read``.
-
-    An atom not read is 0 in every feature vector and left out of every cover, so it is ``#`` in
-    every condition and no split can choose it.
-    """
-
-    name = "given"
-    width = len(ATOMS)
-
-    def __init__(self, read: tuple[str, ...] = ATOMS) -> None:
-        self.unread = [i for i, a in enumerate(ATOMS) if a not in read]
-
-    def relations(self, state: State, target: State) -> tuple[tuple[Move, ...], np.ndarray]:
-        rel = MoveRelations(state, target)
-        bits = np.array([rel.bits(m) for m in rel.moves], np.uint8).reshape(len(rel.moves), self.width)
-        bits[:, self.unread] = 0
-        return rel.moves, bits
-
-    def cover(self, bits: np.ndarray) -> Literals:
-        return tuple((i, int(b)) for i, b in enumerate(bits) if i not in self.unread)
+    def summary(self) -> tuple[tuple[Literal, ...], str, dict]:
+        """What a run records of the vocabulary: its literals, its domain's text, its figures (empty: none)."""
+        return (), "", {}
 
 
-class GeneratedFeatures(Vocabulary):
-    """Literals of concepts generated from a formulation's predicates, within complexity ``complexity``."""
-
-    name = "generated"
-    cache_relations = False
-    warmup = 3
-    fresh_stats = True
-
-    def __init__(self, form: Formulation, domain: str, complexity: int, sample: int) -> None:
-        self.form, self.domain, self.complexity, self.sample = form, domain, complexity, sample
-        self.space: FeatureSpace | None = None
-        self.tables: dict[int, FeatureTable] = {}
-
-    def prepare(self, n: int, goals: list[State], rng: np.random.Generator) -> None:
-        """Build the feature space on the first world met; table every world's pairs."""
-        if not self.form.hand:
-            goals = [g for g in goals if g.held is None] or goals
-        if self.space is None:
-            self.space = build_space(self.form, n, goals, rng, self.complexity, self.sample)
-            self.width = len(self.space.literals)
-        self.tables[n] = FeatureTable(self.space, n, goals)
-
-    @property
-    def literals(self) -> tuple[Literal, ...]:
-        """The literals of the feature space (empty before :meth:`prepare`)."""
-        return () if self.space is None else self.space.literals
-
-    def relations(self, state: State, target: State) -> tuple[tuple[Move, ...], np.ndarray]:
-        return self.tables[state.n].relations(state, target)
-
-    def cover(self, bits: np.ndarray) -> Literals:
-        return ()
-
-    def match_key(self, i: int, j: int, bits: np.ndarray, kind: str) -> Hashable:
-        return i, j
-
-
-__all__ = ["GeneratedFeatures", "GivenAtoms", "Vocabulary"]
+__all__ = ["Vocabulary"]

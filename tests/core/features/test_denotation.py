@@ -8,7 +8,7 @@ from csql_sim.core.features.formulation import load_formulation, primitive_array
 from csql_sim.core.features.generate import generate_concepts
 from csql_sim.core.features.grammar import parse
 from csql_sim.core.features.move_features import literal_values, parse_literal
-from csql_sim.core.state.move_relations import after, moves, pick_action
+from csql_sim.core.state.moves import after, moves, pick_action
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import State, successor
 

@@ -15,7 +15,7 @@ from csql_sim.core.policies.agreement import (
 from csql_sim.core.policies.gn2 import Gn2Policy
 from csql_sim.core.policies.hand_ordering import hand_ordering, hand_ordering_without_cover
 from csql_sim.core.policies.loader import load_policy
-from csql_sim.core.state.move_relations import Move
+from csql_sim.core.state.moves import Move
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs
 

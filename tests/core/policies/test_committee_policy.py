@@ -11,11 +11,10 @@ from csql_sim.core.policies.committee_policy import (
     COMMITTEE_VERSION,
     CommitteePolicy,
     dumps_committee,
-    loads_lifted_file,
 )
 from csql_sim.core.policies.feature_policy import FeaturePolicy
-from csql_sim.core.policies.lifted_policy import LiftedPolicyError, LiftedQClassifier
-from csql_sim.core.policies.loader import load_policy
+from csql_sim.core.policies.lifted_classifier import LiftedPolicyError, LiftedQClassifier
+from csql_sim.core.policies.loader import load_policy, loads_lifted_file
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.move_relations import towards
 from csql_sim.core.state.state_count import sample_pairs

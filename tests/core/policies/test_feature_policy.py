@@ -7,13 +7,12 @@ import pytest
 
 from csql_sim.core.features.formulation import load_formulation
 from csql_sim.core.features.move_features import Literal, literal_values
-from csql_sim.core.policies.committee_policy import loads_lifted_file
 from csql_sim.core.policies.feature_policy import FeaturePolicy, dumps_feature_policy
 from csql_sim.core.policies.gn1 import Gn1Policy
-from csql_sim.core.policies.lifted_policy import LiftedPolicyError, LiftedQClassifier
-from csql_sim.core.policies.loader import load_policy
+from csql_sim.core.policies.lifted_classifier import LiftedPolicyError, LiftedQClassifier
+from csql_sim.core.policies.loader import load_policy, loads_lifted_file
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.core.state.move_relations import pick_action, towards
+from csql_sim.core.state.moves import Move, after, last_action, pick_action, put_action
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs
 from csql_sim.core.state.world import all_states, successor
@@ -88,11 +87,12 @@ def test_a_bad_file_is_one_error_naming_what_is_wrong(change, named):
     assert "\n" not in str(info.value) and "f.json" in str(info.value)
 
 
-def test_with_a_hand_a_pick_the_put_chosen_after_it_would_undo_is_passed_over():
-    """Every 4-block state and 6 goals: the pick is of the first block in rank not set back where it stood.
+def test_with_a_hand_a_pick_is_followed_by_its_own_moves_put_and_never_undone():
+    """Every 4-block state and 6 goals: the pick is the first ranked move's, the put that move's.
 
-    The classifiers rank a block move that places ?x first, then any block move (in move order,
-    so often the one back where the block stood), then the table: many picks are undone.
+    The classifiers rank a block move that places ?x first, then any block move (in move order),
+    then the table; no rule against undoing a pick is needed, as the put is the move's own
+    (or the one that reaches the goal).
     """
     literals = (Literal(WELL_PLACED, "x'"),)
     classifiers = [LiftedQClassifier("1", "block", 0.0), LiftedQClassifier("0", "block", 0.5),
@@ -100,18 +100,24 @@ def test_with_a_hand_a_pick_the_put_chosen_after_it_would_undo_is_passed_over():
     policy = FeaturePolicy(classifiers, literals, load_formulation("4op"), asset_text("domains", "blocks-4op.pddl"))
     states = [s for s in all_states(4) if s.held is None]
     goals = [states[int(i)] for i in np.random.default_rng(5).choice(len(states), 6, replace=False)]
-    passed_over = 0
     for goal in goals:
         for state in (s for s in states if s != goal):
-            undone = {}
-            for move in policy.ranked(state, towards(state, goal)[0]):
-                held = successor(state, pick_action(state, move.block))
-                put = policy.choose(held, towards(held, goal)[0])
-                undone.setdefault(move.block, put.onto == state.support[move.block])
-            expected = next((b for b, u in undone.items() if not u), next(iter(undone)))
+            first = policy.ranked(state, goal)[0]
             pick = policy.act(state, goal)
-            assert pick.block == expected
-            after = successor(successor(state, pick), policy.act(successor(state, pick), goal))
-            assert (after == state) == all(undone.values())
-            passed_over += expected != next(iter(undone))
-    assert passed_over > 20  # the first move in rank would often have been undone
+            assert pick == pick_action(state, first.block)
+            held = successor(state, pick)
+            put = successor(held, policy.act(held, goal))
+            assert put == (goal if last_action(held, goal) else after(state, first)) and put != state
+
+
+def test_an_action_that_reaches_the_goal_is_taken():
+    """A goal that holds a block ends with its pick; a held block's last put is taken whatever the classifiers say."""
+    literals = (Literal("clear", "x"),)
+    classifiers = [LiftedQClassifier("#", "table", 0.0), LiftedQClassifier("#", "block", 5.0)]
+    policy = FeaturePolicy(classifiers, literals, load_formulation("4op"), asset_text("domains", "blocks-4op.pddl"))
+    state = parse_config("ABC")  # C on B on A
+    held_goal = successor(state, pick_action(state, 2))
+    assert policy.act(state, held_goal) == pick_action(state, 2)
+    hand_empty_goal = after(state, Move(2, 1))  # C back on B: the put onto a block, not the table ranked first
+    assert policy.act(held_goal, hand_empty_goal) == put_action(Move(2, 1))
+    assert policy.act(state, state) is None

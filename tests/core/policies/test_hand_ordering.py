@@ -4,7 +4,9 @@ import numpy as np
 
 from csql_sim.core.policies.hand_ordering import hand_ordering, hand_ordering_without_cover, hand_rank
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.core.state.move_relations import ATOMS, MoveRelations, after
+from csql_sim.core.state.atom_names import ATOMS
+from csql_sim.core.state.move_relations import MoveRelations
+from csql_sim.core.state.moves import after
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_pairs
 

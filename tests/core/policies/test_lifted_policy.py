@@ -9,19 +9,17 @@ import pytest
 from csql_sim.core.files.kinds import LIFTED, read_rule_file
 from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.task_draws import tall_towers
+from csql_sim.core.policies.lifted_classifier import LiftedPolicyError, LiftedQClassifier, most_specific, parse_lifted_q
 from csql_sim.core.policies.lifted_policy import (
     LiftedPolicy,
-    LiftedPolicyError,
-    LiftedQClassifier,
     dumps_lifted_policy,
     load_lifted_policy,
     loads_lifted_policy,
-    most_specific,
-    parse_lifted_q,
 )
 from csql_sim.core.policies.loader import load_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
-from csql_sim.core.state.move_relations import ATOMS, MoveRelations
+from csql_sim.core.state.atom_names import ATOMS
+from csql_sim.core.state.move_relations import MoveRelations
 from csql_sim.core.state.state_count import sample_pairs, state_count, unrank_state
 
 SHIPPED = Path(__file__).resolve().parents[3] / "assets" / "rules" / "lifted.json"
@@ -30,7 +28,7 @@ SHIPPED = Path(__file__).resolve().parents[3] / "assets" / "rules" / "lifted.jso
 def test_a_classifier_line_reads_back_and_says_itself_in_words():
     c = LiftedQClassifier("1110#1#0#", "table", 0.007, 0.015, 4743)
     assert parse_lifted_q(c.text()) == c
-    assert c.words() == ("move ?x to the table if misplaced(?x) and goal-on(?x,?d) and ready(?d) and "
+    assert c.words(ATOMS) == ("move ?x to the table if misplaced(?x) and goal-on(?x,?d) and ready(?d) and "
                          "not deadlocked(?x) and least-stuck(?x) and not holding")
     assert c.matches((1, 1, 1, 0, 0, 1, 1, 0, 0), "table") and not c.matches((1, 1, 1, 0, 0, 1, 1, 0, 0), "block")
 

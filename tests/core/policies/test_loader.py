@@ -13,7 +13,8 @@ from csql_sim.core.files.rulebase import RuleBase, save
 from csql_sim.core.model.search import BfsPolicy
 from csql_sim.core.policies.contract import Policy
 from csql_sim.core.policies.greedy_table import GreedyTable
-from csql_sim.core.policies.lifted_policy import LiftedPolicy, LiftedQClassifier, dumps_lifted_policy
+from csql_sim.core.policies.lifted_classifier import LiftedQClassifier
+from csql_sim.core.policies.lifted_policy import LiftedPolicy, dumps_lifted_policy
 from csql_sim.core.policies.sharded_policy import ShardedPolicy
 from csql_sim.core.state.goal_message import GoalForm
 from csql_sim.core.state.message import action_messages, format_state_message

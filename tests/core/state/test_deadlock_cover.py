@@ -4,9 +4,11 @@ import numpy as np
 
 from csql_sim.core.measure.optimum import fewest_table_visits
 from csql_sim.core.model.task_draws import tall_towers
+from csql_sim.core.state.atom_names import ATOMS
 from csql_sim.core.state.deadlock_cover import acyclic, deadlock_cover, events
 from csql_sim.core.state.goal_relations import deadlocked, precedences
-from csql_sim.core.state.move_relations import ATOMS, MoveRelations, pick_action, put_action, target_goal
+from csql_sim.core.state.move_relations import MoveRelations, target_goal
+from csql_sim.core.state.moves import pick_action, put_action
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relation_tracker import RelationTracker
 from csql_sim.core.state.state_count import sample_pairs

@@ -1,7 +1,9 @@
+import numpy as np
 import pytest
 
 from csql_sim.core.state import world
 from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.state_count import sample_state
 from csql_sim.core.state.world import (
     HAND,
     TABLE,
@@ -93,3 +95,31 @@ def test_names_ride_along_but_do_not_make_the_state():
         State((TABLE, 0, 0), ("amber", "pearl", "onyx"))
     with pytest.raises(WorldError, match="^block pearl stands on itself$"):
         State((TABLE, 1), ("amber", "pearl"))
+
+
+def test_a_change_checked_where_it_is_made_agrees_with_the_full_check():
+    """Random one- and two-block changes of random states: with_changes refuses exactly what State refuses."""
+    rng = np.random.default_rng(7)
+    refused = accepted = 0
+    for _ in range(3000):
+        n = int(rng.integers(2, 9))
+        state = sample_state(n, rng)
+        changed = tuple(sorted({int(i) for i in rng.integers(0, n, int(rng.integers(1, 3)))}))
+        support = list(state.support)
+        for i in changed:
+            support[i] = int(rng.integers(-2, n))
+        support = tuple(support)
+        try:
+            State(support)
+            full = None
+        except WorldError:
+            full = "refused"
+        try:
+            got = state.with_changes(support, changed)
+        except WorldError:
+            assert full == "refused", (state.support, support)
+            refused += 1
+            continue
+        assert full is None and got == State(support) and got.names == state.names
+        accepted += 1
+    assert refused > 500 and accepted > 500

@@ -7,7 +7,8 @@ import pytest
 
 from csql_sim.core.policies.committee_policy import CommitteePolicy
 from csql_sim.learners.lifted.committee import train_committee
-from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.params import LiftedParams
+from csql_sim.learners.lifted.ql import train_lifted
 from csql_sim.learners.paper.params import ParamsError
 
 SMALL = {"features": "generated", "domain": "move", "complexity": 4, "trials": 100, "goals": 6, "sizes": (4,),

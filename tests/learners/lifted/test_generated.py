@@ -7,7 +7,8 @@ from csql_sim.core.features.move_features import HOLDS, SLOTS
 from csql_sim.core.policies.feature_policy import FeaturePolicy
 from csql_sim.core.policies.relational_rollout import rollout_relational
 from csql_sim.core.state.state_count import sample_pairs
-from csql_sim.learners.lifted.ql import LiftedParams, train_lifted
+from csql_sim.learners.lifted.params import LiftedParams
+from csql_sim.learners.lifted.ql import train_lifted
 from csql_sim.learners.paper.params import ParamsError
 
 SMALL = {"features": "generated", "complexity": 4, "trials": 150, "goals": 8, "sizes": (4,), "sweep": 50,

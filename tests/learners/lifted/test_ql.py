@@ -10,8 +10,10 @@ from csql_sim.core.measure.optimum import optimal_length
 from csql_sim.core.model.task_draws import tall_towers
 from csql_sim.core.policies.lifted_policy import load_lifted_policy
 from csql_sim.core.policies.relational_rollout import rollout_relational
+from csql_sim.core.state.atom_names import ATOMS
 from csql_sim.core.state.state_count import sample_pairs, state_count, unrank_state
-from csql_sim.learners.lifted.ql import ATOMS, LiftedParams, train_lifted
+from csql_sim.learners.lifted.params import LiftedParams
+from csql_sim.learners.lifted.ql import train_lifted
 from csql_sim.learners.paper.params import ParamsError
 
 SHIPPED = Path(__file__).resolve().parents[3] / "assets" / "rules" / "lifted.json"
