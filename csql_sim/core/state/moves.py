@@ -8,6 +8,7 @@ put alone. Nothing here reads a goal: the moves are the world's, for any learner
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from csql_sim.core.state.world import HAND, TABLE, Action, ActionKind, State, is_legal
@@ -51,14 +52,17 @@ def after(state: State, move: Move) -> State:
 
 def moves(state: State) -> tuple[Move, ...]:
     """The legal moves: the held block's puts, or every clear block to the table and onto every other clear block."""
-    held = state.held
-    clear = [b for b in range(state.n) if state.is_clear(b)]
+    return legal_moves(state.held, [b for b in range(state.n) if state.is_clear(b)], state.support)
+
+
+def legal_moves(held: int | None, clear: Sequence[int], support: Sequence[int]) -> tuple[Move, ...]:
+    """:func:`moves` from the relations: the held block (or None), the clear blocks in order, the supports."""
     movers = [held] if held is not None else clear
     out = []
     for x in movers:
-        if state.support[x] != TABLE:
+        if support[x] != TABLE:
             out.append(Move(x, TABLE))
-        out.extend(Move(x, y) for y in clear if y != x and state.support[x] != y)
+        out.extend(Move(x, y) for y in clear if y != x and support[x] != y)
     return tuple(out)
 
 
@@ -80,4 +84,4 @@ def last_action(state: State, goal: State) -> Action | None:
     return action if is_legal(state, action) else None
 
 
-__all__ = ["KINDS", "Move", "after", "last_action", "moves", "pick_action", "put_action"]
+__all__ = ["KINDS", "Move", "after", "last_action", "legal_moves", "moves", "pick_action", "put_action"]

@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from csql_sim.core.state.deadlock_kernel import deadlock_counts, deadlock_cover, deadlocked
-from csql_sim.core.state.moves import Move
+from csql_sim.core.state.moves import Move, legal_moves
 from csql_sim.core.state.state import State
 from csql_sim.core.state.world import HAND, TABLE, Action, ActionKind, WorldError
 
@@ -195,14 +195,7 @@ class RelationTracker:
 
     def moves(self) -> tuple[Move, ...]:
         """The legal moves, in the order of :func:`~csql_sim.core.state.moves.moves`."""
-        clear = sorted(self.clear)
-        movers = [self.held] if self.held is not None else clear
-        out = []
-        for x in movers:
-            if self.sup[x] != TABLE:
-                out.append(Move(x, TABLE))
-            out.extend(Move(x, y) for y in clear if y != x and self.sup[x] != y)
-        return tuple(out)
+        return legal_moves(self.held, sorted(self.clear), self.sup)
 
     def _ready(self, d: int, mover: int) -> bool:
         return d == TABLE or (d >= 0 and d != mover and self.placed[d] and d in self.clear)
