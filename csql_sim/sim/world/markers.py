@@ -14,7 +14,9 @@ face, and the smallest dictionary with room for the arm's cubes keeps the codes 
 
 from __future__ import annotations
 
+import atexit
 import os
+import shutil
 import tempfile
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -99,9 +101,29 @@ def marker_image(i: int, rgba: Sequence[float], layout: MarkerLayout = MARKER_LA
     return image
 
 
+@cache
+def _cache_dir() -> Path:
+    """Where the textures are kept: the user's cache folder (``$XDG_CACHE_HOME`` or ``~/.cache``).
+
+    Never the temporary folder, where runs leave nothing; where the cache cannot be written, a folder
+    of this process's own, removed when it exits.
+    """
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    folder = base / "csql-sim" / f"markers-v{TEXTURE_FORMAT}"
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        probe = tempfile.NamedTemporaryFile(dir=folder, suffix=".probe")  # noqa: SIM115 - closed at once
+        probe.close()
+        return folder
+    except OSError:
+        own = Path(tempfile.mkdtemp(prefix="csql-sim-markers-"))
+        atexit.register(shutil.rmtree, own, True)
+        return own
+
+
 def _cached_png(name: str, draw: Callable[[], np.ndarray]) -> Path:
     """The PNG ``name`` in the texture cache, drawn and written (atomically) the first time."""
-    path = Path(tempfile.gettempdir()) / f"csql-sim-markers-v{TEXTURE_FORMAT}" / name
+    path = _cache_dir() / name
     if path.exists():
         return path
     path.parent.mkdir(parents=True, exist_ok=True)

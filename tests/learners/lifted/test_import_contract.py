@@ -22,7 +22,7 @@ the goal without its held block, the given atoms' relations, the hand ordering."
 
 def contract() -> dict:
     tomllib = pytest.importorskip("tomllib")  # Python 3.11+
-    doc = tomllib.loads((ROOT.parent / "pyproject.toml").read_text())
+    doc = tomllib.loads((Path(__file__).resolve().parents[3] / "pyproject.toml").read_text())  # the checkout's
     return next(c for c in doc["tool"]["importlinter"]["contracts"] if c["name"] == CONTRACT)
 
 
