@@ -94,6 +94,8 @@ class LiftedWorldModel:
         rule = self.post.get(action.kind)
         if rule is None or not self.is_legal(state, action):
             raise WorldError(f"the lifted rules give no next state for {action.kind.value} here")
-        support = apply_output(rule, state.support, self._binding(action))
-        changed = tuple(i for i, (a, b) in enumerate(zip(state.support, support, strict=True)) if a != b)
+        binding = self._binding(action)
+        support = apply_output(rule, state.support, binding)
+        written = {binding[f.var] for f in rule.fields if f.what == "on"}  # the output writes these blocks alone
+        changed = tuple(sorted(i for i in written if state.support[i] != support[i]))
         return state.with_changes(support, changed)  # the names ride along

@@ -53,7 +53,7 @@ from csql_sim.core.state.atom_names import ATOMS
 from csql_sim.core.state.move_relations import MoveRelations, towards
 from csql_sim.core.state.moves import Move, pick_action, put_action
 from csql_sim.core.state.relation_tracker import KeptRelations, RelationTracker
-from csql_sim.core.state.world import Action, State
+from csql_sim.core.state.world import TABLE, Action, State
 from csql_sim.infra.files import read_text_file
 
 OLDEST_ATOMS = 7
@@ -80,6 +80,7 @@ class LiftedPolicy(Policy):
         self._match: dict[tuple[tuple[int, ...], str], LiftedQClassifier | None] = {}
         self._least: dict[tuple[tuple[int, ...], str], tuple[float | None, bool]] = {}
         self._kept = KeptRelations()
+        self._values: dict[tuple[tuple[int, ...], bool], tuple[float | None, bool]] = {}
 
     def classifier_for(self, bits: tuple[int, ...], kind: str) -> LiftedQClassifier | None:
         """The most specific classifier matching a move's relations (remembered: the classifiers never change)."""
@@ -111,31 +112,42 @@ class LiftedPolicy(Policy):
         """
         if isinstance(relations, RelationTracker):
             for find in (relations.resolve_cover, None):  # the cover first: it is often enough to decide
-                best, unsure = self._best(relations.candidates(resolve=False))
+                best, unsure = self._best(relations.classes(resolve=False))
                 if not unsure:
                     return best
                 if find is not None:
                     find()
-        return self._best(relations.candidates())[0]
+            return self._best(relations.classes())[0]
+        return self._best([(m.block, m.onto, bits) for m, bits in relations.candidates()])[0]
 
-    def _best(self, candidates: list[tuple[Move, tuple[int, ...]]]) -> tuple[Move | None, bool]:
-        """The first move of least advantage; and whether a move with a relation unknown (-1) could beat it."""
+    def _best(self, candidates: list[tuple[int, int, tuple[int, ...]]]) -> tuple[Move | None, bool]:
+        """The first move of least advantage; and whether a move with a relation unknown (-1) could beat it.
+
+        ``candidates``: (block, destination, relations) in move order (:meth:`RelationTracker.classes`).
+        """
         best, best_value, best_at, doubts = None, 0.0, -1, []
-        for at, (move, bits) in enumerate(candidates):
-            if -1 in bits:
-                least, settled = self.least_completed(bits, move.kind)
-                if least is not None and not settled:
-                    doubts.append((at, least))
-                    continue
-                value = least
-            else:
-                c = self.classifier_for(bits, move.kind)
-                value = None if c is None else c.advantage
-            if value is not None and (best is None or value < best_value):
-                best, best_value, best_at = move, value, at
+        values, value_of = self._values, self._value_of
+        for at, (x, d, bits) in enumerate(candidates):
+            key = (bits, d == TABLE)
+            found = values.get(key)
+            if found is None:
+                found = values[key] = value_of(bits, "table" if d == TABLE else "block")
+            value, doubt = found
+            if doubt:
+                doubts.append((at, value))
+            elif value is not None and (best is None or value < best_value):
+                best, best_value, best_at = (x, d), value, at
         unsure = any(best is None or value < best_value or (value == best_value and at < best_at)
                      for at, value in doubts)
-        return best, unsure
+        return (None if best is None else Move(*best)), unsure
+
+    def _value_of(self, bits: tuple[int, ...], kind: str) -> tuple[float | None, bool]:
+        """A move's advantage (None: no classifier matches), and whether its unknown relations could lower it."""
+        if -1 in bits:
+            least, settled = self.least_completed(bits, kind)
+            return least, least is not None and not settled
+        c = self.classifier_for(bits, kind)
+        return (None if c is None else c.advantage), False
 
     def act(self, state: State, goal: State) -> Action | None:
         """The next action towards ``goal``: None at the goal or when no classifier matches."""

@@ -143,39 +143,90 @@ def deadlock_counts(support: np.ndarray, above: np.ndarray, goal: np.ndarray, pl
 
 
 @njit(cache=True)
+def _source(i: int, n: int, kinds: np.ndarray, ends: np.ndarray, visitors: np.ndarray) -> int:
+    """The event constraint i leaves: its source block's table visit when that is its first move, else its final."""
+    a = ends[i, 0]
+    return a + n if (kinds[i] & 1) and visitors[a] else a
+
+
+@njit(cache=True)
+def _back_edges(f: int, n: int, into: np.ndarray, order: np.ndarray, kinds: np.ndarray, visitors: np.ndarray,
+                out: np.ndarray) -> int:
+    """The indexes of the constraints that end in event f (written to ``out``); return how many.
+
+    A visitor's final move is also entered from its own table visit (:func:`_returns` adds it).
+    """
+    u = f % n
+    table = f >= n
+    k = 0
+    for j in range(into[u], into[u + 1]):
+        i = order[j]
+        if visitors[u] and ((kinds[i] & 2) != 0) != table:
+            continue  # this constraint enters the visitor's other event
+        out[k] = i
+        k += 1
+    return k
+
+
+@njit(cache=True)
 def _returns(b: int, n: int, first: np.ndarray, kinds: np.ndarray, ends: np.ndarray, visitors: np.ndarray,
-             seen: np.ndarray, stamp: int, queue: np.ndarray) -> bool:
+                  into: np.ndarray, order: np.ndarray, seen: np.ndarray, back: np.ndarray, stamp: int,
+                  queue: np.ndarray, bqueue: np.ndarray, scratch: np.ndarray) -> bool:
     """Whether the events' graph has a path from b's one event (b not a visitor) back to it.
 
     Event v is v's final move (its only move when v is no visitor), event v + n a visitor's
-    table visit. Constraint i runs from ``ends[i, 0]`` to ``ends[i, 1]`` (``first[a]`` to
-    ``first[a + 1]`` are the constraints leaving block a); ``kinds[i]`` says which ends are
-    first moves (1: the source, 2: the target). An event is seen in this search when ``seen``
-    holds ``stamp`` there (a new stamp per search: nothing to clear).
+    table visit. Constraint i runs from ``ends[i, 0]`` to ``ends[i, 1]``: ``first[a]`` to
+    ``first[a + 1]`` are the constraints leaving block a, ``order[into[a]:into[a + 1]]`` those
+    entering it; ``kinds[i]`` says which ends are first moves (1: the source, 2: the target).
+    Searched from both ends, forward from b and backward into it, the smaller frontier first:
+    there is such a path exactly when the searches meet, and none when either runs out first.
+    An event is seen (``seen`` forward, ``back`` backward) when it holds ``stamp`` there (a new
+    stamp per search: nothing to clear).
     """
     queue[0], head, tail = b, 0, 1
+    bqueue[0], bhead, btail = b, 0, 1
     seen[b] = stamp
-    while head < tail:
-        e = queue[head]
-        head += 1
-        v = e % n
-        table = e >= n
-        if table:  # a table visit precedes its block's final move
-            if seen[v] != stamp:
-                seen[v] = stamp
-                queue[tail] = v
-                tail += 1
-        for i in range(first[v], first[v + 1]):
-            if visitors[v] and ((kinds[i] & 1) != 0) != table:
-                continue  # this constraint leaves the visitor's other event
-            w = ends[i, 1]
-            f = w + n if (kinds[i] & 2) and visitors[w] else w
-            if f == b:
-                return True
-            if seen[f] != stamp:
-                seen[f] = stamp
-                queue[tail] = f
-                tail += 1
+    back[b] = stamp
+    while head < tail and bhead < btail:
+        if tail - head <= btail - bhead:
+            e = queue[head]
+            head += 1
+            v = e % n
+            table = e >= n
+            if table:
+                if back[v] == stamp:
+                    return True
+                if seen[v] != stamp:
+                    seen[v] = stamp
+                    queue[tail] = v
+                    tail += 1
+            for i in range(first[v], first[v + 1]):
+                if visitors[v] and ((kinds[i] & 1) != 0) != table:
+                    continue
+                w = ends[i, 1]
+                f = w + n if (kinds[i] & 2) and visitors[w] else w
+                if f == b or back[f] == stamp:
+                    return True
+                if seen[f] != stamp:
+                    seen[f] = stamp
+                    queue[tail] = f
+                    tail += 1
+        else:
+            f = bqueue[bhead]
+            bhead += 1
+            k = _back_edges(f, n, into, order, kinds, visitors, scratch)
+            if f < n and visitors[f]:
+                scratch[k] = -1  # the visitor's table visit precedes its final move
+                k += 1
+            for j in range(k):
+                i = scratch[j]
+                e = f + n if i < 0 else _source(i, n, kinds, ends, visitors)
+                if e == b or seen[e] == stamp:
+                    return True
+                if back[e] != stamp:
+                    back[e] = stamp
+                    bqueue[btail] = e
+                    btail += 1
     return False
 
 
@@ -219,9 +270,18 @@ def deadlock_cover(support: np.ndarray, above: np.ndarray, goal: np.ndarray, pla
         while support[c] >= 0:
             c = support[c]
             heights[b] += 1
+    order_in = np.argsort(ends[:, 1], kind="mergesort")
+    into = np.zeros(n + 1, np.int64)
+    for i in range(k):
+        into[ends[i, 1] + 1] += 1
+    for a in range(n):
+        into[a + 1] += into[a]
     cover[:] = stuck
     seen = np.zeros(2 * n, np.int64)
+    back = np.zeros(2 * n, np.int64)
     queue = np.zeros(2 * n, np.int64)
+    bqueue = np.zeros(2 * n, np.int64)
+    scratch = np.zeros(4, np.int64)
     size = int(stuck.sum())
     stamp = 0
     for b in np.argsort(heights * n + np.arange(n)):
@@ -229,7 +289,7 @@ def deadlock_cover(support: np.ndarray, above: np.ndarray, goal: np.ndarray, pla
             continue
         cover[b] = False
         stamp += 1
-        if _returns(b, n, first, kinds, ends, cover, seen, stamp, queue):
+        if _returns(b, n, first, kinds, ends, cover, into, order_in, seen, back, stamp, queue, bqueue, scratch):
             cover[b] = True
         else:
             size -= 1

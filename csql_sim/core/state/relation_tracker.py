@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from csql_sim.core.state.deadlock_kernel import deadlock_counts, deadlock_cover, deadlocked
 from csql_sim.core.state.moves import Move, legal_moves
 from csql_sim.core.state.state import State
 from csql_sim.core.state.world import HAND, TABLE, Action, ActionKind, WorldError
@@ -57,6 +56,8 @@ class RelationTracker:
         self._above_a = np.array([-1 if a is None else a for a in self.above], np.int64)
         self._placed_a = np.array(self.placed, np.bool_)
         self._fresh = False
+        self._graph_key: tuple[bytes, bytes] | None = None  # the deadlock graph last searched (above, placed)
+        self._graph_cover: tuple[bytes, frozenset[int]] | None = None  # its cover, with the supports it read
 
     def _initial_placed(self) -> list[bool]:
         """Each block's well-placed flag: on its goal support, with everything below it well placed."""
@@ -131,10 +132,16 @@ class RelationTracker:
         """The deadlocked blocks; the table moves' counts wait for :meth:`resolve`."""
         if self._fresh:
             return
-        mask = np.zeros(self.n, np.bool_)
-        deadlocked(self._above_a, self._goal_a, self._graph_placed(), mask)
-        self._stuck = frozenset(np.flatnonzero(mask).tolist())
-        self._stuck_mask = mask
+        placed = self._graph_placed()
+        key = (self._above_a.tobytes(), placed.tobytes())
+        if key != self._graph_key:  # else the graph is the last one's (a put on the table after its pick)
+            from csql_sim.core.state.deadlock_kernel import deadlocked  # numba: imported by a planner that needs it
+
+            mask = np.zeros(self.n, np.bool_)
+            deadlocked(self._above_a, self._goal_a, placed, mask)
+            self._graph_key, self._stuck_mask = key, mask
+            self._stuck = frozenset(np.flatnonzero(mask).tolist())
+            self._graph_cover = None
         self._movers = self._table_movers()
         self._stuck_after: dict[Move, int] | None = None
         self._cover: frozenset[int] | None = None if self._stuck else frozenset()
@@ -147,6 +154,8 @@ class RelationTracker:
         """Count the deadlocked blocks after every move to the table (``least-stuck``); find the ``cover``."""
         self.resolve_cover()
         if self._stuck_after is None:
+            from csql_sim.core.state.deadlock_kernel import deadlock_counts
+
             mask = np.zeros(self.n, np.bool_)
             counts = deadlock_counts(self._sup_a, self._above_a, self._goal_a, self._graph_placed(),
                                      np.array(self._movers, np.int64), mask)
@@ -156,12 +165,17 @@ class RelationTracker:
         """Find the ``cover`` (the counts of ``least-stuck`` may stay unknown)."""
         self._refresh()
         if self._cover is None:
-            cover = np.zeros(self.n, np.bool_)
             support = self._sup_a.copy()
             if self.held is not None:
                 support[self.held] = TABLE
-            deadlock_cover(support, self._above_a, self._goal_a, self._graph_placed(), self._stuck_mask, cover)
-            self._cover = frozenset(np.flatnonzero(cover).tolist())
+            key = support.tobytes()
+            if self._graph_cover is None or self._graph_cover[0] != key:  # else the same graph and supports
+                from csql_sim.core.state.deadlock_kernel import deadlock_cover
+
+                cover = np.zeros(self.n, np.bool_)
+                deadlock_cover(support, self._above_a, self._goal_a, self._graph_placed(), self._stuck_mask, cover)
+                self._graph_cover = (key, frozenset(np.flatnonzero(cover).tolist()))
+            self._cover = self._graph_cover[1]
 
     @property
     def stuck(self) -> frozenset[int]:
@@ -228,33 +242,43 @@ class RelationTracker:
         With ``resolve`` False, ``least-stuck`` and ``cover`` are -1 (unknown) where they were not yet
         found (:meth:`resolve`, :meth:`resolve_cover`).
         """
+        return [(Move(x, d), bits) for x, d, bits in self.classes(resolve)]
+
+    def classes(self, resolve: bool = True) -> list[tuple[int, int, Bits]]:
+        """:meth:`candidates` as (block, destination, relations), without building the moves.
+
+        Onto blocks, a move's relations differ only by ``goal-on`` and ``ready``: the goal support
+        (when clear), the first well-placed clear block and the first misplaced one stand for all.
+        """
         self._refresh()
         if resolve:
             self.resolve()
-        after, least = self._stuck_after, None if self._stuck_after is None else self.least
-        clear = sorted(self.clear)
-        good = [b for b in clear if self.placed[b]]
-        bad = [b for b in clear if not self.placed[b]]
-        deadlock, holding = int(bool(self._stuck)), int(self.held is not None)
+        after = self._stuck_after
+        fewest_of = None if after is None else {m.block: int(c == self.least) for m, c in after.items()}
+        placed, goal, sup, stuck_set, cover_set, clear_set = \
+            self.placed, self.goal, self.sup, self._stuck, self._cover, self.clear
+        clear = sorted(clear_set)
+        good = [b for b in clear if placed[b]][:3]  # the first not x, its support or its goal is among three
+        bad = [b for b in clear if not placed[b]][:3]
+        deadlock, holding = int(bool(stuck_set)), int(self.held is not None)
         out = []
         for x in ([self.held] if self.held is not None else clear):
-            mis, stuck, needed = int(not self.placed[x]), int(x in self._stuck), int(self.above_needed(x))
-            cover = 0 if not stuck else -1 if self._cover is None else int(x in self._cover)
-            g, s = self.goal[x], self.sup[x]
+            mis, stuck, needed = int(not placed[x]), int(x in stuck_set), int(self.above_needed(x))
+            cover = 0 if not stuck else -1 if cover_set is None else int(x in cover_set)
+            g, s = goal[x], sup[x]
             if s != TABLE:
-                fewest = -1 if after is None else int(after[Move(x, TABLE)] == least)
-                out.append((Move(x, TABLE), (mis, int(g == TABLE), 1, stuck, needed, fewest, deadlock, holding, cover)))
-            found = []
-            if g >= 0 and g != x and g != s and g in self.clear:
-                found.append(g)
-            for group in (good, bad):
+                fewest = -1 if fewest_of is None else fewest_of[x]
+                out.append((x, TABLE, (mis, int(g == TABLE), 1, stuck, needed, fewest, deadlock, holding, cover)))
+            found = {}  # destination: ready
+            if g >= 0 and g != x and g != s and g in clear_set:
+                found[g] = int(placed[g])
+            for group, ready in ((good, 1), (bad, 0)):
                 for y in group:
                     if y != x and y != s and y != g:
-                        found.append(y)
+                        found[y] = ready
                         break
             for y in sorted(found):
-                out.append((Move(x, y), (mis, int(g == y), int(self._ready(y, x)), stuck, needed, 0, deadlock,
-                                         holding, cover)))
+                out.append((x, y, (mis, int(g == y), found[y], stuck, needed, 0, deadlock, holding, cover)))
         return out
 
     def misplaced(self) -> int:

@@ -55,3 +55,11 @@ def test_the_compiled_cover_equals_the_reference_on_every_step():
 def tracker_action(tracker, move):
     state = tracker.state()
     return put_action(move) if state.held is not None else pick_action(state, move.block)
+
+
+def test_the_compiled_cover_equals_the_reference_on_larger_towers():
+    # the compiled search runs from both ends of the dropped block's event; the reference checks the whole graph
+    rng = np.random.default_rng(13)
+    for n in (30, 45, 60, 60, 80):
+        state, goal = tall_towers(n, rng), tall_towers(n, rng)
+        assert RelationTracker(state, goal).cover == deadlock_cover(state, goal)
