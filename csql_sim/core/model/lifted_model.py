@@ -25,7 +25,7 @@ from csql_sim.core.classifiers.lifted_rule import (
     bound_action,
     field_holds,
 )
-from csql_sim.core.state.world import Action, ActionKind, State, WorldError
+from csql_sim.core.state.world import HAND, Action, ActionKind, State, WorldError
 
 
 class _ClearView:
@@ -35,7 +35,8 @@ class _ClearView:
         self.state = state
 
     def __getitem__(self, i: int) -> bool:
-        return self.state.is_clear(i)
+        support = self.state.support
+        return support[i] != HAND and i not in support  # a scan in C: no table of the blocks above
 
 
 class LiftedWorldModel:

@@ -37,6 +37,8 @@ import json
 import os
 from collections.abc import Iterable
 
+import numpy as np
+
 from csql_sim.core.classifiers.lifted_rule import read_versioned_json
 from csql_sim.core.files.kinds import MAX_LIFTED_Q_BYTES
 from csql_sim.core.policies.contract import Policy
@@ -56,6 +58,8 @@ from csql_sim.core.state.relation_tracker import KeptRelations, RelationTracker
 from csql_sim.core.state.world import TABLE, Action, State
 from csql_sim.infra.files import read_text_file
 
+_POWERS = 3 ** np.arange(len(ATOMS), dtype=np.int64)
+"""A move's relations (each -1, 0 or 1) as one number: sum of (relation + 1) * 3^i (+ 3^len for a move onto a block)."""
 OLDEST_ATOMS = 7
 """The fewest atoms a readable file names: files written before ``holding`` and ``cover`` are read."""
 
@@ -81,6 +85,8 @@ class LiftedPolicy(Policy):
         self._least: dict[tuple[tuple[int, ...], str], tuple[float | None, bool]] = {}
         self._kept = KeptRelations()
         self._values: dict[tuple[tuple[int, ...], bool], tuple[float | None, bool]] = {}
+        codes = 2 * 3 ** len(ATOMS)  # the numbers of :data:`_POWERS`: advantage (nan: none), doubt, known
+        self._value, self._doubt, self._known = np.zeros(codes), np.zeros(codes, bool), np.zeros(codes, bool)
 
     def classifier_for(self, bits: tuple[int, ...], kind: str) -> LiftedQClassifier | None:
         """The most specific classifier matching a move's relations (remembered: the classifiers never change)."""
@@ -111,13 +117,15 @@ class LiftedPolicy(Policy):
         ``least-stuck`` and ``cover`` are computed only when a move whose advantage depends on them could win.
         """
         if isinstance(relations, RelationTracker):
+            best_of = self._best if relations.held is not None else self._best_of_arrays
+            classes = relations.classes if relations.held is not None else relations.class_arrays
             for find in (relations.resolve_cover, None):  # the cover first: it is often enough to decide
-                best, unsure = self._best(relations.classes(resolve=False))
+                best, unsure = best_of(classes(resolve=False))
                 if not unsure:
                     return best
                 if find is not None:
                     find()
-            return self._best(relations.classes())[0]
+            return best_of(classes())[0]
         return self._best([(m.block, m.onto, bits) for m, bits in relations.candidates()])[0]
 
     def _best(self, candidates: list[tuple[int, int, tuple[int, ...]]]) -> tuple[Move | None, bool]:
@@ -140,6 +148,28 @@ class LiftedPolicy(Policy):
         unsure = any(best is None or value < best_value or (value == best_value and at < best_at)
                      for at, value in doubts)
         return (None if best is None else Move(*best)), unsure
+
+    def _best_of_arrays(self, classes: tuple[np.ndarray, np.ndarray, np.ndarray]) -> tuple[Move | None, bool]:
+        """:meth:`_best` over :meth:`RelationTracker.class_arrays` (blocks, destinations, relations).
+
+        Each move's relations are one number (:data:`_POWERS`), its advantage and doubt looked up in
+        arrays filled from :meth:`_value_of` the first time a number is met.
+        """
+        xs, ds, bits = classes
+        code = (bits.astype(np.int64) + 1) @ _POWERS + (ds != TABLE) * (3 * _POWERS[-1])
+        if not self._known[code].all():
+            for c in np.unique(code[~self._known[code]]).tolist():
+                at = int(np.flatnonzero(code == c)[0])
+                value, doubt = self._value_of(tuple(bits[at].tolist()), "table" if ds[at] == TABLE else "block")
+                self._value[c], self._doubt[c], self._known[c] = np.nan if value is None else value, doubt, True
+        value, doubt = self._value[code], self._doubt[code]
+        ranked = np.where(doubt | np.isnan(value), np.inf, value)
+        at = int(np.argmin(ranked)) if len(ranked) else 0
+        if not len(ranked) or ranked[at] == np.inf:
+            return None, bool(doubt.any())
+        rival = value[doubt]
+        unsure = bool(((rival < ranked[at]) | ((rival == ranked[at]) & (np.flatnonzero(doubt) < at))).any())
+        return Move(int(xs[at]), int(ds[at])), unsure
 
     def _value_of(self, bits: tuple[int, ...], kind: str) -> tuple[float | None, bool]:
         """A move's advantage (None: no classifier matches), and whether its unknown relations could lower it."""

@@ -52,10 +52,12 @@ class RelationTracker:
         self.placed = self._initial_placed()
         self.clear = {b for b in range(n) if self.is_clear(b)}
         self._goal_a = np.array(target.support, np.int64)
+        self._goal_above_a = np.array([-1 if a is None else a for a in self.goal_above], np.int64)
         self._sup_a = np.array(self.sup, np.int64)
         self._above_a = np.array([-1 if a is None else a for a in self.above], np.int64)
         self._placed_a = np.array(self.placed, np.bool_)
         self._fresh = False
+        self._classes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None  # class_arrays, cover unknown
         self._graph_key: tuple[bytes, bytes] | None = None  # the deadlock graph last searched (above, placed)
         self._graph_cover: tuple[bytes, frozenset[int]] | None = None  # its cover, with the supports it read
 
@@ -117,6 +119,7 @@ class RelationTracker:
         self._sup_a[x] = self.sup[x]
         self._placed_a[x] = self.placed[x]
         self._fresh = False
+        self._classes = None
 
     # ---------------------------------------------------------------- the deadlock graph
 
@@ -280,6 +283,32 @@ class RelationTracker:
             for y in sorted(found):
                 out.append((x, y, (mis, int(g == y), found[y], stuck, needed, 0, deadlock, holding, cover)))
         return out
+
+    def class_arrays(self, resolve: bool = True) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`classes` of a hand-empty state as arrays: blocks, destinations, relations (moves, 9).
+
+        Computed once per state (:func:`~csql_sim.core.state.move_classes.class_arrays`); asked
+        again after :meth:`resolve_cover` or :meth:`resolve`, only the cover and ``least-stuck`` are filled in.
+        """
+        from csql_sim.core.state.move_classes import StateArrays, class_arrays, with_known
+
+        if self.held is not None:
+            raise WorldError("the classes of moves as arrays are those of a hand-empty state")
+        self._refresh()
+        if resolve:
+            self.resolve()
+        cover = fewest = None
+        if self._cover is not None:
+            cover = np.zeros(self.n, np.int8)
+            cover[list(self._cover)] = 1
+        if self._stuck_after is not None:
+            fewest, least = np.full(self.n, -1, np.int8), self.least
+            for move, count in self._stuck_after.items():
+                fewest[move.block] = count == least
+        arrays = (self._sup_a, self._above_a, self._goal_a, self._goal_above_a, self._placed_a, self._stuck_mask)
+        if self._classes is None:
+            self._classes = class_arrays(StateArrays(*arrays, None, None))
+        return with_known(*self._classes, StateArrays(*arrays, cover, fewest))
 
     def misplaced(self) -> int:
         """The number of misplaced blocks."""
