@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib
 import io
 import os
 import signal
@@ -30,20 +31,6 @@ from contextlib import contextmanager
 from typing import Any, NoReturn
 
 from csql_sim import __version__
-from csql_sim.cli import (
-    core,
-    demo,
-    discover,
-    execute,
-    generalize,
-    learn,
-    lifted,
-    pddl_cmd,
-    problems_cmd,
-    rulefile,
-    sim,
-    validate_cmd,
-)
 from csql_sim.cli.args import refuse_ignored, say
 from csql_sim.cli.output import plan_outputs
 from csql_sim.infra.errors import CsqlError, Terminated
@@ -100,8 +87,13 @@ class _ClosedStdout(io.TextIOBase):
         raise io.UnsupportedOperation("standard output is closed")
 
 
-SUBCOMMAND_MODULES = (core, learn, rulefile, lifted, sim, demo, discover, pddl_cmd, problems_cmd, execute, generalize,
-                      validate_cmd)
+SUBCOMMANDS = {
+    "core": ("states", "rules", "plan"), "learn": ("experiment", "train", "scaling", "bench", "params"),
+    "rulefile": ("show", "prune"), "lifted": ("train-lifted",), "sim": ("render", "evaluate"), "demo": ("demo",),
+    "discover": ("discover",), "pddl_cmd": ("pddl",), "problems_cmd": ("problems",), "execute": ("execute",),
+    "generalize": ("generalize",), "validate_cmd": ("validate",),
+}
+"""Each module of ``csql_sim.cli`` with a ``register(subparsers)``, and the subcommands it registers, in help order."""
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -112,23 +104,29 @@ class OneLineParser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {one_line} (see --help)\n")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The full parser with every subcommand registered."""
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The full parser with every subcommand registered; with ``command``, only the module registering it.
+
+    A command's run imports its own module alone (:data:`SUBCOMMANDS`): not the others' libraries
+    (training, video) that their options read. An unknown ``command`` gets the full parser.
+    """
     parser = OneLineParser(
         prog="csql-sim",
         description="Classifier-system Q-learning on the blocks world, executed on a simulated arm.",
     )
     parser.add_argument("--version", action="version", version=f"csql-sim {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=OneLineParser)
-    for module in SUBCOMMAND_MODULES:
-        module.register(sub)
+    modules = [name for name, commands in SUBCOMMANDS.items() if command in commands] or list(SUBCOMMANDS)
+    for name in modules:
+        importlib.import_module(f"csql_sim.cli.{name}").register(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the console script; returns the exit status."""
     closed = _reserve_standard_streams()
-    args = build_parser().parse_args(argv)
+    words = sys.argv[1:] if argv is None else argv
+    args = build_parser(words[0] if words else None).parse_args(argv)
     with _on_sigterm_raise() as sigterm, _guarded_stdout():
         outputs = None
         try:
