@@ -77,11 +77,25 @@ class Denotations:
             return self._quantified(op, a[0], self._of(a[1]))
         if op in ("plus", "star"):
             return self._closure(op, a[0])
+        if op == "eq" and all(x.op in ("role", "inv") for x in a):
+            links = [self._successors(x) for x in a]
+            if links[0] is not None and links[1] is not None:  # one successor or none each: the same one
+                return links[0] == links[1]
         return apply(op, [self._of(x) for x in a])
+
+    def _successors(self, node: Node) -> np.ndarray | None:
+        """Each object's one successor under a primitive role or its inverse (-1: none), or None if some has two."""
+        role = self._of(node)
+        return _index(role, 2) if role.shape[0] == 1 else self._links_of(node, role)[0]
 
     def _quantified(self, op: str, r: Node, c: np.ndarray) -> np.ndarray:
         """∃R.C or ∀R.C (∀R.C is ¬∃R.¬C), by the cheapest of a product, a gather, a scatter or the definition."""
         c = c if op == "some" else ~c
+        if r.op in ("plus", "star") and r.args[0].op in ("role", "inv"):
+            succ, _ = self._links_of(r.args[0], self._of(r.args[0]))
+            if succ is not None:  # along the links: the closure itself is never built
+                found = chain_any(c, succ, r.op == "star")
+                return found if op == "some" else ~found
         role = self._of(r)
         succ, pred_ = self._links_of(r, role)
         if role.shape[0] == 1:
@@ -218,6 +232,25 @@ def closure(r: np.ndarray, succ: np.ndarray | None = None, pred_: np.ndarray | N
         out = step
 
 
+def chain_any(c: np.ndarray, succ: np.ndarray, reflexive: bool) -> np.ndarray:
+    """∃R⁺.C (``reflexive``: ∃R*.C) of a role with at most one successor per object (``succ``, (B, N), -1: none).
+
+    C over x's successors (and x itself for R*), by doubling: after k steps ``acc[x]`` is C over
+    x and its next 2^k - 1 successors, so log2 N steps cover every chain (a cycle too).
+    """
+    b, n = succ.shape
+    rows = np.arange(b)[:, None]
+    acc = np.zeros((b, n + 1), bool)  # object n: past the end of a chain, in no concept
+    acc[:, :n] = c
+    link = np.full((b, n + 1), n, np.int64)
+    link[:, :n] = np.where(succ >= 0, succ, n)
+    first = link[:, :n].copy()
+    for _ in range(max(1, n.bit_length())):
+        acc |= acc[rows, link]
+        link = link[rows, link]
+    return acc[:, :n] if reflexive else acc[rows, first]
+
+
 def _functional_closure(r: np.ndarray, succ: np.ndarray) -> np.ndarray:
     """Closure of relations with at most one successor per object (``succ``, -1 for none): follow the links."""
     b, n, _ = r.shape
@@ -236,4 +269,4 @@ def _functional_closure(r: np.ndarray, succ: np.ndarray) -> np.ndarray:
     return out
 
 
-__all__ = ["Denotations", "apply", "by_definition", "closure"]
+__all__ = ["Denotations", "apply", "by_definition", "chain_any", "closure"]

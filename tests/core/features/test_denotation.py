@@ -68,3 +68,20 @@ def test_literal_values_equal_the_definitions_on_towers():
                     "up": c[i + 1].sum() > c[0].sum(), "any": c[0].any()}[lit.slot]
             assert values[i, j] == want, (lit.text(), m)
     assert len(options) == 4 * 4 - 2  # four clear blocks: each onto the three others, and the tops to the table
+
+
+def test_chain_any_is_the_quantifier_over_the_built_closure_on_functional_roles_with_cycles():
+    from csql_sim.core.features.denotation import chain_any, closure
+
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        b, n = int(rng.integers(1, 5)), int(rng.integers(1, 30))
+        succ = np.where(rng.random((b, n)) < 0.8, rng.integers(0, n, (b, n)), -1)  # any links: cycles and loops
+        role = np.zeros((b, n, n), bool)
+        rows, xs = np.nonzero(succ >= 0)
+        role[rows, xs, succ[rows, xs]] = True
+        c = rng.random((int(rng.choice([1, b])), n)) < 0.3
+        plus = closure(role)
+        star = plus | np.eye(n, dtype=bool)[None]
+        for reflexive, built in ((False, plus), (True, star)):
+            assert (chain_any(c, succ, reflexive) == (built & c[:, None, :]).any(axis=2)).all()
