@@ -144,9 +144,10 @@ class Denotations:
 
 def _index(role: np.ndarray, axis: int) -> np.ndarray | None:
     """Along ``axis`` (2: successors, 1: predecessors) each object's one partner, -1 for none; None if some has two."""
-    if (role.sum(axis=axis) > 1).any():
+    partnered = role.any(axis=axis)
+    if np.count_nonzero(role) != np.count_nonzero(partnered):  # some object has two partners
         return None
-    return np.where(role.any(axis=axis), role.argmax(axis=axis), -1)
+    return np.where(partnered, role.argmax(axis=axis), -1)
 
 
 def by_definition(node: Node, prims: dict[str, np.ndarray], objects: int, constants: tuple[str, ...] = (),
