@@ -17,6 +17,13 @@ unless ``--problem`` names one. Two measurements, each in fresh processes (nothi
   numba code), checking the plan against the goal and spelling it, measuring the optimum
   (``--optimum-budget``, as the command's default of 1 s) and writing the plan file.
 
+``--rules FILE`` measures another planner the same way: a lifted rule file, or a file of
+classifiers over generated features (its formulation's hand decides the rollout), e.g. the
+generated-feature path. The whole command includes building the parser and printing the
+report, which the phases leave out. Python's bytecode should be compiled beforehand
+(``python -m compileall csql_sim``): where ``PYTHONDONTWRITEBYTECODE`` is set, every fresh
+process otherwise compiles the package's modules again (about 0.3 s).
+
 Every figure is measured in one run of this script, on this machine; none is remembered.
 """
 
