@@ -240,16 +240,18 @@ def chain_any(c: np.ndarray, succ: np.ndarray, reflexive: bool) -> np.ndarray:
     x and its next 2^k - 1 successors, so log2 N steps cover every chain (a cycle too).
     """
     b, n = succ.shape
-    rows = np.arange(b)[:, None]
-    acc = np.zeros((b, n + 1), bool)  # object n: past the end of a chain, in no concept
+    m = n + 1  # object n of each row: past the end of a chain, in no concept
+    acc = np.zeros((b, m), bool)
     acc[:, :n] = c
-    link = np.full((b, n + 1), n, np.int64)
+    link = np.full((b, m), n, np.int64)
     link[:, :n] = np.where(succ >= 0, succ, n)
+    link += (np.arange(b) * m)[:, None]  # flat indexes: one gather per step
     first = link[:, :n].copy()
+    acc, link = acc.ravel(), link.ravel()
     for _ in range(max(1, n.bit_length())):
-        acc |= acc[rows, link]
-        link = link[rows, link]
-    return acc[:, :n] if reflexive else acc[rows, first]
+        acc = acc | acc[link]
+        link = link[link]
+    return acc.reshape(b, m)[:, :n] if reflexive else acc[first]
 
 
 def _functional_closure(r: np.ndarray, succ: np.ndarray) -> np.ndarray:

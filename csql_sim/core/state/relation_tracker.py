@@ -17,7 +17,10 @@ one mutable state towards one fixed target and updates only what an action chang
 * ``cover`` (:func:`~csql_sim.core.state.deadlock_kernel.deadlock_cover`) is computed at the
   same time, and only when some block is deadlocked: outside the cover's blocks it is 0.
 
-The relations are exact, the same as from scratch (tested move by move).
+The compiled kernels (:mod:`~csql_sim.core.state.deadlock_kernel`, numba) are imported when a
+tracker first needs them, and run again only when what they read changed (a put on the table
+after its pick leaves the graph and its cover as they were). The relations are exact, the same
+as from scratch (tested move by move).
 :meth:`RelationTracker.candidates` gives, in move order, the first move of every class of
 moves with the same block, kind and relations: a greedy choice of least advantage with
 ties to the first move in order is the same over the candidates as over all moves.
