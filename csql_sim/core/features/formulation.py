@@ -25,6 +25,8 @@ pick-up, put-down, stack, unstack) and ``move`` (``assets/domains/blocks-move.pd
 from __future__ import annotations
 
 import os
+import re
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,13 +90,21 @@ def load_formulation(name_or_path: str) -> Formulation:
     return parse_formulation(text, os.fspath(name_or_path))
 
 
-def parse_formulation(text: str, source: str, name: str | None = None) -> Formulation:
-    """The formulation of a domain's text; PddlImportError names what is not a blocks world."""
+def parse_formulation(text: str, source: str, name: str | None = None,
+                      roles: Mapping[str, str] | None = None) -> Formulation:
+    """The formulation of a domain's text; PddlImportError names what is not a blocks world.
+
+    The predicates come in the order the domain declares them, so the features generated from
+    them (:mod:`~csql_sim.core.features.generate`) depend on the domain alone, not on how its
+    predicates are spelled. ``roles`` gives each predicate's role (``on``, ``ontable``, ``clear``,
+    ``holding``, ``handempty``, ``block``) where the domain spells them otherwise; by default
+    the role is recognized from the spelling.
+    """
     domain = parse_domain_text(text, source)
     actions = domain_actions(domain, source)
     preds = []
-    for p in sorted(domain.predicates, key=lambda p: p.name):
-        role = PREDICATE_ALIASES.get(p.name)
+    for p in sorted(domain.predicates, key=_declared(text)):
+        role = (roles or PREDICATE_ALIASES).get(p.name)
         if role is None or ARITY[role] != p.arity:
             raise PddlImportError(f"{source}: predicate {p.name}/{p.arity} is not one of the blocks world's")
         preds.append(Predicate(p.name, p.arity, role))
@@ -107,6 +117,18 @@ def parse_formulation(text: str, source: str, name: str | None = None) -> Formul
         raise PddlImportError(f"{source}: expected either a hand (holding, pick-up ...) or a table object "
                               "with move actions")
     return Formulation(name or domain.name, tuple(preds), constants, hand)
+
+
+def _declared(text: str) -> Callable[[object], tuple[int, str]]:
+    """The sort key of a parsed predicate: where the domain's ``:predicates`` declares it (then its name)."""
+    lowered = text.lower()
+    section = lowered[max(lowered.find(":predicates"), 0):]
+
+    def key(p: object) -> tuple[int, str]:
+        name = str(getattr(p, "name", ""))
+        found = re.search(r"\(\s*" + re.escape(name) + r"[\s)]", section)
+        return (found.start() if found else len(section), name)
+    return key
 
 
 def primitive_arrays(form: Formulation, states: list[State], targets: list[State]

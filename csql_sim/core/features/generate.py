@@ -113,7 +113,11 @@ def _primitives(form: Formulation) -> list[Node]:
 
 
 def _combinations(pool: _Pool, k: int):  # noqa: ANN202 - a generator of (op, args)
-    """Every constructor over kept nodes whose complexities sum to k - 1 (no double inverse, negation, closure)."""
+    """Every constructor over kept nodes whose complexities sum to k - 1 (no double inverse, negation, closure).
+
+    A symmetric constructor (``and``, ``eq``, ``or``) of two nodes of one complexity takes them in
+    the order they were kept, never by their names: what is generated depends on the domain alone.
+    """
     c, r = pool.concepts, pool.roles
     for x in r.get(k - 1, []):
         if x.op != "inv":
@@ -132,15 +136,15 @@ def _combinations(pool: _Pool, k: int):  # noqa: ANN202 - a generator of (op, ar
                 yield "some", (x, y)
                 yield "all", (x, y)
                 yield "restrict", (x, y)
-        for x in r.get(i, []):
-            for y in r.get(j, []):
-                if i < j or (i == j and x.text() < y.text()):
+        for a, x in enumerate(r.get(i, [])):
+            for b, y in enumerate(r.get(j, [])):
+                if i < j or (i == j and a < b):
                     yield "eq", (x, y)
                     yield "or", (x, y)
                 yield "comp", (x, y)
-        for x in c.get(i, []):
-            for y in c.get(j, []):
-                if i < j or (i == j and x.text() < y.text()):
+        for a, x in enumerate(c.get(i, [])):
+            for b, y in enumerate(c.get(j, [])):
+                if i < j or (i == j and a < b):
                     yield "and", (x, y)
 
 

@@ -28,6 +28,7 @@ from csql_sim.core.features.generate import BASE, generate_concepts
 from csql_sim.core.features.move_features import HOLDS, SLOTS, Literal, object_of, parsed
 from csql_sim.core.state.moves import Move, after, moves
 from csql_sim.core.state.world import State, all_states
+from csql_sim.learners.lifted.potential import Potential, fit_potential, state_values
 
 MAX_TABLE_OBJECTS = 8
 """A packed denotation holds one bit per object: at most 8 (5 blocks and the table)."""
@@ -43,6 +44,7 @@ class FeatureSpace:
         concepts: the kept concepts' texts, in the order of their first literal.
         generated: concepts generated (after pruning equal denotations); candidates: nodes evaluated.
         complexity: the bound K.
+        potential: the count fitted to the moves left (:mod:`~csql_sim.learners.lifted.potential`), or None.
     """
 
     form: Formulation
@@ -51,6 +53,7 @@ class FeatureSpace:
     generated: int
     candidates: int
     complexity: int
+    potential: Potential | None = None
 
 
 def training_states(form: Formulation, n: int) -> list[State]:
@@ -59,8 +62,9 @@ def training_states(form: Formulation, n: int) -> list[State]:
 
 
 def build_space(form: Formulation, n: int, goals: list[State], rng: np.random.Generator,
-                complexity: int, sample: int = 200, constructors: tuple[str, ...] = BASE) -> FeatureSpace:
-    """The feature space of a training world (module docstring)."""
+                complexity: int, sample: int = 200, constructors: tuple[str, ...] = BASE,
+                fit: bool = False) -> FeatureSpace:
+    """The feature space of a training world (module docstring); with ``fit``, its potential too."""
     states = training_states(form, n)
     picked = [(states[int(rng.integers(len(states)))], goals[int(rng.integers(len(goals)))]) for _ in range(sample)]
     batch_s, batch_t, owner, succ, xs, ds = [], [], [], [], [], []
@@ -89,7 +93,17 @@ def build_space(form: Formulation, n: int, goals: list[State], rng: np.random.Ge
         for slot in SLOTS:
             _keep(Literal(concept.text(), slot), cols.values(slot, c), seen, literals)
     concepts = tuple(dict.fromkeys(lit.feature for lit in literals if lit.slot != HOLDS))
-    return FeatureSpace(form, tuple(literals), concepts, len(pool.concepts), pool.candidates, complexity)
+    potential = _fitted(pool.concepts, den, states, batch_s, batch_t) if fit else None
+    return FeatureSpace(form, tuple(literals), concepts, len(pool.concepts), pool.candidates, complexity, potential)
+
+
+def _fitted(concepts: tuple, den: Denotations, states: list[State], batch_s: list[State], batch_t: list[State]
+            ) -> Potential | None:
+    """The potential fitted on the batch's hand-empty pairs, their moves left by value iteration."""
+    values = state_values(states, batch_t)
+    rows = [k for k, pair in enumerate(zip(batch_s, batch_t, strict=True)) if pair in values]
+    return fit_potential(concepts, den, np.array(rows, np.int64),
+                         np.array([values[(batch_s[k], batch_t[k])] for k in rows]))
 
 
 @dataclass(frozen=True)
@@ -141,8 +155,12 @@ class FeatureTable:
         objects = n + len(form.constants)
         if objects > MAX_TABLE_OBJECTS:
             raise ValueError(f"a feature table holds at most {MAX_TABLE_OBJECTS} objects, not {objects}")
-        concept_at = {text: j for j, text in enumerate(space.concepts)}
-        self.packed = np.zeros((len(pairs), len(space.concepts)), np.uint8)
+        tabled = list(space.concepts)
+        if space.potential is not None and space.potential.concept not in concept_at_of(tabled):
+            tabled.append(space.potential.concept)
+        concept_at = concept_at_of(tabled)
+        self.potential_at = None if space.potential is None else concept_at[space.potential.concept]
+        self.packed = np.zeros((len(pairs), len(tabled)), np.uint8)
         self.holds = [k for k, lit in enumerate(space.literals) if lit.slot == HOLDS]
         self.nullary = np.zeros((len(pairs), len(self.holds)), np.uint8)
         weights = (1 << np.arange(objects)).astype(np.uint16)
@@ -158,6 +176,13 @@ class FeatureTable:
         self.by_slot = [(np.array([k for k, v in enumerate(slot_of) if v == j], np.int64),) for j in range(len(SLOTS))]
         self.by_slot = [(cols, np.array([concept_at[space.literals[k].feature] for k in cols], np.int64))
                         for (cols,) in self.by_slot]
+
+    def estimate(self, state: State, target: State) -> float:
+        """The space's potential h of (state, target): its fitted estimate of the moves left."""
+        if self.potential_at is None or self.space.potential is None:
+            raise ValueError("this feature space has no potential")
+        return float(self.space.potential.of(int(_POPCOUNT[self.packed[self.index[(state, target)],
+                                                                        self.potential_at]])))
 
     def relations(self, state: State, target: State) -> tuple[tuple[Move, ...], np.ndarray]:
         """The legal moves of ``state`` and their literals' values (moves, literals)."""
@@ -183,6 +208,11 @@ class FeatureTable:
 
 
 _POPCOUNT = np.array([bin(v).count("1") for v in range(256)], np.uint8)
+
+
+def concept_at_of(texts: list[str]) -> dict[str, int]:
+    """Each concept's column."""
+    return {text: j for j, text in enumerate(texts)}
 
 
 __all__ = ["FeatureSpace", "FeatureTable", "build_space", "training_states"]

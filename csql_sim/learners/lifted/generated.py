@@ -26,7 +26,7 @@ from csql_sim.core.state.world import State
 from csql_sim.infra.assets import asset_text
 from csql_sim.infra.files import read_text_file
 from csql_sim.learners.lifted.features import FeatureSpace, FeatureTable, build_space
-from csql_sim.learners.lifted.ground import RewardCosts
+from csql_sim.learners.lifted.ground import PotentialCosts
 from csql_sim.learners.lifted.learner import LiftedRun, learn
 from csql_sim.learners.lifted.params import LiftedParams
 from csql_sim.learners.lifted.rules import Literals
@@ -47,11 +47,11 @@ class GeneratedFeatures(Vocabulary):
     worlds are at most a dozen moves deep), so the advantages learned next read exact values."""
 
     def __init__(self, form: Formulation, domain: str, complexity: int, sample: int,
-                 constructors: tuple[str, ...] = BASE) -> None:
+                 constructors: tuple[str, ...] = BASE, early: float = 0.0) -> None:
         self.form, self.domain, self.complexity, self.sample = form, domain, complexity, sample
         self.constructors = constructors
         self.hand = form.hand
-        self.costs = RewardCosts(2 if form.hand else 1)
+        self.costs = PotentialCosts(2 if form.hand else 1, early)
         self.space: FeatureSpace | None = None
         self.tables: dict[int, FeatureTable] = {}
 
@@ -61,9 +61,15 @@ class GeneratedFeatures(Vocabulary):
             goals = [g for g in goals if g.held is None] or goals
         if self.space is None:
             self.space = build_space(self.form, n, goals, rng, self.complexity, self.sample,
-                                     self.constructors)
+                                     self.constructors, fit=self.costs.early > 0)
             self.width = len(self.space.literals)
+            if self.space.potential is not None:
+                self.costs.estimate = self.estimate
         self.tables[n] = FeatureTable(self.space, n, goals)
+
+    def estimate(self, state: State, target: State) -> float:
+        """The fitted potential of (state, target) (:mod:`~csql_sim.learners.lifted.potential`)."""
+        return self.tables[state.n].estimate(state, target)
 
     @property
     def literals(self) -> tuple[Literal, ...]:
@@ -83,9 +89,11 @@ class GeneratedFeatures(Vocabulary):
         space = self.space
         if space is None:
             return (), "", {}
-        return space.literals, self.domain, {
-            "formulation": self.form.name, "complexity": space.complexity, "candidates": space.candidates,
-            "concepts": space.generated, "literals": len(space.literals)}
+        figures = {"formulation": self.form.name, "complexity": space.complexity, "candidates": space.candidates,
+                   "concepts": space.generated, "literals": len(space.literals)}
+        if space.potential is not None:
+            figures["potential"] = space.potential.as_dict()
+        return space.literals, self.domain, figures
 
 
 def generated_vocabulary(params: LiftedParams) -> GeneratedFeatures:
@@ -94,7 +102,7 @@ def generated_vocabulary(params: LiftedParams) -> GeneratedFeatures:
     domain = asset_text("domains", BUILTIN[params.domain]) if params.domain in BUILTIN else \
         read_text_file(params.domain, MAX_DOMAIN_BYTES, "PDDL domain")
     constructors = EXTENDED if params.grammar == "extended" else BASE
-    return GeneratedFeatures(form, domain, params.complexity, params.sample, constructors)
+    return GeneratedFeatures(form, domain, params.complexity, params.sample, constructors, params.early)
 
 
 def train_generated(params: LiftedParams, rng: np.random.Generator,

@@ -32,6 +32,10 @@ class Costs:
         """The cost of a move from ``state`` to a state whose start value is ``start_after``."""
         raise NotImplementedError
 
+    def arrival(self, state: State, target: State) -> float:
+        """What arriving in ``state`` adds to the cost of the move into it (a tie-break; 0 by default)."""
+        return 0.0
+
 
 class RewardCosts(Costs):
     """The task's reward alone: -1 per action, 0 at the goal; values in moves (``per_move`` actions each).
@@ -57,6 +61,28 @@ class RewardCosts(Costs):
         return self.action if state.held is not None else 1.0
 
 
+class PotentialCosts(RewardCosts):
+    """:class:`RewardCosts`, and a tie-break: a move into a hand-empty state costs ``early * h`` more.
+
+    ``h`` is a state's fitted estimate of its moves left (:mod:`~csql_sim.learners.lifted.potential`),
+    given by ``estimate`` (None until a feature space is fitted: no tie-break then).
+
+    Args:
+        per_move: actions per move.
+        early: the weight of the tie-break, in moves per unit of h; 0 for none.
+    """
+
+    def __init__(self, per_move: int, early: float) -> None:
+        super().__init__(per_move)
+        self.early = early
+        self.estimate: Callable[[State, State], float] | None = None
+
+    def arrival(self, state: State, target: State) -> float:
+        if self.estimate is None or not self.early or state.held is not None:
+            return 0.0
+        return self.early * self.estimate(state, target)
+
+
 class GroundValues:
     """The ground Q-classifiers, made on demand: one per (state, target) met, by index.
 
@@ -72,6 +98,7 @@ class GroundValues:
         self.low: list[float] = []
         self.final: list[bool] = []
         self.excess: list[float] = []
+        self.arrive: list[float] = []
         self.nexts: list[list[int] | None] = []
         self.relations: list[tuple[tuple[Move, ...], np.ndarray] | None] = []
 
@@ -86,6 +113,7 @@ class GroundValues:
             self.low.append(low)
             self.final.append(final)
             self.excess.append(0.0)
+            self.arrive.append(self.costs.arrival(state, target))
             self.nexts.append(None)
             self.relations.append(None)
         return i
@@ -110,9 +138,10 @@ class GroundValues:
     def backup(self, i: int) -> list[float]:
         """Q of every move of state i: its step cost plus the successor's value; the excess becomes the least."""
         state = self.keys[i][0]
-        q = [self.costs.step(state, self.low[j]) + self.low[j] + self.excess[j] for j in self.successors(i)]
+        q = [self.costs.step(state, self.low[j]) + self.arrive[j] + self.low[j] + self.excess[j]
+             for j in self.successors(i)]
         self.excess[i] = min(q) - self.low[i]
         return q
 
 
-__all__ = ["Costs", "GroundValues", "RewardCosts"]
+__all__ = ["Costs", "GroundValues", "PotentialCosts", "RewardCosts"]

@@ -46,11 +46,13 @@ class LiftedParams:
         rare_gap: moves of advantage a rare split needs. Range > ``tau``; default 1.0 (a wasted move).
         replay: whether every sweep also backs up the remembered ground values through the
             world model (:meth:`_Learner.replay`). True or False; default True.
-        early: with ``given``, the cost of a move per block still misplaced after it, in moves.
+        early: a tie-break's weight, in moves. With ``given``, the cost of a move per block still
+            misplaced after it; with ``generated``, per unit of a potential stated over generated
+            features, the count fitted to the moves left that value iteration of the reward gives on
+            the training world (:mod:`~csql_sim.learners.lifted.potential`), after the move.
             Range [0, 1); default 0.02: too small to trade a move for at five blocks, it prefers,
-            among plans of one length, the one that places blocks sooner. Generated features
-            learn from the task's reward alone (:class:`~csql_sim.learners.lifted.ground.RewardCosts`)
-            and ignore it.
+            among plans of one length, the one that places blocks (or makes the potential fall)
+            sooner. 0: no tie-break (generated features then learn from the task's reward alone).
         features: what the classifiers read: ``given`` (hand-written atoms, those of ``atoms``) or
             ``generated`` (features built from the domain's predicates,
             :mod:`~csql_sim.learners.lifted.vocab`). Default ``given``.
@@ -126,7 +128,7 @@ class LiftedParams:
 
     def as_dict(self) -> dict:
         """The parameters as plain values (the generated features' own only when they are used)."""
-        own = ("atoms", "early") if self.features == "generated" else \
+        own = ("atoms",) if self.features == "generated" else \
             ("features", "domain", "complexity", "grammar", "sample")
         return {f.name: list(v) if isinstance(v := getattr(self, f.name), tuple) else v for f in fields(self)
                 if f.name not in own}
