@@ -168,9 +168,10 @@ def _rules(runs: tuple, params, seed: int, size: int, out: str | os.PathLike | N
             "provenance": provenance(seed=seed, params=params, committee=size)}
     if len(runs) > 1:
         text = dumps_committee([(r.classifiers, r.literals) for r in runs], run.domain,
-                               run.features["formulation"], meta)
+                               run.features["formulation"], meta, run.tie)
     elif run.literals:
-        text = dumps_feature_policy(run.classifiers, run.literals, run.domain, run.features["formulation"], meta)
+        text = dumps_feature_policy(run.classifiers, run.literals, run.domain, run.features["formulation"], meta,
+                                    run.tie)
     else:
         text = dumps_lifted_policy(run.classifiers, meta)
     path = None if out is None else write_or_keep([(out, text)])[0]

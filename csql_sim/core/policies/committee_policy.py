@@ -45,7 +45,7 @@ class CommitteePolicy(FeaturePolicy):
         if not 1 <= len(members) <= MAX_MEMBERS:
             raise ValueError(f"a committee has 1..{MAX_MEMBERS} members, got {len(members)}")
         first = members[0]
-        super().__init__(first.classifiers, first.literals, first.form, first.domain, meta)
+        super().__init__(first.classifiers, first.literals, first.form, first.domain, meta, first.tie)
         self.members = tuple(members)
         union = tuple(dict.fromkeys(lit for m in self.members for lit in m.literals))
         at = {lit: j for j, lit in enumerate(union)}
@@ -75,14 +75,16 @@ class CommitteePolicy(FeaturePolicy):
 
 
 def dumps_committee(members: Sequence[tuple[Sequence[LiftedQClassifier], tuple[Literal, ...]]],
-                    domain: str, formulation: str, meta: dict) -> str:
-    """The text of a committee's file: per member its classifiers, cut to the literals they test."""
+                    domain: str, formulation: str, meta: dict, tie: Literal | None = None) -> str:
+    """The text of a committee's file: per member its classifiers, cut to the literals they test; ``tie`` as one's."""
     docs = []
     for classifiers, literals in members:
         cut, kept = used_literals(classifiers, literals)
         docs.append({"atoms": [lit.text() for lit in kept], "classifiers": [c.text() for c in cut]})
     doc = {"format": LIFTED_Q_FORMAT, "version": COMMITTEE_VERSION, "formulation": formulation, "domain": domain,
            "meta": meta, "members": docs}
+    if tie is not None:
+        doc["tie"] = tie.text()
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 
@@ -92,7 +94,7 @@ def committee_from_doc(doc: dict, source: str) -> CommitteePolicy:
     if not isinstance(members, list) or not 1 <= len(members) <= MAX_MEMBERS \
             or not all(isinstance(m, dict) for m in members):
         raise LiftedPolicyError(f"{source}: 'members' must be a list of 1..{MAX_MEMBERS} objects")
-    shared = {k: doc.get(k) for k in ("domain", "formulation", "meta")}
+    shared = {k: doc.get(k) for k in ("domain", "formulation", "meta", "tie")}
     policies = [feature_policy_from_doc({**shared, "atoms": m.get("atoms"), "classifiers": m.get("classifiers")},
                                         f"{source} member {k}") for k, m in enumerate(members, 1)]
     return CommitteePolicy(policies, policies[0].meta)

@@ -50,9 +50,9 @@ class FeaturePolicy(Policy):
     blocks: int | None = None
 
     def __init__(self, classifiers: Iterable[LiftedQClassifier], literals: tuple[Literal, ...],
-                 form: Formulation, domain: str, meta: dict | None = None) -> None:
+                 form: Formulation, domain: str, meta: dict | None = None, tie: Literal | None = None) -> None:
         self.classifiers = tuple(classifiers)
-        self.literals, self.form, self.domain = literals, form, domain
+        self.literals, self.form, self.domain, self.tie = literals, form, domain, tie
         self.meta = dict(meta or {})
         self._match: dict[tuple[bytes, str], LiftedQClassifier | None] = {}
         self._chosen: tuple[State, State, Move] | None = None
@@ -75,10 +75,23 @@ class FeaturePolicy(Policy):
         return [None if c is None else c.advantage for c in found]
 
     def ranked(self, state: State, goal: State) -> list[Move]:
-        """The legal moves some classifier matches, by least advantage (ties: move order)."""
+        """The legal moves some classifier matches, by least advantage.
+
+        Ties: the moves whose ``tie`` literal holds first (when the policy has one), then move order.
+        """
         options, advantages = self.advantages(state, goal)
-        scored = [(a, at, move) for at, (move, a) in enumerate(zip(options, advantages, strict=True)) if a is not None]
-        return [move for _, _, move in sorted(scored, key=lambda r: r[:2])]
+        tied = self._tie_values(state, goal, options, advantages)
+        scored = [(a, -t, at, move) for at, (move, a, t) in enumerate(zip(options, advantages, tied, strict=True))
+                  if a is not None]
+        return [move for *_, move in sorted(scored, key=lambda r: r[:3])]
+
+    def _tie_values(self, state: State, goal: State, options: list[Move] | tuple[Move, ...],
+                    advantages: list[float | None]) -> list[int]:
+        """The ``tie`` literal's value for each move, evaluated only when two best moves tie (else 0s)."""
+        best = [a for a in advantages if a is not None]
+        if self.tie is None or len(best) < 2 or sorted(best)[1] != min(best):
+            return [0] * len(options)
+        return [int(v) for v in literal_values((self.tie,), self.form, state, goal, tuple(options))[1][:, 0]]
 
     def choose(self, state: State, goal: State) -> Move | None:
         """The move of least advantage (ties: move order), or None when no classifier matches any."""
@@ -127,11 +140,16 @@ def used_literals(classifiers: Iterable[LiftedQClassifier], literals: tuple[Lite
 
 
 def dumps_feature_policy(classifiers: Iterable[LiftedQClassifier], literals: tuple[Literal, ...],
-                         domain: str, formulation: str, meta: dict) -> str:
-    """The file's text: the lifted Q-classifier format with the literals as its atoms and the domain's PDDL."""
+                         domain: str, formulation: str, meta: dict, tie: Literal | None = None) -> str:
+    """The file's text: the lifted Q-classifier format with the literals as its atoms and the domain's PDDL.
+
+    With ``tie``, the literal that breaks ties between moves of equal advantage (``"tie"``).
+    """
     cut, kept = used_literals(classifiers, literals)
     doc = {"format": LIFTED_Q_FORMAT, "version": LIFTED_Q_VERSION, "formulation": formulation, "domain": domain,
            "atoms": [lit.text() for lit in kept], "meta": meta, "classifiers": [c.text() for c in cut]}
+    if tie is not None:
+        doc["tie"] = tie.text()
     return json.dumps(doc, indent=2, ensure_ascii=False) + "\n"
 
 
@@ -142,9 +160,13 @@ def feature_policy_from_doc(doc: dict, source: str) -> FeaturePolicy:
         raise LiftedPolicyError(f"{source}: 'domain' must be PDDL text, 'atoms' a list and 'meta' an object")
     if not 0 < len(atoms) <= MAX_LITERALS or not all(isinstance(a, str) for a in atoms):
         raise LiftedPolicyError(f"{source}: 'atoms' must name 1..{MAX_LITERALS} literals")
+    tie = doc.get("tie")
+    if tie is not None and not isinstance(tie, str):
+        raise LiftedPolicyError(f"{source}: 'tie' must be a literal")
     try:
         form = parse_formulation(domain, f"{source} (its domain)", str(doc.get("formulation") or "domain"))
         literals = tuple(parse_literal(a) for a in atoms)
+        tied = None if tie is None else parse_literal(tie)
     except (CsqlError, ValueError) as exc:
         raise LiftedPolicyError(f"{source}: {exc}") from None
     label = doc.get("formulation")
@@ -152,12 +174,13 @@ def feature_policy_from_doc(doc: dict, source: str) -> FeaturePolicy:
         raise LiftedPolicyError(f"{source}: 'formulation' says {label} but its domain is the "
                                 f"{'4-operator (hand)' if form.hand else 'move (no hand)'} formulation")
     known = {(p.name, p.arity) for p in form.predicates} | {(c, None) for c in form.constants}
-    for lit in literals:
+    for lit in (*literals, *(() if tied is None else (tied,))):
         uses = {(lit.feature, 0)} if lit.slot == "holds" else parsed(lit.feature).uses()
         if uses - known:
             wrong = ", ".join(sorted(f"{name}/{'constant' if k is None else k}" for name, k in uses - known))
             raise LiftedPolicyError(f"{source}: literal {lit.text()!r} reads {wrong}, not in the domain")
-    return FeaturePolicy(classifier_lines(doc.get("classifiers"), source, len(literals)), literals, form, domain, meta)
+    return FeaturePolicy(classifier_lines(doc.get("classifiers"), source, len(literals)), literals, form, domain, meta,
+                         tied)
 
 
 __all__ = ["FeaturePolicy", "dumps_feature_policy", "feature_policy_from_doc", "used_literals"]

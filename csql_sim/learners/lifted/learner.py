@@ -95,10 +95,16 @@ class LiftedRun:
     domain: str = ""
     features: dict = field(default_factory=dict)
 
+    @property
+    def tie(self) -> Literal | None:
+        """With a fitted potential, the literal that breaks the policy's ties: "the potential falls"."""
+        fit = self.features.get("potential")
+        return None if not fit else Literal(fit["concept"], "up" if fit["slope"] < 0 else "down")
+
     def policy(self, meta: dict | None = None) -> Policy:
-        """The greedy policy of the learned classifiers over generated features."""
+        """The greedy policy of the learned classifiers over generated features (ties: :attr:`tie`)."""
         cut, kept = used_literals(self.classifiers, self.literals)
-        return FeaturePolicy(cut, kept, parse_formulation(self.domain, "domain"), self.domain, meta)
+        return FeaturePolicy(cut, kept, parse_formulation(self.domain, "domain"), self.domain, meta, self.tie)
 
 
 class _Learner:

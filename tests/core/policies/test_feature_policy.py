@@ -121,3 +121,17 @@ def test_an_action_that_reaches_the_goal_is_taken():
     hand_empty_goal = after(state, Move(2, 1))  # C back on B: the put onto a block, not the table ranked first
     assert policy.act(held_goal, hand_empty_goal) == put_action(Move(2, 1))
     assert policy.act(state, state) is None
+
+
+def test_the_tie_literal_breaks_ties_between_moves_of_equal_advantage_and_is_read_back():
+    """One classifier per kind, so every table move ties: with the tie "the well-placed count rises" first."""
+    domain = asset_text("domains", "blocks-move.pddl")
+    literals = (Literal("clear", "x"),)
+    classifiers = [LiftedQClassifier("#", "table", 0.0), LiftedQClassifier("#", "block", 1.0)]
+    tie = Literal(WELL_PLACED, "up")
+    plain = FeaturePolicy(classifiers, literals, load_formulation("move"), domain)
+    tied = loads_lifted_file(dumps_feature_policy(classifiers, literals, domain, "move", {}, tie), "t.json")
+    assert tied.tie == tie and plain.tie is None
+    state, goal = parse_config("AB,CD"), parse_config("AB,C,D")  # B on A, D on C; only D's table move places it
+    assert [m.block for m in plain.ranked(state, goal)][:2] == [1, 3]  # the two table moves tie
+    assert plain.choose(state, goal).block == 1 and tied.choose(state, goal).block == 3
