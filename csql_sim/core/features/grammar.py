@@ -27,11 +27,13 @@ written             notation      denotes
 ==================  ============  =====================================================
 
 Composition, union and restriction make orderings between blocks expressible as roles, and
-their closures and cycles as concepts. The deadlock graph's edges, for instance: b must wait
-for the block on it (``inv(on)``) and for the block on its goal support
-(``comp(on_g,inv(on))``), so ``self(plus(or(inv(on),comp(on_g,inv(on)))))`` holds the
-blocks on a cycle of those waits (complexity 10: within reach of the bound K, if not of the
-default).
+their closures and cycles as concepts. The waits of the deadlock graph, for instance: b must
+wait for the block on it (``inv(on)``) and for the block on its goal support
+(``comp(on_g,inv(on))``), so ``self(plus(or(inv(on),comp(on_g,inv(on)))))`` (complexity 9)
+holds the blocks on a cycle of those waits. It is not yet the deadlock: the graph's edges run
+between misplaced blocks only (``some(star(on),not(eq(on,on_g)))``, complexity 7), and
+restricting both ends to them takes the expression far past the bound; the well-placed blocks
+themselves are ``all(star(on),eq(on,on_g))`` (complexity 6).
 
 **Counts** are the numerical features: ``|C|`` of a concept and ``|R|`` of a role, in each
 state (:meth:`~csql_sim.core.features.denotation.Denotations.count`); a count has the
