@@ -12,7 +12,7 @@ from csql_sim.core.state.world import Action
 from csql_sim.sim.control.guards import Guarded
 from csql_sim.sim.control.primitives import CarryHook, Pick, Status, primitive_for, settle
 from csql_sim.sim.control.recovery import Drag, recovery_for
-from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, Camera, perception_cameras
+from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, Camera, fallback_cameras, perception_cameras
 from csql_sim.sim.perception.poses import (
     TOLERANCES,
     Observation,
@@ -58,6 +58,8 @@ class PhysicalWorld:
         cameras: the perception cameras (default: :func:`~csql_sim.sim.perception.camera.perception_cameras` n).
         camera_noise: sensor noise of camera perception; drawn from a generator of its
             own (spawned from ``seed``), so noise never shifts the episode's other draws.
+        fallback: views rendered only while a cube is unread by ``cameras`` (default:
+            :func:`~csql_sim.sim.perception.camera.fallback_cameras` n).
     """
 
     n: int
@@ -66,6 +68,7 @@ class PhysicalWorld:
     config: SimConfig | None = None  # None: config_for(n), set in __post_init__
     cameras: tuple[Camera, ...] | None = None  # None: perception_cameras(n), set in __post_init__
     camera_noise: CameraNoise = NO_NOISE
+    fallback: tuple[Camera, ...] | None = None  # None: fallback_cameras(n), set in __post_init__
     scene: Scene = field(init=False)
     panda: Panda = field(init=False)
     rng: np.random.Generator = field(init=False)
@@ -77,6 +80,7 @@ class PhysicalWorld:
         check_arm_blocks(self.n)
         self.config = config_for(self.n) if self.config is None else self.config
         self.cameras = perception_cameras(self.n) if self.cameras is None else self.cameras
+        self.fallback = fallback_cameras(self.n) if self.fallback is None else self.fallback
         self.scene = Scene(self.n, self.config)
         self.panda = Panda(self.scene)
         self.rng = np.random.default_rng(self.seed)
@@ -115,7 +119,8 @@ class PhysicalWorld:
         if self._seen is not None and self._seen[0] == self.scene.steps:
             return self._seen[1]
         if self.perception == "camera":
-            obs = observe_rgbd(self.scene, self.panda, self.cameras, self.camera_noise, self.sensor_rng)
+            obs = observe_rgbd(self.scene, self.panda, self.cameras, self.camera_noise, self.sensor_rng,
+                               self.fallback)
         else:
             obs = observe_poses(self.scene, self.panda)
         self._seen = (self.scene.steps, obs)

@@ -59,6 +59,29 @@ def perception_cameras(n: int) -> tuple[Camera, ...]:
     return PERCEPTION_CAMERAS if n <= 6 else WIDE_PERCEPTION_CAMERAS
 
 
+FALLBACK_CAMERAS = (
+    Camera(eye=(0.75, 0.0, 1.15), target=(0.5, 0.0, 0.05), width=1280, height=960),  # from above
+    Camera(eye=(0.2, 0.75, 0.9), target=(0.5, 0.0, 0.05), width=1280, height=960),  # from above on the left
+    Camera(eye=(0.2, -0.75, 0.9), target=(0.5, 0.0, 0.05), width=1280, height=960),  # from above on the right
+)
+"""Further views of up to six cubes, rendered only for a cube no usual view read (:func:`fallback_cameras`):
+from above (over a cube walled in or hidden behind a tower) and from the arm's side."""
+WIDE_FALLBACK_CAMERAS = (
+    Camera(eye=(1.2, 0.0, 1.6), target=(0.3, 0.0, 0.1), fov=55.0, width=1280, height=960),  # in front, high
+    Camera(eye=(-1.1, 0.6, 1.2), target=(-0.1, 0.0, 0.15), fov=55.0, width=1280, height=960),  # behind, left
+    Camera(eye=(-1.1, -0.6, 1.2), target=(-0.1, 0.0, 0.15), fov=55.0, width=1280, height=960),  # behind, right
+    Camera(eye=(0.1, 1.2, 1.5), target=(0.1, 0.0, 0.1), fov=55.0, width=1280, height=960),  # left, high
+    Camera(eye=(0.1, -1.2, 1.5), target=(0.1, 0.0, 0.1), fov=55.0, width=1280, height=960),  # right, high
+)
+"""Further views of 7 or more cubes (:func:`fallback_cameras`): higher than the usual ones (over the
+towers in front of a cube) and from behind the arm (the far side of the ring of thirty places)."""
+
+
+def fallback_cameras(n: int) -> tuple[Camera, ...]:
+    """The views perception renders, one at a time, only while a cube is unread by the usual ones."""
+    return FALLBACK_CAMERAS if n <= 6 else WIDE_FALLBACK_CAMERAS
+
+
 def render_camera(n: int) -> Camera:
     """The video view of an n-cube scene: :data:`RENDER_CAMERA` for n <= 6."""
     return RENDER_CAMERA if n <= 6 else WIDE_RENDER_CAMERA

@@ -5,9 +5,10 @@ known by the ArUco marker printed on its faces (:mod:`.fiducials`): the pixels r
 marker read are back-projected with depth, and a plane fitted to them is that face; the
 face's normal and the marker's edge in it give the cube's frame, merged over every read of
 the cube in every view (:mod:`.face_reads`). Its most upward axis gives the tilt, a side axis
-the yaw, and each read face pins the centre half a cube behind it. A cube with no read in any
-view is unseen (never guessed from its colour, which is cosmetic); so is one read in places
-too far apart to be one cube.
+the yaw, and each read face pins the centre half a cube behind it. While some cube has no read,
+further views (:func:`~.camera.fallback_cameras`: higher, or from behind the arm) are rendered
+one at a time; a cube with no read in any view is unseen (never guessed from its colour, which
+is cosmetic); so is one read in places too far apart to be one cube.
 Optional Gaussian noise on depth (metres, along the optical axis) and colour (8-bit levels)
 stands for a real sensor.
 """
@@ -21,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.perception.camera import Camera, capture, perception_cameras
+from csql_sim.sim.perception.camera import Camera, capture, fallback_cameras, perception_cameras
 from csql_sim.sim.perception.face_reads import FaceRead, cube_centre, cube_frame, read_view
 from csql_sim.sim.perception.poses import BlockObs, Observation, wrap_quarter
 from csql_sim.sim.world.robot import Panda
@@ -84,8 +85,20 @@ Render = Callable[[Camera], tuple[np.ndarray, np.ndarray]]
 """A camera's colour image (h, w, 3 uint8) and depth buffer (h, w) of the scene now."""
 
 
+def read_faces(render: Render, cameras: tuple[Camera, ...], faces: list[list[FaceRead]], size: float,
+               noise: CameraNoise, rng: np.random.Generator) -> None:
+    """Add each view's marker reads to ``faces`` (one list per cube)."""
+    for camera in cameras:
+        rgb, depth = render(camera)
+        if noise.active:
+            rgb, depth = add_noise(rgb, depth, camera, noise, rng)
+        for face in read_view(camera, rgb, depth, len(faces), size, noise.depth):
+            faces[face.cube].append(face)
+
+
 def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: float,
-                 noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None) -> tuple[BlockObs, ...]:
+                 noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None,
+                 fallback: tuple[Camera, ...] = ()) -> tuple[BlockObs, ...]:
     """Every cube's estimate from the views' marker reads; a cube no view read (or read apart) is unseen.
 
     Args:
@@ -95,15 +108,15 @@ def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: floa
         size: their edge, m.
         noise: sensor noise to add.
         rng: draws the noise (a fixed generator when None).
+        fallback: further views, rendered in turn only while some cube has no read.
     """
     rng = rng if rng is not None else np.random.default_rng(0)
     faces: list[list[FaceRead]] = [[] for _ in range(n)]
-    for camera in cameras:
-        rgb, depth = render(camera)
-        if noise.active:
-            rgb, depth = add_noise(rgb, depth, camera, noise, rng)
-        for face in read_view(camera, rgb, depth, n, size, noise.depth):
-            faces[face.cube].append(face)
+    read_faces(render, cameras, faces, size, noise, rng)
+    for camera in fallback:
+        if all(faces):
+            break
+        read_faces(render, (camera,), faces, size, noise, rng)
     blocks = []
     for i in range(n):
         centres = np.array([f.centre for f in faces[i]]).reshape(-1, 3)
@@ -116,7 +129,8 @@ def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: floa
 
 
 def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] | None = None,
-                 noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None) -> Observation:
+                 noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None,
+                 fallback: tuple[Camera, ...] | None = None) -> Observation:
     """Camera-mode observation from colour and depth images only (plus the arm's proprioception).
 
     Args:
@@ -125,14 +139,17 @@ def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] | None 
         cameras: the fixed perception cameras (default: :func:`~csql_sim.sim.perception.camera.perception_cameras` n).
         noise: sensor noise to add.
         rng: draws the noise (a fixed generator when None).
+        fallback: views rendered only while a cube is unread (default:
+            :func:`~csql_sim.sim.perception.camera.fallback_cameras` n).
     """
     cameras = perception_cameras(scene.n) if cameras is None else cameras
+    fallback = fallback_cameras(scene.n) if fallback is None else fallback
     size = scene.config.physics.cube_size
 
     def render(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
         return capture(scene, camera, camera.width, camera.height)[:2]
 
-    blocks = locate_cubes(render, cameras, scene.n, size, noise, rng)
+    blocks = locate_cubes(render, cameras, scene.n, size, noise, rng, fallback)
     return Observation(blocks, tuple(panda.ee_position()), panda.finger_width(), size)
 
 

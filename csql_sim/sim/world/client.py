@@ -140,6 +140,7 @@ class PhysicsClient:
         self.step_wall = 0.0
         self._step_hooks: list[Callable[[Any], None]] = []
         self._plugins: list[int] = []
+        self.sleeping = physics.sleep_threshold > 0  # cubes may sleep (Scene); teleports and forces wake them
         self.opengl = False  # True once an OpenGL renderer plugin (EGL) draws this client's images
         if renderer_plugin is not None:
             self._load_renderer_plugin(*renderer_plugin)
@@ -253,8 +254,24 @@ class PhysicsClient:
         return float(np.linalg.norm(lin)), float(np.linalg.norm(ang))
 
     def set_body_pose(self, body: int, position: Vec3, orientation: Quat) -> None:
-        """Teleport ``body`` (scene construction, replay and tests; never during an episode)."""
+        """Teleport ``body`` (scene construction, replay and tests; never during an episode); it wakes."""
         pybullet.resetBasePositionAndOrientation(body, position, orientation, physicsClientId=self.client)
+        self.wake(body)
+
+    def allow_sleep(self, body: int, threshold: float) -> None:
+        """Let Bullet put ``body`` to sleep after 2 s with its motion below ``threshold``.
+
+        The motion is Bullet's: squared linear (m/s) plus angular (rad/s) speed. Bullet wakes the
+        body when an awake one (the arm, a moving cube) touches it or what it rests on.
+        """
+        pybullet.changeDynamics(body, -1, activationState=pybullet.ACTIVATION_STATE_ENABLE_SLEEPING,
+                                sleepThreshold=threshold, physicsClientId=self.client)
+
+    def wake(self, body: int) -> None:
+        """Wake ``body`` if it may sleep (:meth:`allow_sleep`); nothing else changes."""
+        if self.sleeping:
+            pybullet.changeDynamics(body, -1, activationState=pybullet.ACTIVATION_STATE_WAKE_UP,
+                                    physicsClientId=self.client)
 
     def stop_body(self, body: int) -> None:
         """Zero ``body``'s linear and angular velocity (scene construction only)."""
@@ -368,6 +385,7 @@ class PhysicsClient:
 
     def apply_force(self, body: int, force: Vec3, position: Vec3) -> None:
         """Apply ``force`` (N, world frame) at ``position`` (world) to the base of ``body`` for the next step."""
+        self.wake(body)
         pybullet.applyExternalForce(body, -1, force, position, pybullet.WORLD_FRAME, physicsClientId=self.client)
 
     # ------------------------------------------------------------ rendering

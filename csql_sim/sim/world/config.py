@@ -22,6 +22,7 @@ class PhysicsConfig:
     table_friction: float = 0.8  # lateral friction of the table top
     table_half_extents: tuple[float, float, float] = (0.45, 0.55, 0.02)  # m
     table_centre: tuple[float, float, float] = (0.45, 0.0, -0.02)  # top surface at z=0
+    sleep_threshold: float = 0.0  # > 0: Bullet lets a cube sleep after 2 s below this motion, (m/s)^2 + (rad/s)^2
 
 
 @dataclass(frozen=True)
@@ -150,7 +151,7 @@ place past fifteen towers): two places apart, no tower is in the housing's way w
 hand goes down next to another, and the hand goes back and forth between them a short way."""
 
 RING_PHYSICS = PhysicsConfig(table_half_extents=(0.62, 0.62, 0.02), table_centre=(0.0, 0.0, -0.02),
-                             solver_iterations=200)
+                             solver_iterations=200, sleep_threshold=1e-3)
 """The physics of 11..30 cubes: a square table about the arm's base, its edge 0.12 m beyond the
 ring, and 200 solver iterations: at 50 a tower of eleven swayed by itself until it fell, at
 100 one of fourteen; at 200 towers of fifteen to seventeen stand (eighteen sway)."""

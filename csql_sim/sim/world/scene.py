@@ -90,6 +90,8 @@ class Scene(PhysicsClient):
                                          (0.0, 0.0, -1.0), marked,
                                          lateralFriction=pc.cube_friction,
                                          spinningFriction=pc.cube_spinning_friction, rollingFriction=0.0)
+        if pc.sleep_threshold > 0:
+            self.allow_sleep(self.bodies[name], pc.sleep_threshold)
 
     @property
     def sim_time(self) -> float:

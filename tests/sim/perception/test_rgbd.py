@@ -6,9 +6,9 @@ import pytest
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_state
 from csql_sim.sim.control.physical import PhysicalWorld
-from csql_sim.sim.perception.camera import CAMERA_TOLERANCES
-from csql_sim.sim.perception.poses import interpret
-from csql_sim.sim.perception.rgbd import CameraNoise, observe_rgbd
+from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, capture, fallback_cameras, perception_cameras
+from csql_sim.sim.perception.poses import Observation, interpret
+from csql_sim.sim.perception.rgbd import CameraNoise, locate_cubes, observe_rgbd
 from csql_sim.sim.world.config import COLOURS
 from csql_sim.sim.world.markers import erase_markers, marker_texture
 
@@ -16,9 +16,36 @@ NOISE = CameraNoise(depth=0.0015, colour=4.0)
 """The documented sensor noise (``--camera-noise 1.5,4``)."""
 
 
-def _seen(world, noise=NOISE):
-    return interpret(observe_rgbd(world.scene, world.panda, noise=noise, rng=np.random.default_rng(5)),
-                     CAMERA_TOLERANCES)
+def _seen(world, noise=NOISE, fallback=None):
+    return interpret(observe_rgbd(world.scene, world.panda, noise=noise, rng=np.random.default_rng(5),
+                                  fallback=fallback), CAMERA_TOLERANCES)
+
+
+def _wall_in(scene, i, gap=0.03, height=0.14, half=0.003):
+    """Four static walls round cube i, ``gap`` from its faces: above the usual views' line of sight, open on top."""
+    x, y, _ = scene.block_pose(i).position
+    d = 0.02 + gap + half
+    for dx, dy, hx, hy in ((d, 0, half, d + half), (-d, 0, half, d + half), (0, d, d + half, half),
+                           (0, -d, d + half, half)):
+        scene.add_box((hx, hy, height / 2), 0.0, (0.5, 0.5, 0.5, 1.0), (x + dx, y + dy, height / 2))
+
+
+def test_a_cube_hidden_from_the_usual_views_is_read_from_a_further_one():
+    with PhysicalWorld(3, seed=2) as world:
+        world.build(parse_config("A,B,C"))
+        _wall_in(world.scene, 1)
+        assert _seen(world, fallback=()).unseen == (1,)  # the three usual views do not read B
+        rendered = []
+
+        def render(camera):
+            rendered.append(camera)
+            return capture(world.scene, camera, camera.width, camera.height)[:2]
+
+        blocks = locate_cubes(render, perception_cameras(3), 3, 0.04, NOISE, np.random.default_rng(5),
+                              fallback_cameras(3))
+        observation = Observation(blocks, tuple(world.panda.ee_position()), world.panda.finger_width(), 0.04)
+        assert interpret(observation, CAMERA_TOLERANCES).state == parse_config("A,B,C")
+        assert rendered[:3] == list(perception_cameras(3)) and 3 < len(rendered) <= 3 + len(fallback_cameras(3))
 
 
 def test_a_cube_with_its_markers_erased_is_unseen_not_guessed():

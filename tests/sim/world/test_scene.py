@@ -40,3 +40,23 @@ def test_build_rejects_other_block_count():
 def test_bad_perception_mode():
     with pytest.raises(SimError):
         PhysicalWorld(3, perception="sonar")
+
+
+def _moved(world, i, before):
+    return max(abs(a - b) for a, b in zip(world.scene.block_pose(i).position, before, strict=True))
+
+
+def test_sleeping_cubes_still_move_by_force_and_by_contact():
+    physics = dataclasses.replace(DEFAULT_CONFIG.physics, sleep_threshold=1e-3)
+    with PhysicalWorld(3, config=dataclasses.replace(DEFAULT_CONFIG, physics=physics)) as world:
+        world.build(parse_config("A,B,C"))
+        scene = world.scene
+        scene.step(720)  # three seconds at rest: Bullet lets them sleep after two
+        start = [scene.block_pose(i).position for i in range(3)]
+        (ax, ay, az), (_, by, _) = start[0], start[1]
+        for _ in range(20):  # push A towards B along the row
+            scene.apply_force(scene.block_body(0), (0.0, 4.0 if by > ay else -4.0, 0.0), (ax, ay, az))
+            scene.step()
+        scene.step(480)
+        assert _moved(world, 0, start[0]) > 0.03  # the force moved the sleeping cube
+        assert _moved(world, 1, start[1]) > 0.005  # A's contact moved B, asleep until A hit it
