@@ -7,8 +7,9 @@ face's normal and the marker's edge in it give the cube's frame, merged over eve
 the cube in every view (:mod:`.face_reads`). Its most upward axis gives the tilt, a side axis
 the yaw, and each read face pins the centre half a cube behind it. While some cube has no read,
 further views (:func:`~.camera.fallback_cameras`: higher, or from behind the arm) are rendered
-one at a time; a cube with no read in any view is unseen (never guessed from its colour, which
-is cosmetic); so is one read in places too far apart to be one cube.
+one at a time (not for a cube interpretation places in the hand by elimination); a cube with
+no read in any view is unseen (never guessed from its colour, which is cosmetic); so is one
+read in places too far apart to be one cube.
 Optional Gaussian noise on depth (metres, along the optical axis) and colour (8-bit levels)
 stands for a real sensor.
 """
@@ -22,9 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from csql_sim.infra.errors import CsqlError
-from csql_sim.sim.perception.camera import Camera, capture, fallback_cameras, perception_cameras
+from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, Camera, capture, fallback_cameras, perception_cameras
 from csql_sim.sim.perception.face_reads import FaceRead, cube_centre, cube_frame, read_view
-from csql_sim.sim.perception.poses import BlockObs, Observation, wrap_quarter
+from csql_sim.sim.perception.poses import BlockObs, Observation, interpret, wrap_quarter
 from csql_sim.sim.world.robot import Panda
 from csql_sim.sim.world.scene import Scene
 
@@ -96,9 +97,26 @@ def read_faces(render: Render, cameras: tuple[Camera, ...], faces: list[list[Fac
             faces[face.cube].append(face)
 
 
+def estimate_cubes(faces: list[list[FaceRead]], size: float) -> tuple[BlockObs, ...]:
+    """Each cube's estimate from its face reads; one with none, or read in places apart, is unseen."""
+    blocks = []
+    for reads in faces:
+        centres = np.array([f.centre for f in reads]).reshape(-1, 3)
+        apart = len(centres) > 1 and np.ptp(centres, axis=0).max() > 1.5 * size  # one id, two places: no guess
+        if not len(centres) or apart:
+            blocks.append(BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False, reads=len(centres)))
+        else:
+            blocks.append(estimate_cube(reads, size))
+    return tuple(blocks)
+
+
+Explained = Callable[[tuple[BlockObs, ...]], bool]
+"""Whether estimates with unread cubes need no further view (e.g. the one unread cube is in the hand)."""
+
+
 def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: float,
                  noise: CameraNoise = NO_NOISE, rng: np.random.Generator | None = None,
-                 fallback: tuple[Camera, ...] = ()) -> tuple[BlockObs, ...]:
+                 fallback: tuple[Camera, ...] = (), explained: Explained | None = None) -> tuple[BlockObs, ...]:
     """Every cube's estimate from the views' marker reads; a cube no view read (or read apart) is unseen.
 
     Args:
@@ -109,23 +127,18 @@ def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: floa
         noise: sensor noise to add.
         rng: draws the noise (a fixed generator when None).
         fallback: further views, rendered in turn only while some cube has no read.
+        explained: when it holds for the estimates, no further view is rendered though a cube is unread.
     """
     rng = rng if rng is not None else np.random.default_rng(0)
     faces: list[list[FaceRead]] = [[] for _ in range(n)]
     read_faces(render, cameras, faces, size, noise, rng)
+    blocks = estimate_cubes(faces, size)
     for camera in fallback:
-        if all(faces):
+        if all(b.visible for b in blocks) or (explained is not None and explained(blocks)):
             break
         read_faces(render, (camera,), faces, size, noise, rng)
-    blocks = []
-    for i in range(n):
-        centres = np.array([f.centre for f in faces[i]]).reshape(-1, 3)
-        apart = len(centres) > 1 and np.ptp(centres, axis=0).max() > 1.5 * size  # one id, two places: no guess
-        if not len(centres) or apart:
-            blocks.append(BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False, reads=len(centres)))
-        else:
-            blocks.append(estimate_cube(faces[i], size))
-    return tuple(blocks)
+        blocks = estimate_cubes(faces, size)
+    return blocks
 
 
 def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] | None = None,
@@ -146,11 +159,16 @@ def observe_rgbd(scene: Scene, panda: Panda, cameras: tuple[Camera, ...] | None 
     fallback = fallback_cameras(scene.n) if fallback is None else fallback
     size = scene.config.physics.cube_size
 
+    grasp, width = tuple(panda.ee_position()), panda.finger_width()
+
     def render(camera: Camera) -> tuple[np.ndarray, np.ndarray]:
         return capture(scene, camera, camera.width, camera.height)[:2]
 
-    blocks = locate_cubes(render, cameras, scene.n, size, noise, rng, fallback)
-    return Observation(blocks, tuple(panda.ee_position()), panda.finger_width(), size)
+    def explained(blocks: tuple[BlockObs, ...]) -> bool:  # interpretation places every unread cube (in the hand)
+        return not interpret(Observation(blocks, grasp, width, size), CAMERA_TOLERANCES).unseen
+
+    blocks = locate_cubes(render, cameras, scene.n, size, noise, rng, fallback, explained)
+    return Observation(blocks, grasp, width, size)
 
 
-__all__ = ["CameraNoise", "NO_NOISE", "estimate_cube", "locate_cubes", "observe_rgbd"]
+__all__ = ["CameraNoise", "NO_NOISE", "estimate_cube", "estimate_cubes", "locate_cubes", "observe_rgbd"]

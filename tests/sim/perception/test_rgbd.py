@@ -1,5 +1,7 @@
 """Camera perception by markers: the right cube, or an unseen one; never a guess."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -100,3 +102,19 @@ def test_ten_cubes_with_sensor_noise_are_perceived_as_built():
 @pytest.mark.parametrize("seed", range(1, 9))
 def test_seeded_ten_cube_scenes_with_sensor_noise_are_perceived_as_built(seed):
     _ten(seed)
+
+
+def test_further_views_are_rendered_only_while_a_cube_is_unread_and_unexplained():
+    small = tuple(dataclasses.replace(c, width=64, height=48) for c in perception_cameras(3) + fallback_cameras(3))
+    usual, further = small[:3], small[3:]
+    rendered = []
+
+    def blank(camera):  # a view with no marker in it: nothing is read
+        rendered.append(camera)
+        return np.zeros((camera.height, camera.width, 3), np.uint8), np.ones((camera.height, camera.width))
+
+    blocks = locate_cubes(blank, usual, 3, 0.04, fallback=further)
+    assert rendered == list(small) and not any(b.visible for b in blocks)  # every view, and still no guess
+    rendered.clear()
+    locate_cubes(blank, usual, 3, 0.04, fallback=further, explained=lambda blocks: True)
+    assert rendered == list(usual)  # nothing left to explain: no further view
