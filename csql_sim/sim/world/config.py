@@ -154,7 +154,12 @@ RING_PHYSICS = PhysicsConfig(table_half_extents=(0.62, 0.62, 0.02), table_centre
                              solver_iterations=200, sleep_threshold=1e-3)
 """The physics of 11..30 cubes: a square table about the arm's base, its edge 0.12 m beyond the
 ring, and 200 solver iterations: at 50 a tower of eleven swayed by itself until it fell, at
-100 one of fourteen; at 200 towers of fifteen to seventeen stand (eighteen sway)."""
+100 one of fourteen; at 200 towers of fifteen to seventeen stand (eighteen sway).
+
+Resting cubes may sleep (Bullet's own deactivation): at 200 iterations thirty cubes awake cost
+about 8 ms a step, a tower of thirteen alone 2.5 ms, everything asleep 0.1 ms. Resting towers
+move by less than 1e-5 (squared m/s and rad/s); the threshold, 1e-3, is far above that and far
+below a cube that tips or slides. The hand, a moving cube, a force or a teleport wakes a cube."""
 
 RING_CONFIG = SimConfig(physics=RING_PHYSICS, layout=RING_LAYOUT,
                         control=ControlConfig(ik_model=True, move_steps=700, descend_steps=300, place_pause=0.012,
