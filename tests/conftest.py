@@ -1,8 +1,22 @@
+import os
 import signal
 
 import pytest
 
 from csql_sim.core.state.notation import parse_config
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto`` (pyproject.toml's addopts): one worker per core this process may run on.
+
+    pytest-xdist would count the machine's physical cores, which a container or a CPU
+    affinity mask may not grant; ``PYTEST_XDIST_AUTO_NUM_WORKERS`` still decides where set.
+    """
+    if os.environ.get("PYTEST_XDIST_AUTO_NUM_WORKERS"):
+        return None
+    usable = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else range(os.cpu_count() or 1)
+    return max(1, len(usable))
 
 
 @pytest.fixture

@@ -56,6 +56,8 @@ from csql_sim.infra.files import MAX_YAML_DEPTH, InputFileError, load_yaml, read
 FORMAT = formats.RULE_BASE
 VERSION = 2
 MAX_FILE_BYTES = 16 * 1024 * 1024
+_DUMPER = getattr(yaml, "CSafeDumper", yaml.SafeDumper)
+"""libyaml's emitter where PyYAML has it (about four times faster, the same text as the pure-Python one)."""
 """Largest rule file read (an n=4 base is about 4.5 MB)."""
 Q_FIELDS = ("strength", "q", "age", "error")
 
@@ -96,7 +98,7 @@ def dumps(rulebase: RuleBase) -> str:
         "count": len(rows),
         "classifiers": rows,
     }
-    return yaml.safe_dump(doc, sort_keys=False, default_flow_style=None, width=200)
+    return yaml.dump(doc, Dumper=_DUMPER, sort_keys=False, default_flow_style=None, width=200)
 
 
 def load_file(path: str | os.PathLike, blocks: int | None = None, progress: bool = False) -> RuleBase:

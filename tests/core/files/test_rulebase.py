@@ -194,3 +194,20 @@ def test_save_names_its_arguments(tmp_path):
     assert load(save(path=tmp_path / "k.yaml", rulebase=rb)).blocks == 3
     with pytest.raises(TypeError, match="swapped"):
         save(rb, tmp_path / "x.yaml")
+
+
+def test_the_yaml_text_is_the_same_with_or_without_libyaml(monkeypatch):
+    """dumps uses libyaml's emitter where PyYAML has it: the text must be the pure-Python emitter's."""
+    from importlib.resources import files
+
+    import yaml
+
+    from csql_sim.core.files import rulebase_yaml
+
+    sample = _sample()
+    sample.meta.update(note="é 'quoted' \"double\" # not a comment", nested={"a": [1, 2.5, None, True]})
+    shipped = load(files("csql_sim.assets") / "rules" / "blocks3.yaml")
+    fast = [rulebase_yaml.dumps(rb) for rb in (sample, shipped)]
+    monkeypatch.setattr(rulebase_yaml, "_DUMPER", yaml.SafeDumper)
+    assert [rulebase_yaml.dumps(rb) for rb in (sample, shipped)] == fast
+    assert loads(fast[0]).meta == sample.meta and len(loads(fast[1]).classifiers) == len(shipped.classifiers)
