@@ -38,6 +38,7 @@ from csql_sim.infra.assets import builtin_rules_path
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.control.executor import Episode, run_physical_episode
 from csql_sim.sim.control.physical import PhysicalWorld
+from csql_sim.sim.perception.rgbd import NO_NOISE, CameraNoise
 from csql_sim.sim.world.arm_state import world_model_for
 from csql_sim.sim.world.config import MAX_TOWER_HEIGHT, RING_CONFIG
 
@@ -81,7 +82,7 @@ def run_sizes(args: argparse.Namespace) -> list[Row]:
             for k, (start, goal) in enumerate(tasks):
                 t, c = time.perf_counter(), time.process_time()
                 result = run_physical_episode(start, goal, policy_of(planner, n), seed=args.seed + k,
-                                              perception=args.perception)
+                                              perception=args.perception, camera_noise=args.noise)
                 row.tasks += 1
                 row.reached += result.success
                 row.actions += result.length
@@ -90,7 +91,9 @@ def run_sizes(args: argparse.Namespace) -> list[Row]:
                 row.wall += time.perf_counter() - t
                 row.cpu += time.process_time() - c
                 print(f"n={n} {planner} task {k + 1}: {'reached' if result.success else result.reason} in "
-                      f"{result.length} actions, {time.perf_counter() - t:.0f} s", file=sys.stderr, flush=True)
+                      f"{result.length} actions (optimal {result.optimal_length}), sim "
+                      f"{sum(s.sim_seconds for s in result.steps):.1f} s, wall {time.perf_counter() - t:.1f} s, "
+                      f"CPU {time.process_time() - c:.1f} s", file=sys.stderr, flush=True)
             rows.append(row)
     return rows
 
@@ -135,6 +138,8 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
     p.add_argument("--max-height", type=int, default=MAX_TOWER_HEIGHT, help="towers at most this high")
     p.add_argument("--planners", default="gn1,rules", help="gn1 and/or rules (the shipped lifted rules)")
     p.add_argument("--perception", choices=("pose", "camera"), default="pose", help="default pose")
+    p.add_argument("--camera-noise", default="0,0", metavar="MM,LEVELS",
+                   help="camera sensor noise: depth mm, colour levels (default 0,0: none, the tool's default)")
     p.add_argument("--seed", type=int, default=0, help="the tasks' generator and the episodes' seeds (default 0)")
     p.add_argument("--towers", help="instead: build and take apart towers of these heights (e.g. 13,14,15)")
     p.add_argument("--json", help="also write the figures here")
@@ -143,8 +148,12 @@ def parse_args(argv: list[str] | None) -> argparse.Namespace:
         args.sizes = [int(x) for x in args.sizes.split(",")]
         args.planners = [x.strip() for x in args.planners.split(",")]
         args.towers = [int(x) for x in args.towers.split(",")] if args.towers else None
+        depth, colour = (float(x) for x in args.camera_noise.split(","))
+        args.noise = CameraNoise(depth / 1000.0, colour)
     except ValueError as exc:
         p.error(str(exc))
+    if args.noise != NO_NOISE and args.perception != "camera":
+        p.error("--camera-noise needs --perception camera")
     if any(x not in PLANNERS for x in args.planners) or args.count < 1 or any(not 2 <= n <= 30 for n in args.sizes):
         p.error(f"planners among {', '.join(PLANNERS)}, count >= 1, sizes 2..30")
     return args
@@ -162,14 +171,14 @@ def main(argv: list[str] | None = None) -> int:
         else:
             rows = run_sizes(args)
             print(f"{t0}: tall-towers tasks, towers at most {args.max_height} high, seed {args.seed}, "
-                  f"{args.count} per size, {args.perception} perception")
+                  f"{args.count} per size, {args.perception} perception, camera noise {args.camera_noise} (mm, levels)")
             print("| n | planner | reached | actions (optimal) | sim s / action | wall s / action | CPU s / action |")
             print("|---|---|---|---|---|---|---|")
             for row in rows:
                 print(row.line())
             for line in ratio_lines(rows):
                 print(line)
-            doc = {"date": t0, "args": {k: v for k, v in vars(args).items() if k != "json"},
+            doc = {"date": t0, "args": {k: v for k, v in vars(args).items() if k not in ("json", "noise")},
                    "rows": [vars(r) for r in rows]}
     except CsqlError as exc:
         print(f"arm_thirty: {exc}", file=sys.stderr)

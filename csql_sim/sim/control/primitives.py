@@ -108,7 +108,7 @@ def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generato
     spots = [(x, y) for x, y in putdown_spots(scene.config)
              if all(math.hypot(x - p[0], y - p[1]) >= lay.free_clearance for p in others)]
     if lay.shun_housing:
-        spots = [s for s in spots if housing_clear(others, obs.size, *s)] or spots
+        spots = shun_housing(spots, others, obs.size)
     if not spots:
         return None
     if lay.near_putdown:
@@ -132,6 +132,8 @@ class HousingZone:
 
 
 HOUSING = HousingZone()
+ANY_HEIGHT = HousingZone(height=-1.0)
+"""The housing's zone for a cube of any height (one that a tower may grow on)."""
 
 
 def housing_clear(others: list[tuple[float, float, float]], size: float, x: float, y: float,
@@ -146,6 +148,20 @@ def housing_clear(others: list[tuple[float, float, float]], size: float, x: floa
                 and p[2] + size / 2 > zone.height:
             return False
     return True
+
+
+def shun_housing(spots: list[tuple[float, float]], others: list[tuple[float, float, float]], size: float
+                 ) -> list[tuple[float, float]]:
+    """The putdown spots to draw from, best first available: a cube put on any of them is never in a housing's way.
+
+    Best, the spots **apart**: no cube (of any height: a tower may grow) in the housing's way
+    at the spot, and the spot in no other cube's housing way (a tower grown there would
+    stand beside the hand going down to that cube); else the spots where no tall tower is in
+    the housing's way now (:func:`housing_clear`); else all of them.
+    """
+    apart = [s for s in spots if housing_clear(others, size, *s, zone=ANY_HEIGHT)
+             and all(housing_clear([(*s, 1.0)], size, p[0], p[1]) for p in others)]
+    return apart or [s for s in spots if housing_clear(others, size, *s)] or spots
 
 
 @dataclass(frozen=True)

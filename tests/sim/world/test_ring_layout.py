@@ -7,7 +7,7 @@ import numpy as np
 
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state import default_names
-from csql_sim.sim.control.primitives import OFFSETS, housing_clear
+from csql_sim.sim.control.primitives import OFFSETS, housing_clear, shun_housing
 from csql_sim.sim.world.config import MAX_ARM_BLOCKS, MAX_TOWER_HEIGHT, RING_CONFIG, WIDE_CONFIG, config_for
 from csql_sim.sim.world.layout import arc_place, putdown_spots, start_layout
 from csql_sim.sim.world.robot import EE_LINK, KINEMATIC_BODY, LOWER, UPPER, Panda
@@ -60,3 +60,18 @@ def test_putdowns_shun_places_where_a_tall_neighbour_stands_in_the_housings_way(
     assert not housing_clear(tall, SIZE, x0, y0)  # its clockwise neighbour: the housing passes over place 11
     assert housing_clear(tall, SIZE, x2, y2)  # its anticlockwise neighbour: the housing is on the other side
     assert housing_clear(tall[:4], SIZE, x0, y0)  # a tower of four is below the housing
+
+
+def test_putdowns_keep_apart_from_any_tower_that_may_grow_in_either_housings_way():
+    spots = putdown_spots(RING_CONFIG)
+    (x1, y1) = spots[11]
+    short = [(x1, y1, SIZE / 2)]  # one cube on place 11: a tower may grow there
+    kept = shun_housing(spots, short, SIZE)
+    assert spots[10] not in kept  # going down at place 10, the housing would pass a grown tower on 11
+    assert spots[12] not in kept  # a tower grown on 12 would stand beside the hand going down to 11
+    assert spots[9] in kept and spots[13] in kept and len(kept) == len(spots) - 2
+    crowded = [(x, y, SIZE / 2) for x, y in spots[::2]]  # every other place taken: none apart
+    assert shun_housing(spots[1::2], crowded, SIZE) == spots[1::2]  # a cube of one is in no housing's way
+    tall = [(*spots[k], SIZE / 2 + h * SIZE) for k in range(0, 30, 2) for h in range(6)]  # towers of six
+    fallback = shun_housing(spots[1::2], tall, SIZE)
+    assert fallback == [s for s in spots[1::2] if housing_clear(tall, SIZE, *s)] and 0 < len(fallback) < 15
