@@ -189,9 +189,9 @@ def render_problem(args: argparse.Namespace) -> int:
     warn_workers(args)
     planner = None if args.rules is not None else args.planner
     if args.rules is None and planner is None:
-        from csql_sim.core.files.pddl_import import read_problem
+        from csql_sim.core.files.pddl_import import MAX_PLANNED_BLOCKS, read_problem
 
-        planner = "bfs" if read_problem(args.problem).n <= MAX_BLOCKS else "gn1"
+        planner = "bfs" if read_problem(args.problem, max_blocks=MAX_PLANNED_BLOCKS).n <= MAX_BLOCKS else "gn1"
     result = execute_problem(args.problem, rules=args.rules, planner=planner, seed=args.seed,
                              perception=args.perception, perturb=args.perturb, video=args.out,
                              progress=show_progress(args), video_options=video_options(args))
