@@ -15,7 +15,6 @@ from typing import TYPE_CHECKING
 from csql_sim.api.planning import PlanSource, Source, is_text, plan_lines, read_blocks
 from csql_sim.api.planning import plan as plan_problem
 from csql_sim.api.results import Execution, LiftedRules
-from csql_sim.core.state.state import MAX_LETTERS
 from csql_sim.infra.errors import CsqlError
 
 if TYPE_CHECKING:
@@ -61,8 +60,10 @@ def execute(problem: Source, plan: PlanSource | None = None, domain: Source | No
         (True, 4, 'amber pearl')
     """
     from csql_sim.jobs.execute import execute_blocks, execute_problem
+    from csql_sim.sim.world import check_arm_blocks
 
-    blocks = read_blocks(problem, domain, max_blocks=MAX_LETTERS)
+    blocks = read_blocks(problem, domain)
+    check_arm_blocks(blocks.n)  # 2..30 cubes, before any planning
     if plan is None and rules is None and planner is None:
         plan = plan_problem(problem, domain)
         if not plan.solved:

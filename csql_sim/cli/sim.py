@@ -189,9 +189,9 @@ def render_problem(args: argparse.Namespace) -> int:
     warn_workers(args)
     planner = None if args.rules is not None else args.planner
     if args.rules is None and planner is None:
-        from csql_sim.core.files.pddl_import import read_problem
+        from csql_sim.core.files.pddl_import import MAX_PLANNED_BLOCKS, read_problem
 
-        planner = "bfs" if read_problem(args.problem).n <= MAX_BLOCKS else "gn1"
+        planner = "bfs" if read_problem(args.problem, max_blocks=MAX_PLANNED_BLOCKS).n <= MAX_BLOCKS else "gn1"
     result = execute_problem(args.problem, rules=args.rules, planner=planner, seed=args.seed,
                              perception=args.perception, perturb=args.perturb, video=args.out,
                              progress=show_progress(args), video_options=video_options(args))
@@ -296,21 +296,18 @@ def _evaluate_problems(args: argparse.Namespace) -> int:
 
     if args.problems is None:
         raise CsqlError("--plans and --domain go with --problems DIR")
-    if args.planner in NAMED_POLICIES:
-        raise CsqlError(f"--planner {args.planner} plans pairs; with --problems give --plans DIR, --rules FILE "
-                        "or nothing (BFS)")
     if args.plot is not None:
         raise CsqlError("--plot draws pairs; it does not apply to --problems")
     if args.plans is not None and args.planner is not None:
         raise CsqlError(f"--plans DIR runs the plans it holds; --planner {args.planner} does not apply")
+    planner = None  # a plan folder or a rule base, else a named baseline (gn1, gn2) or BFS
     if args.plans is None:
-        _named_planner(args)  # --planner rules needs --rules, --planner bfs reads none
-    runs = evaluate_problems(args.problems, plans=args.plans, rules=args.rules,
-                             planner="bfs" if args.plans is None and args.rules is None else None,
+        planner = _named_planner(args) or (None if args.rules else "bfs")  # --planner rules needs --rules
+    runs = evaluate_problems(args.problems, plans=args.plans, rules=args.rules, planner=planner,
                              domain=args.domain, seed=args.seed, perception=args.perception, perturb=args.perturb,
                              progress=show_progress(args))
-    params = {"problems": args.problems, "plans": args.plans, "rules": args.rules, "domain": args.domain,
-              "seed": args.seed, "perception": args.perception, "perturb": args.perturb}
+    params = {"problems": args.problems, "plans": args.plans, "rules": args.rules, "planner": planner,
+              "domain": args.domain, "seed": args.seed, "perception": args.perception, "perturb": args.perturb}
     emit(args, problems_report(runs, params), problems_lines(runs))
     rate = sum(r.reached for r in runs) / len(runs)
     return 0 if rate >= (args.min_success if args.min_success is not None else 1.0) else 1
@@ -377,7 +374,8 @@ def _register_evaluate(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--plot", metavar="FILE.png", type=path_arg,
                    help="draw outcomes, plan lengths and perturbations to a PNG")
     p.add_argument("--problems", type=path_arg, metavar="DIR",
-                   help="run every PDDL problem of DIR instead of pairs (with --plans DIR, --rules or BFS)")
+                   help="run every PDDL problem of DIR instead of pairs (with --plans DIR, --rules, "
+                        "--planner gn1|gn2 or BFS)")
     p.add_argument("--plans", type=path_arg, metavar="DIR",
                    help="with --problems: the plan files (<problem>.plan, .soln or .pddl.soln)")
     p.add_argument("--domain", type=path_arg, help="with --problems: their PDDL domain file (optional)")

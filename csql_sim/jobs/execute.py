@@ -36,11 +36,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from csql_sim.core.files.ipc_plan import PlanError, PlanStep, check_plan, parse_plan, read_plan
-from csql_sim.core.files.pddl_import import BlocksProblem, parse_problem_text, read_problem
-from csql_sim.core.model.goal_spec import GoalSpec, atom_text, state_atoms
+from csql_sim.core.files.pddl_import import MAX_PLANNED_BLOCKS, BlocksProblem, parse_problem_text, read_problem
+from csql_sim.core.model.goal_spec import Atom, GoalSpec, atom_text, state_atoms
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.state.state import default_names
-from csql_sim.core.state.world import MAX_BLOCKS, Action, State
+from csql_sim.core.state.world import MAX_BLOCKS, TABLE, Action, State
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
@@ -147,7 +147,7 @@ def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None
         CsqlError: one line for bad input (an unrepresentable problem, a step that is not
             applicable, with its line number), always before any physics runs.
     """
-    bp = read_problem(problem, domain)
+    bp = read_problem(problem, domain, max_blocks=MAX_PLANNED_BLOCKS)  # past 30 the arm's own refusal says why
     files = {"problem": _file(problem), "domain": _file(domain)}
     return execute_blocks(bp, plan=plan, rules=rules, planner=planner, seed=seed, perception=perception,
                           perturb=perturb, video=video, progress=progress, files=files, video_options=video_options)
@@ -182,7 +182,18 @@ def task_problem(start: str | State, goal: str | State | Sequence[str]) -> Block
     init = " ".join([atom_text(a) for a in sorted(state_atoms(first))] + clear)
     text = (f"(define (problem task) (:domain blocks) (:objects {' '.join(names)}) (:init {init}) "
             f"(:goal (and {' '.join(goal)})))")
-    return parse_problem_text(text, source="goal")
+    parsed = parse_problem_text(text, source="goal", max_blocks=MAX_PLANNED_BLOCKS)
+    if parsed.objects == names:
+        return parsed
+    # past Z the problem's name order (a, aa, ab, b, ...) is not the cubes' (a .. z, aa, ...): the goal in cube order
+    cube = [names.index(name) for name in parsed.objects]
+
+    def back(atom: Atom) -> Atom:
+        return atom[0], tuple(i if i == TABLE else cube[i] for i in atom[1])
+
+    spec = GoalSpec(first.n, frozenset(map(back, parsed.goal.positive)), frozenset(map(back, parsed.goal.negative)),
+                    names=names)
+    return BlocksProblem(parsed.name, names, first, spec, parsed.style)
 
 
 def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str | os.PathLike | None = None,

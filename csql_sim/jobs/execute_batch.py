@@ -3,7 +3,7 @@
 Every problem file in a folder (``*.pddl`` that defines a problem, not a domain) is run
 with :func:`~csql_sim.jobs.execute.execute_problem`: with its plan file from a plans
 folder (``<stem>.plan``, ``<stem>.soln`` or ``<stem>.pddl.soln``, as Fast Downward and
-pyperplan name them), or with a rule base or the BFS planner. A problem whose plan is
+pyperplan name them), or with a rule base, a named planner (GN1, GN2) or BFS. A problem whose plan is
 refused (a step that is not applicable, an unrepresentable problem) is a failed row with
 the refusal as its reason, so one bad plan does not hide the others' results; so is a
 ``*.pddl`` that cannot be read (a folder, a pipe, a device, a dangling link, a file too
@@ -92,9 +92,9 @@ def evaluate_problems(folder: str | os.PathLike, plans: str | os.PathLike | None
                       rules: str | os.PathLike | None = None, planner: str | None = None,
                       domain: str | os.PathLike | None = None, seed: int = 0, perception: str = "pose",
                       perturb: bool = False, progress: bool = False) -> list[ProblemRun]:
-    """Run every problem of ``folder`` on the arm (its plan, a rule base's or BFS's), in name order."""
+    """Run every problem of ``folder`` on the arm (its plan, a rule base's, GN1's, GN2's or BFS's), in name order."""
     if (plans is None) == (rules is None and planner is None):
-        raise CsqlError("--problems needs exactly one of --plans DIR, --rules FILE or --planner bfs")
+        raise CsqlError("--problems needs exactly one of --plans DIR, --rules FILE or --planner (bfs, gn1, gn2)")
     files = problem_files(folder)
     if plans is not None:  # every plan found before any physics (an unreadable problem needs none)
         chosen = {p: plan_file(p, plans) for p, unreadable in files if unreadable is None}

@@ -155,3 +155,18 @@ def test_execute_runs_the_builtin_plan_on_the_arm_and_judges_from_perception():
     plan = csql_sim.plan(PROBLEM)
     assert run.actions == plan.length
     assert run.final == "Amber jade coral pearl"  # the goal tower, bottom up, in the file's names
+
+
+def _ring(n: int) -> str:
+    cubes = " ".join(f"c{i}" for i in range(n))
+    init = " ".join(f"(ontable c{i}) (clear c{i})" for i in range(n))
+    return f"(define (problem ring{n}) (:domain blocks) (:objects {cubes}) (:init (handempty) {init}) " \
+           f"(:goal (and (on c{n - 1} c{n - 2}))))"
+
+
+def test_execute_takes_thirty_cubes_and_refuses_31_before_planning():
+    """Past 26 objects the problem was refused (read as letters A-Z) although the arm takes 30 cubes."""
+    run = csql_sim.execute(_ring(30))
+    assert run.reached and run.actions == 2 and "c28 c29" in run.final  # in the problem's names, as perceived
+    with pytest.raises(CsqlError, match="at most 30 cubes"):
+        csql_sim.execute(_ring(31))

@@ -1,6 +1,7 @@
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -110,4 +111,67 @@ def test_eight_cubes_on_the_arm_through_the_environment():
             break
     assert term and not trunc and reward == 1.0 and info["state"] == parse_config("HGFEDCBA")  # as perceived
     assert env.render().shape == (48, 64, 3)
+    env.close()
+
+
+# ------------------------------------------------------------------ past ten cubes: the ring (issue 54)
+LIFTED = Path(__file__).resolve().parents[2] / "assets" / "rules" / "lifted.json"
+RING_TASK = ("A,B,C,D,E,F,G,H,I,J,LK", "A,B,C,D,E,F,G,H,I,J,KL")  # twelve cubes: K on L becomes L on K
+
+
+def _plan_file_actions(tmp_path):
+    from csql_sim.core.files.ipc_plan import plan_index, read_plan
+    from csql_sim.core.state.state import default_names
+
+    plan = tmp_path / "ring.plan"
+    plan.write_text("(unstack k l)\n(put-down k)\n(pick-up l)\n(stack l k)\n; cost = 4 (unit cost)\n")
+    actions = iter([a for step in read_plan(plan, plan_index(default_names(12)), 12) for a in step.actions])
+    return lambda state, goal: next(actions)
+
+
+@pytest.mark.parametrize("agent", ["gn1", "lifted rules", "plan file"])
+def test_twelve_cubes_on_the_arm_through_gymnasium_make(tmp_path, agent):
+    import gymnasium
+
+    import csql_sim.envs
+    from csql_sim.core.policies.gn1 import Gn1Policy
+    from csql_sim.core.policies.loader import load_policy
+    from csql_sim.core.state.notation import parse_config
+    from csql_sim.core.state.relational_message import format_large_message
+    from csql_sim.core.state.world import action_index
+    from csql_sim.envs.registration import PANDA_BLOCKS_ID
+
+    gymnasium.register_envs(csql_sim.envs)
+    act = {"gn1": lambda: Gn1Policy().act, "lifted rules": lambda: load_policy(LIFTED, 12).act,
+           "plan file": lambda: _plan_file_actions(tmp_path)}[agent]()
+    env = gymnasium.make(PANDA_BLOCKS_ID, blocks=12, perception="pose")
+    obs, info = env.reset(seed=1, options={"start": RING_TASK[0], "goal": RING_TASK[1]})
+    assert env.unwrapped.physical.scene.n == 12 and obs == format_large_message(info["state"], info["goal"])
+    for _ in range(8):
+        obs, reward, term, trunc, info = env.step(action_index(act(info["state"], info["goal"]), 12))
+        assert obs == format_large_message(info["state"], info["goal"])  # the perceived state's message
+        if term or trunc:
+            break
+    assert term and not trunc and reward == 1.0 and env.unwrapped.steps == 4
+    assert info["state"] == parse_config(RING_TASK[1])  # as perceived
+    env.close()
+
+
+def test_twenty_eight_cubes_through_the_numeric_observation():
+    from csql_sim.core.policies.gn1 import Gn1Policy
+    from csql_sim.core.state.notation import parse_config
+    from csql_sim.core.state.state import default_names
+    from csql_sim.core.state.world import action_index
+    from csql_sim.envs.numeric import state_of_code
+
+    names = default_names(28)
+    start, goal = ", ".join(names[:26]) + ", AA AB", ", ".join(names[:26]) + ", AB AA"
+    env = PhysicalBlocksEnv(28, perception="pose", observation="numeric")
+    obs, info = env.reset(seed=2, options={"start": start, "goal": goal})
+    policy, term, trunc = Gn1Policy(), False, False
+    for _ in range(6):
+        obs, reward, term, trunc, info = env.step(action_index(policy.act(info["state"], info["goal"]), 28))
+        if term or trunc:
+            break
+    assert term and not trunc and reward == 1.0 and state_of_code(obs["on"]) == parse_config(goal, 28)
     env.close()

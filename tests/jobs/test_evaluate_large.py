@@ -146,3 +146,15 @@ def test_a_lifted_rule_file_is_read_once_and_shipped_to_the_workers(tmp_path, mo
     assert reads == [(rules, 8)] and isinstance(pickle.loads(pickle.dumps(data)).policy(), Gn1Policy)
     report = evaluate(n=7, pairs=1, rules=str(rules), workers=1, progress=False, seed=1)
     assert report.success_rate == 1.0 and report.config["rules"]["sha256"]
+
+
+@pytest.mark.parametrize("source", [["--planner", "gn1"], ["--rules", "builtin"]])
+def test_cli_evaluate_of_eleven_cubes_with_gn1_and_the_lifted_rules(tmp_path, source):
+    """Past ten cubes (the ring): a pair drawn by counting reaches its goal (success is perceived), optimally."""
+    out = tmp_path / "e.json"
+    assert main(["evaluate", "--blocks", "11", "--pairs", "1", *source, "--seed", "6", "--workers", "1",
+                 "--quiet", "--json", str(out)]) == 0
+    run, = json.loads(out.read_text())["runs"]
+    (start, goal), = sample_pairs(11, 1, np.random.default_rng(6))
+    assert run["start"] == start.notation() and run["goal"] == goal.notation() and run["success"]
+    assert run["reason"] == "" and run["length"] == run["optimal_length"] == optimal_length(start, goal) >= 17

@@ -252,3 +252,66 @@ def test_past_six_blocks_a_ground_rule_file_is_refused_before_physics(monkeypatc
     rules = Path(__file__).resolve().parents[2] / "assets" / "rules" / "blocks3.yaml"
     with pytest.raises(CsqlError, match="is for 3 blocks, not 8"):
         execute_task("A,B,C,D,E,F,G,H", ["(on a b)"], rules=rules)
+
+
+# ------------------------------------------------------------------ past ten cubes: the ring (issue 54)
+LARGE = DATA.parent / "large"
+TWELVE, TWELVE_PLAN = LARGE / "blocks12-names.pddl", LARGE / "blocks12-names.plan"
+LIFTED = Path(__file__).resolve().parents[2] / "assets" / "rules" / "lifted.json"
+TWELVE_NAMES = {"amber_1", "b2", "b10", "ivory", "jade", "onyx", "pearl", "ruby", "slate", "topaz", "x-ray", "zircon"}
+
+
+def test_a_plan_file_takes_twelve_named_cubes_to_a_partial_goal_and_films_it(tmp_path):
+    import imageio.v2 as imageio
+
+    from csql_sim.core.files.pddl_import import read_problem
+
+    problem = read_problem(TWELVE, DATA / "domain.pddl")
+    assert problem.n == 12 and problem.goal.partial and not problem.goal.satisfied(problem.start)
+    out, report = tmp_path / "run.mp4", tmp_path / "run.json"
+    assert cli(["execute", "--problem", str(TWELVE), "--domain", str(DATA / "domain.pddl"), "--plan", str(TWELVE_PLAN),
+                "--out", str(out), "--json", str(report), "--renderer", "flat", "--width", "96", "--height", "72",
+                "--fps", "6", "--speed", "8", "--workers", "1", "--quiet"]) == 0
+    doc, sidecar = json.loads(report.read_text()), json.loads((tmp_path / "run.mp4.json").read_text())
+    assert doc["reached"] and doc["blocks"] == 12 and doc["goal"]["partial"] is True
+    assert problem.goal.satisfied(parse_config(doc["final"]))  # the perceived final state
+    plan_lines = [line for line in TWELVE_PLAN.read_text().splitlines() if line and not line.startswith(";")]
+    assert [s["action"] for s in doc["steps"]] == plan_lines and {s["status"] for s in doc["steps"]} == {"ok"}
+    assert sidecar["parameters"]["objects"] == problem.mapping and set(sidecar["video"]["legend"]) == TWELVE_NAMES
+    assert sidecar["video"]["success"] and imageio.get_reader(out).count_frames() == sidecar["video"]["frames"] > 10
+
+
+@pytest.mark.parametrize("source", [{"rules": LIFTED}, {"planner": "gn1"}])
+def test_lifted_rules_and_gn1_take_twelve_named_cubes_to_the_partial_goal(source):
+    from csql_sim.core.files.pddl_import import read_problem
+
+    problem = read_problem(TWELVE)
+    result = execute_problem(TWELVE, **source)
+    assert result.reached, result.explain()
+    assert problem.goal.satisfied(parse_config(result.final)) and 6 <= len(result.steps) <= 8
+    assert all(set(s.text.strip("()").split()[1:]) <= TWELVE_NAMES for s in result.steps)  # the problem's names
+
+
+def _thirty_problem(n: int) -> str:
+    cubes = " ".join(f"c{i}" for i in range(n))
+    init = " ".join(f"(ontable c{i}) (clear c{i})" for i in range(n))
+    return f"(define (problem ring{n}) (:domain blocks) (:objects {cubes}) (:init (handempty) {init}) " \
+           f"(:goal (and (on c1 c0) (on c{n - 1} c{n - 2}))))"
+
+
+@pytest.mark.parametrize("source", [{"plan": ["pickup(AD)", "stack(AD,AC)", "(pick-up c1)", "(stack c1 c0)"]},
+                                    {"planner": "gn1"}])
+def test_thirty_cubes_named_past_z_are_read_planned_and_reported_and_31_refused(tmp_path, capsys, source):
+    """Problems were read up to 26 objects only, and actions past Z (``pickup(AD)``) were no actions."""
+    path = tmp_path / "ring30.pddl"
+    path.write_text(_thirty_problem(30))
+    result = execute_problem(path, **source)
+    assert result.reached, result.explain()
+    final = parse_config(result.final, 30)
+    assert final.support[29] == 28 and final.support[1] == 0  # (on c29 c28) (on c1 c0), as perceived
+    if "planner" in source:  # the planner's steps, written in the problem's names
+        assert {"(pick-up c29)", "(stack c29 c28)"} <= {s.text for s in result.steps}
+    (tmp_path / "ring31.pddl").write_text(_thirty_problem(31))
+    assert cli(["execute", "--problem", str(tmp_path / "ring31.pddl"), "--planner", "gn1", "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "at most 30 cubes" in err

@@ -4,7 +4,10 @@ import json
 import shutil
 from pathlib import Path
 
+import pytest
+
 from csql_sim.cli import main
+from csql_sim.core.files.pddl_import import name_key
 
 PROBLEMS = Path(__file__).resolve().parents[1] / "data" / "problems"
 
@@ -44,3 +47,24 @@ def test_a_missing_plan_or_an_empty_folder_is_refused_before_any_episode(tmp_pat
     assert err.count("\n") == 1 and "no plan for blocks3-01.pddl" in err
     assert main(["evaluate", "--problems", str(tmp_path), "--quiet"]) == 2
     assert "holds no PDDL problem" in capsys.readouterr().err
+
+
+LARGE = PROBLEMS.parent / "large"
+
+
+@pytest.mark.parametrize("source", [["--plans", "plans"], ["--planner", "gn1"], ["--rules", "builtin"]])
+def test_twelve_named_cubes_reach_their_partial_goal_with_a_plan_gn1_or_the_lifted_rules(tmp_path, capsys, source):
+    """Past ten cubes; ``--planner gn1`` with ``--problems`` was refused (issue 54)."""
+    for folder in ("probs", "plans"):
+        (tmp_path / folder).mkdir()
+    shutil.copy(LARGE / "blocks12-names.pddl", tmp_path / "probs")
+    shutil.copy(LARGE / "blocks12-names.plan", tmp_path / "plans")
+    source = [str(tmp_path / a) if a == "plans" else a for a in source]
+    assert main(["evaluate", "--problems", str(tmp_path / "probs"), *source, "--json", "--quiet"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    (run,) = report["runs"]
+    assert report["reached"] == 1 and run["reached"] and run["reason"] == "" and 6 <= run["actions"] <= 8
+    assert run["plan"] == ("blocks12-names.plan" if "--plans" in source else None)
+    assert list(run["legend"]) == sorted(run["legend"], key=name_key) and "x-ray" in run["legend"]
+    planner = {"--planner": "gn1", "--plans": None, "--rules": None}[source[0]]
+    assert report["provenance"]["parameters"]["planner"] == planner

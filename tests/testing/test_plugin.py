@@ -4,10 +4,13 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 # pytester's in-process runs drop the modules a run imported; numpy's C extension cannot be
 # loaded twice in one process, so the simulator is imported here, once, before any run.
 import csql_sim.jobs.execute  # noqa: F401
 import csql_sim.sim.control.executor  # noqa: F401
+from csql_sim.testing.plugin import assert_reached
 
 pytest_plugins = ["pytester"]
 
@@ -88,3 +91,43 @@ def test_the_plugin_is_installed_as_a_pytest11_entry_point():
 
     ours = [ep for ep in entry_points(group="pytest11") if ep.value == "csql_sim.testing.plugin"]
     assert len(ours) == 1
+
+
+# ------------------------------------------------------------------ past ten cubes: the ring (issue 54)
+LARGE = PROBLEMS.parent / "large"
+LIFTED = Path(__file__).resolve().parents[2] / "assets" / "rules" / "lifted.json"
+TWELVE = "A,B,C,D,E,F,G,H,I,J,LK"  # K on L
+
+
+def test_the_arm_runs_a_plan_file_of_twelve_named_cubes_to_its_partial_goal(arm):
+    from csql_sim.core.files.pddl_import import read_problem
+    from csql_sim.core.state.notation import parse_config
+
+    result = arm.execute_problem(LARGE / "blocks12-names.pddl", LARGE / "blocks12-names.plan")
+    assert_reached(result)
+    problem = read_problem(LARGE / "blocks12-names.pddl")
+    assert problem.goal.partial and problem.goal.satisfied(parse_config(result.final))
+    assert [s.text for s in result.steps][:2] == ["(unstack jade ruby)", "(stack jade x-ray)"]
+
+
+@pytest.mark.parametrize("source", [{"rules": LIFTED}, {"planner": "gn1"},
+                                    {"plan": ["(unstack k l)", "(stack k a)"]}])
+def test_the_arm_takes_twelve_cubes_to_a_partial_goal_with_lifted_rules_gn1_or_a_plan(arm, source):
+    from csql_sim.core.state.notation import parse_config
+
+    result = arm.execute(source.pop("plan", None), start=TWELVE, goal=["(on k a)", "(ontable l)"], **source)
+    assert_reached(result)
+    final = parse_config(result.final, 12)
+    assert final.support[10] == 0 and final.support[11] == -1 and len(result.steps) == 2  # K on A, L on the table
+
+
+def test_the_arm_takes_a_partial_goal_and_a_plan_named_past_z(arm):
+    """28 cubes: partial goals were read up to 26 objects, and ``unstack(AB,AA)`` was no action."""
+    from csql_sim.core.state.notation import parse_config
+    from csql_sim.core.state.state import default_names
+
+    names = default_names(28)
+    start = ", ".join(names[:26]) + ", AA AB"  # AB on AA
+    result = arm.execute(["unstack(AB,AA)", "stack(AB,A)"], start=start, goal=["(on ab a)", "(clear aa)"])
+    assert_reached(result)
+    assert parse_config(result.final, 28).support[27] == 0 and result.final.startswith("A AB, B")

@@ -22,9 +22,9 @@ Predicate spellings accepted: ``ontable``/``on-table``/``on_table``, ``handempty
 **Names.** The blocks are the problem's objects and the domain's constants, less the
 table (an object named ``table`` or of type ``table``), sorted by name (numbers inside
 names compare as numbers: ``b2`` before ``b10``); the first is cube A, the next B, and so
-on, whatever order the file lists them in. Between 2 and 26 blocks (letters A-Z; the arm
-itself takes at most 10 cubes); planning alone (``plan --problem``) reads up to
-:data:`MAX_PLANNED_BLOCKS` (``max_blocks``), named past Z as ``AA``, ``AB``, ....
+on, whatever order the file lists them in. Between 2 and 26 blocks by default (letters A-Z);
+``max_blocks`` reads up to :data:`MAX_PLANNED_BLOCKS`, named past Z as ``AA``, ``AB``, ...
+(planning alone, ``plan --problem``; the arm's commands read as many and take at most 30 cubes).
 :attr:`BlocksProblem.objects` are the names in lower case
 (as the parser reads them; PDDL names compare without case); the start state carries them
 as written in the file (:attr:`BlocksProblem.names`, the first spelling of each).

@@ -29,7 +29,8 @@ from collections import deque
 from dataclasses import dataclass, field
 
 from csql_sim.core.model.transition_table import true_table
-from csql_sim.core.state.world import HAND, LETTERS, MAX_BLOCKS, TABLE, BlocksWorld, State, WorldError, all_states
+from csql_sim.core.state.state import default_name
+from csql_sim.core.state.world import HAND, MAX_BLOCKS, TABLE, BlocksWorld, State, WorldError, all_states
 
 Atom = tuple[str, tuple[int, ...]]
 """``(predicate, block indices)``; ``TABLE`` stands for the table in ``on``."""
@@ -58,13 +59,13 @@ def holds(atom: Atom, state: State) -> bool:
 
 
 def atom_text(atom: Atom, names: tuple[str, ...] | None = None) -> str:
-    """An atom in PDDL form, ``(on a b)``, with ``names`` for the blocks (default: lower-case letters)."""
+    """An atom in PDDL form, ``(on a b)``, with ``names`` for the blocks (default: ``a`` .. ``z``, ``aa``, ...)."""
     pred, args = atom
 
     def name(i: int) -> str:
         if i == TABLE:
             return "table"
-        return names[i] if names is not None else LETTERS[i].lower()
+        return names[i] if names is not None else default_name(i).lower()
 
     if pred == "on" and args[1] == TABLE:
         return f"(ontable {name(args[0])})"

@@ -12,6 +12,8 @@
 
 from __future__ import annotations
 
+import functools
+
 from csql_sim.core.state.message import is_state_message, parse_state_message
 from csql_sim.core.state.relational_message import is_relational_message, parse_large_message
 from csql_sim.core.state.state import MIN_LETTERS, check_letters_n, default_names
@@ -90,8 +92,14 @@ def _tokens(text: str) -> tuple[list[list[str]], list[str]]:
     return towers, held
 
 
+@functools.cache
+def _name_index(n: int) -> dict[str, int]:
+    """The default names of n blocks (``A`` .. ``Z``, ``AA``, ...) -> their indices."""
+    return {name: i for i, name in enumerate(default_names(n))}
+
+
 def parse_action_name(text: str, n: int) -> Action:
-    """Parse ``pickup(A)``, ``putdown(A)``, ``unstack(A,B)`` or ``stack(A,B)``."""
+    """Parse ``pickup(A)``, ``putdown(A)``, ``unstack(A,B)`` or ``stack(A,B)`` (past Z: ``stack(AA,B)``)."""
     raw = text.replace(" ", "").lower()
     head, sep, rest = raw.partition("(")
     if not sep or not rest.endswith(")"):
@@ -104,10 +112,11 @@ def parse_action_name(text: str, n: int) -> Action:
     want = 2 if kind in (ActionKind.STACK, ActionKind.UNSTACK) else 1
     if len(args) != want:
         raise WorldError(f"{kind.value} takes {want} block(s), got {text!r}")
+    index = _name_index(n)
     for a in args:
-        if len(a) != 1 or a not in LETTERS[:n]:
+        if a not in index:
             raise WorldError(f"unknown block {a!r} in action {text!r}")
-    idx = [LETTERS.index(a) for a in args]
+    idx = [index[a] for a in args]
     if want == 2 and idx[0] == idx[1]:
         raise WorldError(f"action {text!r} names block {args[0]} twice")
     return Action(kind, idx[0], idx[1] if want == 2 else None)

@@ -3,9 +3,9 @@
 import pytest
 
 from csql_sim.core.state.message import format_state_message, is_state_message
-from csql_sim.core.state.notation import parse_config, parse_state_arg
+from csql_sim.core.state.notation import parse_action_name, parse_config, parse_state_arg
 from csql_sim.core.state.relational_message import format_large_message, is_relational_message
-from csql_sim.core.state.world import BlocksWorld, WorldError
+from csql_sim.core.state.world import Action, ActionKind, BlocksWorld, WorldError
 
 
 def test_configurations_of_up_to_26_letters():
@@ -27,3 +27,13 @@ def test_state_arg_reads_the_paper_message_and_the_relational_one():
 def test_a_configuration_starting_with_s_is_not_a_message():
     assert not is_state_message("SRQPONMLKJIHGFEDCBA")
     assert parse_state_arg("SRQPONMLKJIHGFEDCBA").towers() == (tuple(range(18, -1, -1)),)
+
+
+def test_action_names_past_z_name_the_blocks_the_configurations_name():
+    """Issue 54: ``stack(AD,AC)`` of thirty cubes was refused (one letter a block): plans and reports past Z broke."""
+    assert parse_action_name("stack(AD,AC)", 30) == Action(ActionKind.STACK, 29, 28)
+    assert parse_action_name("unstack(aa, b)", 27) == Action(ActionKind.UNSTACK, 26, 1)
+    assert parse_action_name("pickup(Z)", 26) == Action(ActionKind.PICKUP, 25)
+    for text, n in (("pickup(AE)", 30), ("pickup(AA)", 26), ("pickup(Z)", 25)):
+        with pytest.raises(WorldError, match="unknown block"):
+            parse_action_name(text, n)
