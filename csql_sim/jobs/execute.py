@@ -41,6 +41,7 @@ from csql_sim.core.model.goal_spec import Atom, GoalSpec, atom_text, state_atoms
 from csql_sim.core.policies.policy import Policy
 from csql_sim.core.state.state import default_names
 from csql_sim.core.state.world import MAX_BLOCKS, TABLE, Action, State
+from csql_sim.infra.assets import BUILTIN_RULES, builtin_rules_path
 from csql_sim.infra.errors import CsqlError
 from csql_sim.infra.files import write_or_keep
 from csql_sim.infra.provenance import file_sha256, provenance, rules_source
@@ -134,7 +135,7 @@ def execute_problem(problem: str | os.PathLike, domain: str | os.PathLike | None
         problem: the PDDL problem file.
         domain: its domain file (optional; checked to be a blocks-world domain).
         plan: an IPC plan file, or a list of actions.
-        rules: a rule base instead of a plan.
+        rules: a rule base instead of a plan (``"builtin"``: the shipped lifted rules).
         planner: ``"bfs"`` instead of a plan.
         seed: the episode's seed.
         perception: ``"pose"`` or ``"camera"``.
@@ -200,13 +201,18 @@ def execute_blocks(bp: BlocksProblem, plan: PlanInput | None = None, rules: str 
                    planner: str | None = None, seed: int = 0, perception: str = "pose", perturb: bool = False,
                    video: str | os.PathLike | None = None, progress: bool = False,
                    files: dict[str, Any] | None = None, video_options: VideoOptions | None = None) -> ExecuteResult:
-    """Run a read problem on the arm (the body of :func:`execute_problem`); 2..30 cubes."""
+    """Run a read problem on the arm (the body of :func:`execute_problem`); 2..30 cubes.
+
+    ``rules="builtin"`` names the shipped lifted rules (as ``--rules builtin`` does).
+    """
     from csql_sim.sim.control import check_perception
     from csql_sim.sim.video import VideoOptions
     from csql_sim.sim.world import check_arm_blocks, check_tower_heights
 
     check_arm_blocks(bp.n)
     check_tower_heights(bp.start, bp.goal)
+    if isinstance(rules, str) and rules == BUILTIN_RULES:
+        rules = builtin_rules_path()
     check_perception(perception, bp.n)
     options = video_options or VideoOptions()
     if video is not None:

@@ -12,7 +12,8 @@ whether the goal was reached, judged from what the arm's perception saw::
 
 * ``plan``: a list of actions, csql-sim's names (``"unstack(A,B)"``) or IPC ones
   (``"(unstack a b)"``, objects ``a``, ``b``, ... being cubes A, B, ...), or the path of an
-  IPC plan file (as Fast Downward and pyperplan write them); or ``rules=`` a rule base, or
+  IPC plan file (as Fast Downward and pyperplan write them); or ``rules=`` a rule base
+  (``"builtin"``: the shipped lifted rules, any number of cubes), or
   ``planner="bfs"``, instead;
 * ``start``: a configuration (``"CBA"`` is A on B on C); ``goal``: a configuration or a
   list of PDDL atoms (``["(on a b)"]``: a partial goal, any state satisfying it counts);

@@ -157,6 +157,16 @@ def test_execute_runs_the_builtin_plan_on_the_arm_and_judges_from_perception():
     assert run.final == "Amber jade coral pearl"  # the goal tower, bottom up, in the file's names
 
 
+def test_execute_follows_the_builtin_rules_by_name():
+    from csql_sim.infra.assets import builtin_rules_path
+
+    two = ("(define (problem two) (:domain blocks) (:objects amber pearl) "
+           "(:init (handempty) (on amber pearl) (ontable pearl) (clear amber)) (:goal (on pearl amber)))")
+    run = csql_sim.execute(two, rules="builtin")
+    assert run.reached and run.final == "amber pearl"
+    assert run.report.source == {"kind": "rules", "file": str(builtin_rules_path())}
+
+
 def _ring(n: int) -> str:
     cubes = " ".join(f"c{i}" for i in range(n))
     init = " ".join(f"(ontable c{i}) (clear c{i})" for i in range(n))

@@ -131,3 +131,12 @@ def test_the_arm_takes_a_partial_goal_and_a_plan_named_past_z(arm):
     result = arm.execute(["unstack(AB,AA)", "stack(AB,A)"], start=start, goal=["(on ab a)", "(clear aa)"])
     assert_reached(result)
     assert parse_config(result.final, 28).support[27] == 0 and result.final.startswith("A AB, B")
+
+
+def test_the_arm_follows_the_builtin_rules_by_name(arm):
+    """``rules="builtin"`` names the shipped lifted rules, as ``--rules builtin`` and ``csql_sim.execute`` do."""
+    from csql_sim.infra.assets import builtin_rules_path
+
+    result = arm.execute(rules="builtin", start="A,B", goal="AB")
+    assert_reached(result)
+    assert result.final == "AB" and result.source == {"kind": "rules", "file": str(builtin_rules_path())}
