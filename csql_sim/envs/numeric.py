@@ -6,7 +6,8 @@ the like read them without a wrapper), for n blocks numbered 1..n (block 1 is cu
 
 * ``"on"``: ``MultiDiscrete([n + 2] * n)``; entry ``i`` is what block ``i + 1`` stands on:
   0 the table, ``k`` in 1..n block ``k``, ``n + 1`` the hand;
-* ``"goal"``: the goal state in the same code;
+* ``"goal"``: the goal state in the same code (with a PDDL ``problem``'s partial goal, the
+  satisfying state nearest the start: :mod:`csql_sim.envs.problem`);
 * ``"hand"``: ``Discrete(n + 1)``; 0 when the hand is empty, else the held block (1..n).
 
 The code is the state's ``support`` shifted by one (:func:`support_code`); it is decoded

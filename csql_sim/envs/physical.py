@@ -67,8 +67,11 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     for n = 7..30 a :class:`~csql_sim.core.state.world.State`, a configuration
     with names A..Z, AA, ... (``"JIHGFEDCBA"``) or a rank in ``0..state_count(n) - 1``
     (:func:`~csql_sim.core.state.state_count.unrank_state`). Either missing is drawn from
-    ``np_random`` (past six uniformly by counting). The start scene is then built: towers
-    placed at rest, a held block reached by a real grasp.
+    ``np_random`` (past six uniformly by counting). Or ``reset(options={"problem": path})``:
+    a blocks-world PDDL problem file of exactly n objects gives the start, the goal (possibly
+    partial) and the blocks' names, as in :class:`csql_sim.envs.symbolic.BlocksWorldEnv` (not
+    with ``start`` or ``goal``; bad input is a one-line CsqlError). The start scene is then
+    built: towers placed at rest, a held block reached by a real grasp.
 
     ## Rewards
     1 on the step that reaches the goal, 0 otherwise.
@@ -76,15 +79,16 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     ## Episode End
     The episode ends if:
 
-    - Termination: the perceived state is the goal and every free cube is at rest
-      (:meth:`PhysicalWorld.reached`, the same predicate the executor uses; success is
-      never taken from the plan).
+    - Termination: the perceived state is the goal (with a ``problem``: satisfies the
+      goal's atoms) and every free cube is at rest (as :meth:`PhysicalWorld.reached` and
+      the executor judge; success is never taken from the plan).
     - Truncation: perception fails (a cube off the table or tilted; ``info["failure"]``
       says why), or ``max_steps`` steps have been taken.
 
     ## Information
-    ``step`` and ``reset`` return ``action_mask``, ``state``, ``goal``, ``illegal`` and
-    ``failure`` (empty unless perception failed).
+    ``step`` and ``reset`` return ``action_mask``, ``state`` (perceived), ``goal``, ``illegal``,
+    ``names`` and ``goal_atoms`` (as the symbolic environment's) and ``failure`` (empty unless
+    perception failed). :meth:`action_name` writes an action with the blocks' names.
 
     ## Seeding
     ``reset(seed=s)`` seeds ``np_random`` (Gymnasium's contract); from it are drawn, in
@@ -132,7 +136,9 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
         """Choose start and goal as the symbolic env does, then build the start scene (see Seeding)."""
         super().reset(seed=seed, options=options)
-        check_tower_heights(self.current, self.target)  # before any physics: the arm's tallest tower
+        assert self.task is not None
+        goal = self.task.goal if self.task.goal is not None else self.target
+        check_tower_heights(self.current, goal)  # before any physics: the arm's tallest tower
         self.close()
         self.physics_seed = int(self.np_random.integers(PHYSICS_SEED_BOUND))
         self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception, camera_noise=self.camera_noise)
@@ -150,6 +156,11 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         else:
             self._set_current(perceived.state)
 
+    def _reached(self) -> bool:
+        """The perceived state satisfies the goal's atoms and every free cube is at rest (as the executor judges)."""
+        return (self.task is not None and self.physical is not None and self.task.satisfied(self.perceived.state)
+                and self.physical.is_settled())
+
     def _info(self, illegal: bool = False) -> dict:
         info = super()._info(illegal)
         info["failure"] = self.failure
@@ -166,7 +177,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
             self.physical.execute(self._action(action))
             self._sync()
         self.steps += 1
-        terminated = self.physical.reached(self.perceived, self.target)
+        terminated = self._reached()
         truncated = not terminated and (bool(self.failure) or (self.max_steps is not None
                                                                 and self.steps >= self.max_steps))
         return self._obs(), 1.0 if terminated else 0.0, terminated, truncated, self._info(illegal)

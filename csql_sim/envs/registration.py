@@ -23,6 +23,9 @@ on the arm, the action mask; up to six blocks),
 ``"numeric"``: :mod:`csql_sim.envs.numeric`); on the arm also ``perception`` (``"pose"`` or
 ``"camera"``), ``width`` and ``height``.
 
+``reset(options=...)`` takes ``start`` and ``goal``, or ``problem`` (a PDDL problem file: its
+start, a goal that may be partial, and its object names; :mod:`csql_sim.envs.problem`).
+
 Both ids have a default step limit, :data:`MAX_EPISODE_STEPS` (``gymnasium.make`` wraps
 the environment in ``TimeLimit``; ``max_episode_steps=...`` changes it), so a random agent's
 episode ends. The entry points carry their class's ``metadata`` (:data:`BLOCKS_WORLD_METADATA`,

@@ -7,7 +7,8 @@ operators to them (:func:`~csql_sim.core.state.world.successor`); observations a
 large state messages (:func:`~csql_sim.core.state.relational_message.format_large_message`),
 and a task's states are given as a State, a configuration in the notation (names
 A..Z, AA, ...) or a rank (:func:`~csql_sim.core.state.state_count.unrank_state`), or drawn
-uniformly by counting (:func:`~csql_sim.core.state.state_count.sample_state`).
+uniformly by counting (:func:`~csql_sim.core.state.state_count.sample_state`), or read
+from a PDDL problem (the ``problem`` reset option, :mod:`csql_sim.envs.problem`).
 """
 
 from __future__ import annotations

@@ -11,7 +11,8 @@
 * ``reset(seed=..., options={"start": ..., "goal": ...})``: start and goal as a
   :class:`State`, a configuration (``"CBA"``), or a state index (past six: a
   State, a configuration or a rank); either missing is drawn from the environment's
-  generator (distinct from the other).
+  generator (distinct from the other). Or ``options={"problem": "p.pddl"}``: a PDDL
+  problem's start, goal (possibly partial) and object names (:mod:`csql_sim.envs.problem`).
 
 :func:`run_env_episode` lets a learner act on such an environment (the physical world
 offers the same interface) through its step-level act/learn interface
@@ -33,6 +34,7 @@ from csql_sim.core.model.world_model import WorldModel
 from csql_sim.core.state.message import DIGITS, format_state_message, layout
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.relational_message import format_large_message, message_length
+from csql_sim.core.state.state import default_names
 from csql_sim.core.state.world import (
     MAX_BLOCKS,
     Action,
@@ -44,6 +46,7 @@ from csql_sim.core.state.world import (
     successor,
 )
 from csql_sim.envs.numeric import check_observation, numeric_observation, numeric_space
+from csql_sim.envs.problem import PROBLEM_OPTION, EnvTask, problem_task, state_task
 from csql_sim.envs.relational import MAX_MESSAGE_BLOCKS, check_env_blocks, large_mask, large_option, large_task
 from csql_sim.envs.render_mode import check_render_mode
 from csql_sim.infra.errors import CsqlError
@@ -71,7 +74,7 @@ def check_max_steps(max_steps: object) -> int | None:
     raise CsqlError(f"max_steps must be None or a positive integer, got {max_steps!r}")
 
 
-RESET_OPTIONS = ("start", "goal")
+RESET_OPTIONS = ("start", "goal", PROBLEM_OPTION)
 """The keys ``reset(options=...)`` reads; any other is a ValueError (CsqlError) naming it."""
 
 
@@ -142,11 +145,21 @@ class BlocksWorldEnv(gym.Env):
     either missing is drawn uniformly from ``np_random`` (past six by counting:
     :func:`~csql_sim.core.state.state_count.sample_state`), distinct from the other.
 
+    ``reset(options={"problem": path})`` instead reads a blocks-world PDDL problem file (or
+    takes a :class:`~csql_sim.core.files.pddl_import.BlocksProblem`) of exactly n objects, as
+    ``csql-sim execute --problem`` does (:mod:`csql_sim.envs.problem`): its initial state is
+    the start, its goal may be *partial* (atoms that leave blocks free), and its object names
+    are the blocks' names. Sorted by name (``b2`` before ``b10``), object ``i`` is block ``i``
+    (cube A, B, ...). The goal state in the observation is one satisfying state (the nearest
+    to the start). Not with ``start`` or ``goal``; a problem of another size, a file that
+    cannot be read, or a start that already satisfies the goal is a one-line CsqlError.
+
     ## Rewards
     1 on the step that reaches the goal, 0 otherwise.
 
     ## Episode End
-    - Termination: the state is the goal.
+    - Termination: the state is the goal; with a ``problem``, the state satisfies the goal's
+      atoms (any satisfying state, not only the one the observation shows).
     - Truncation: ``max_steps`` steps have been taken (never when ``max_steps`` is None).
       ``gymnasium.make`` also wraps it in a ``TimeLimit`` of
       :data:`~csql_sim.envs.registration.MAX_EPISODE_STEPS` steps unless given
@@ -154,8 +167,10 @@ class BlocksWorldEnv(gym.Env):
 
     ## Information
     ``reset`` and ``step`` return ``action_mask``, ``state`` and ``goal`` (as
-    :class:`~csql_sim.core.state.world.State`, past six as
-    :class:`~csql_sim.core.state.world.State`) and ``illegal``.
+    :class:`~csql_sim.core.state.world.State`), ``illegal``, ``names`` (the blocks' names,
+    block 0 first: a ``problem``'s objects as written in it, else ``A``, ``B``, ...) and
+    ``goal_atoms`` (the goal in PDDL atoms with those names). :meth:`action_name` writes an
+    action with the names (``unstack(jade,Ruby)``), and ``render`` shows the state with them.
 
     ## Seeding
     ``reset(seed=s)`` seeds ``np_random`` (Gymnasium's contract); from it a missing goal
@@ -167,7 +182,7 @@ class BlocksWorldEnv(gym.Env):
     Args:
         n: number of blocks, 2..30 (``blocks`` in ``gymnasium.make``; past 26 the observation is numeric).
         max_steps: steps before ``truncated``: a positive integer, or None (never).
-        render_mode: ``"ansi"`` (the state's notation and message) or None; any other mode
+        render_mode: ``"ansi"`` (the state's notation, in the blocks' names, and message) or None; any other mode
             raises ``gymnasium.error.UnsupportedMode``.
         rules: a rule file whose R-classifiers define the dynamics (default: the
             built-in ones, identical to the blocks world); Q-classifiers in it are ignored.
@@ -203,6 +218,8 @@ class BlocksWorldEnv(gym.Env):
             self._masks = list((table >= 0).astype(np.int8))
         self.state: Any = 0  # a state index; past six a State
         self.goal: Any = 1
+        self.task: EnvTask | None = None  # set by reset: the goal's atoms and the blocks' names
+        self._goal_atoms: tuple[str, ...] = ()
         self.steps = 0
 
     def _text_space(self) -> gym.spaces.Text:
@@ -249,20 +266,47 @@ class BlocksWorldEnv(gym.Env):
             return format_large_message(self.state, self.goal)
         return format_state_message(self.world.states[self.state], self.goal)
 
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The blocks' names: a ``problem``'s objects as written in it, else A, B, ..."""
+        return self.task.names if self.task is not None else default_names(self.n)
+
+    def action_name(self, action: int) -> str:
+        """Action ``action`` (an index) as text with the blocks' names, e.g. ``unstack(jade,Ruby)``."""
+        if not self.action_space.contains(action):
+            raise CsqlError(f"action must be 0..{self.action_space.n - 1}, got {action!r}")
+        return self._action(action).name(self.names)
+
     def _info(self, illegal: bool = False) -> dict:
         mask = large_mask(self.state) if self.large else self._masks[self.state].copy()
-        return {"action_mask": mask, "state": self.current, "goal": self.target, "illegal": illegal}
+        return {"action_mask": mask, "state": self.current, "goal": self.target, "illegal": illegal,
+                "names": self.names, "goal_atoms": self._goal_atoms}
+
+    def _reached(self) -> bool:
+        """Whether the current state ends the episode (satisfies the goal's atoms)."""
+        return self.task is not None and self.task.satisfied(self.current)
 
     def reset(self, *, seed: int | None = None, options: dict | None = None) -> tuple[str, dict]:
-        """Start a task; ``options`` may give ``start`` and ``goal``."""
+        """Start a task; ``options`` may give ``start`` and ``goal``, or a ``problem``."""
         options = check_options(options)
         super().reset(seed=seed)
+        if options.get(PROBLEM_OPTION) is not None:
+            self.task = task = problem_task(options[PROBLEM_OPTION], self.n, options)
+            self.state, self.goal = ((task.start, task.target) if self.large else
+                                     (self.world.state_index(task.start), self.world.state_index(task.target)))
+        else:
+            self.state, self.goal = self._draw(options)
+            self.task = state_task(self.current, self.target)
+        self._goal_atoms = self.task.goal_atoms()
+        self.steps = 0
+        return self._obs(), self._info()
+
+    def _draw(self, options: dict) -> tuple[Any, Any]:
+        """Start and goal from the ``start`` and ``goal`` options, each missing one drawn (see Seeding)."""
         if self.large:
             start, goal = (None if options.get(k) is None else large_option(options[k], self.n, k)
                            for k in ("start", "goal"))
-            self.state, self.goal = large_task(self.np_random, self.n, start, goal)
-            self.steps = 0
-            return self._obs(), self._info()
+            return large_task(self.np_random, self.n, start, goal)
         count = len(self.world.states)
         start = self._index(options["start"], "start") if options.get("start") is not None else None
         goal = self._index(options["goal"], "goal") if options.get("goal") is not None else None
@@ -275,8 +319,7 @@ class BlocksWorldEnv(gym.Env):
             start += start >= goal
         if start == goal:
             raise CsqlError(f"start and goal are the same state {self.world.states[start].notation()}")
-        self.state, self.goal, self.steps = start, goal, 0
-        return self._obs(), self._info()
+        return start, goal
 
     def step(self, action: int) -> tuple[str, float, bool, bool, dict]:
         """Apply ``action`` (an index); an illegal one leaves the state unchanged."""
@@ -287,18 +330,19 @@ class BlocksWorldEnv(gym.Env):
             self.state = successor(self.state, self._action(action)) if self.large \
                 else self.next_state[self.state][int(action)]
         self.steps += 1
-        terminated = self.state == self.goal
+        terminated = self._reached()
         truncated = not terminated and self.max_steps is not None and self.steps >= self.max_steps
         return self._obs(), 1.0 if terminated else 0.0, terminated, truncated, self._info(illegal)
 
     def render(self) -> str | None:
         """``ansi``: the state's notation and its message."""
         if self.render_mode == "ansi":
+            shown = self.current.named(self.names).named_notation()
             if self.n > MAX_MESSAGE_BLOCKS:
-                return self.current.notation()
+                return shown
             message = format_large_message(self.state, self.goal) if self.large \
                 else format_state_message(self.world.states[self.state], self.goal)
-            return f"{self.current.notation()}  {message}"
+            return f"{shown}  {message}"
         return None
 
 
@@ -314,7 +358,7 @@ def run_env_episode(env: gym.Env, learner: StepLearner, temperature: float, opti
         env: a blocks-world environment (observations are state messages).
         learner: any :class:`~csql_sim.learners.paper.trial.StepLearner` (a reference engine).
         temperature: T of eq. 3 (0 = greedy).
-        options: passed to ``env.reset`` (``start``, ``goal``).
+        options: passed to ``env.reset`` (``start`` and ``goal``, or ``problem``).
         cap: the most steps (default ``learner.params.step_cap``).
         seed: passed to ``env.reset``; with it the episode is fully determined (see the
             environment's seeding contract).
