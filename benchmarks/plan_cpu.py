@@ -11,11 +11,13 @@ unless ``--problem`` names one. Two measurements, each in fresh processes (nothi
 * **whole command**: ``csql-sim plan --problem P --plan-out FILE --overwrite`` run ``--repeat``
   times, user + system CPU seconds of the child (``resource.getrusage(RUSAGE_CHILDREN)``); min,
   median and max are printed;
-* **phases**: one child process that does what the command does, step by step, and prints the
-  CPU seconds (``time.process_time``) of each: interpreter start-up, imports (the CLI's),
-  reading the PDDL problem, loading the rules, planning (the first decision compiles or loads
-  numba code), checking the plan against the goal and spelling it, measuring the optimum
-  (``--optimum-budget``, as the command's default of 1 s) and writing the plan file.
+* **phases**: ``--repeat`` child processes that do what the command does, step by step, each
+  printing the CPU seconds (``time.process_time``) of each: interpreter start-up, imports (the CLI's),
+  reading the PDDL problem, loading the rules, (the given atoms) importing numba and loading the
+  deadlock kernels from its cache (the planner's first decision does it in the command),
+  planning, checking the plan against the goal and spelling it, measuring the optimum
+  (``--optimum-budget``, as the command's default of 1 s) and writing the plan file; the
+  median of each phase is printed (so the phases need not add up to the whole command's median).
 
 ``--rules FILE`` measures another planner the same way: a lifted rule file, or a file of
 classifiers over generated features (its formulation's hand decides the rollout), e.g. the
@@ -60,6 +62,13 @@ start, target = blocks.start, goal_target(blocks.goal, blocks.start)
 lap("read problem")
 policy = policy_maker(None if rules == "builtin" else rules, "builtin" if rules == "builtin" else "rules")(blocks.n)
 lap("load rules")
+if rules == "builtin":  # the given atoms' planner loads these at its first decision
+    import numpy as np
+    from csql_sim.core.state import deadlock_kernel as k
+    i, b = np.full(2, -1, np.int64), np.zeros(2, np.bool_)
+    k.deadlocked(i, i, b, b.copy()); k.deadlock_cover(i, i, i, b, b, b.copy())
+    k.deadlock_counts(i, i, i, b, np.zeros(0, np.int64), b.copy())
+    lap("numba: import, kernels from its cache")
 run = rollout_relational(policy, start, target, hand=getattr(getattr(policy, "form", None), "hand", True))
 lap("plan")
 assert run.reached and blocks.goal.satisfied(_end(start, run.actions))
@@ -70,6 +79,7 @@ lap("measure optimum")
 write_ipc_plan_lines(lines, out, header="; plan")
 lap("write plan")
 t["actions"] = len(run.actions)
+t["linalg"] = "scipy.linalg" in sys.modules
 print(json.dumps(t))
 '''
 
@@ -80,6 +90,13 @@ def child_cpu(command: list[str]) -> float:
     subprocess.run(command, check=True, capture_output=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def phase_run(problem: Path, args: argparse.Namespace, folder: Path) -> dict:
+    """The CPU seconds of each phase in one fresh process (:data:`PHASES`), with the plan's length."""
+    done = subprocess.run([sys.executable, "-c", PHASES, str(problem), args.rules, str(args.optimum_budget),
+                           str(folder / "phases.txt")], check=True, capture_output=True, text=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
 
 
 def task(args: argparse.Namespace, folder: Path) -> Path:
@@ -110,14 +127,14 @@ def main(argv: list[str] | None = None) -> int:
             cli += ["--rules", args.rules]
         began = time.strftime("%Y-%m-%d")
         whole = [child_cpu(cli) for _ in range(args.repeat)]
-        done = subprocess.run([sys.executable, "-c", PHASES, str(problem), args.rules, str(args.optimum_budget),
-                               str(folder / "phases.txt")], check=True, capture_output=True, text=True)
-        phases = json.loads(done.stdout.strip().splitlines()[-1])
-    actions = phases.pop("actions")
-    print(f"{began}: {problem.name}, rules {args.rules}, {actions} actions, optimum budget {args.optimum_budget} s")
+        runs = [phase_run(problem, args, folder) for _ in range(args.repeat)]
+    actions, linalg = runs[0].pop("actions"), runs[0].pop("linalg")
+    phases = {name: statistics.median(run[name] for run in runs) for name in runs[0]}
+    print(f"{began}: {problem.name}, rules {args.rules}, {actions} actions, optimum budget {args.optimum_budget} s, "
+          f"scipy.linalg imported: {'yes' if linalg else 'no'}")
     print(f"whole command, CPU s over {args.repeat} fresh runs: min {min(whole):.2f} / median "
           f"{statistics.median(whole):.2f} / max {max(whole):.2f}")
-    print("| phase (one fresh run) | CPU s |\n|---|---:|")
+    print(f"| phase (median of {args.repeat} fresh runs) | CPU s |\n|---|---:|")
     for name, seconds in phases.items():
         print(f"| {name} | {seconds:.2f} |")
     print(f"| total | {sum(phases.values()):.2f} |")

@@ -135,6 +135,22 @@ def test_console_entry_point_no_traceback():
     assert proc.stderr.strip() == "csql-sim plan: error: unknown block D for a 3-block world in 'CBD'"
 
 
+def test_the_console_freezes_what_is_left_before_it_exits(monkeypatch, capsys):
+    import gc
+
+    from csql_sim.cli import console
+
+    monkeypatch.setattr(sys, "argv", ["csql-sim", "plan", "--start", "CBA", "--goal", "ABC"])
+    before = gc.get_freeze_count()
+    try:
+        with pytest.raises(SystemExit) as done:
+            console()
+        assert done.value.code == 0 and gc.get_freeze_count() > before  # the exit's collection skips them
+    finally:
+        gc.unfreeze()
+    assert capsys.readouterr().out.strip()
+
+
 def test_plan_pairs_sample_is_seeded_and_bounded(capsys):
     code, out, _ = run(capsys, "plan", "--pairs", "5", "--seed", "3", "--json")
     doc = json.loads(out)

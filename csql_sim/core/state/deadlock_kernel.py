@@ -15,11 +15,40 @@ only then is the graph searched again, with x on the table.
 
 from __future__ import annotations
 
+import sys
+
 import numpy as np
-from numba import njit
+
+from csql_sim.infra.compiled import cached_njit
+
+_BLAS_PROBE = "scipy.linalg.cython_blas"
 
 
-@njit(cache=True)
+def _skip_blas_probe() -> None:
+    """Import numba's array functions without its BLAS probe, which imports all of SciPy's linalg (about 0.2 CPU s).
+
+    Numba loads these kernels, cached or not, only after importing ``numba.np.arraymath``,
+    which asks whether ``scipy.linalg.cython_blas`` imports; the kernels call no BLAS. With the
+    probe's module marked absent for that one import the answer is no, and only jitted
+    ``np.correlate``/``np.convolve`` of floats in this process use numba's own loop instead of
+    BLAS (csql-sim compiles neither). Nothing is done where SciPy's linalg or numba's array
+    functions are already imported; if the import fails so, numba imports them as it would.
+    """
+    if "scipy.linalg" in sys.modules or "numba.np.arraymath" in sys.modules or _BLAS_PROBE in sys.modules:
+        return
+    sys.modules[_BLAS_PROBE] = None  # type: ignore[assignment] - an import of it then fails at once
+    try:
+        import numba.np.arraymath  # noqa: F401
+    except ImportError:
+        sys.modules.pop("numba.np.arraymath", None)
+    finally:
+        del sys.modules[_BLAS_PROBE]
+
+
+_skip_blas_probe()
+
+
+@cached_njit()
 def _edge(v: int, k: int, above: np.ndarray, goal: np.ndarray, placed: np.ndarray) -> int:
     """The k-th out-edge (0..2) of misplaced block v, or -1 when there is none."""
     if k == 0:
@@ -34,7 +63,7 @@ def _edge(v: int, k: int, above: np.ndarray, goal: np.ndarray, placed: np.ndarra
     return w
 
 
-@njit(cache=True)
+@cached_njit()
 def _scc(nodes: np.ndarray, above: np.ndarray, goal: np.ndarray, placed: np.ndarray, comp: np.ndarray, cid: int,
          mask: np.ndarray, index: np.ndarray, low: np.ndarray, work: np.ndarray) -> int:
     """Tarjan (iterative) over ``nodes``, following only edges to blocks w with ``comp[w] == cid``.
@@ -94,7 +123,7 @@ def _scc(nodes: np.ndarray, above: np.ndarray, goal: np.ndarray, placed: np.ndar
     return total
 
 
-@njit(cache=True)
+@cached_njit()
 def deadlocked(above: np.ndarray, goal: np.ndarray, placed: np.ndarray, stuck: np.ndarray) -> int:
     """Mark the deadlocked blocks (misplaced, on a cycle) in ``stuck``; return how many."""
     n = above.shape[0]
@@ -103,7 +132,7 @@ def deadlocked(above: np.ndarray, goal: np.ndarray, placed: np.ndarray, stuck: n
                 np.zeros(n, np.int64), np.zeros((4, n), np.int64))
 
 
-@njit(cache=True)
+@cached_njit()
 def deadlock_counts(support: np.ndarray, above: np.ndarray, goal: np.ndarray, placed: np.ndarray,
                     movers: np.ndarray, stuck: np.ndarray) -> np.ndarray:
     """Mark the deadlocked blocks in ``stuck``; return, per mover, the count after it moves to the table.
@@ -142,14 +171,14 @@ def deadlock_counts(support: np.ndarray, above: np.ndarray, goal: np.ndarray, pl
     return counts
 
 
-@njit(cache=True)
+@cached_njit()
 def _source(i: int, n: int, kinds: np.ndarray, ends: np.ndarray, visitors: np.ndarray) -> int:
     """The event constraint i leaves: its source block's table visit when that is its first move, else its final."""
     a = ends[i, 0]
     return a + n if (kinds[i] & 1) and visitors[a] else a
 
 
-@njit(cache=True)
+@cached_njit()
 def _back_edges(f: int, n: int, into: np.ndarray, order: np.ndarray, kinds: np.ndarray, visitors: np.ndarray,
                 out: np.ndarray) -> int:
     """The indexes of the constraints that end in event f (written to ``out``); return how many.
@@ -168,7 +197,7 @@ def _back_edges(f: int, n: int, into: np.ndarray, order: np.ndarray, kinds: np.n
     return k
 
 
-@njit(cache=True)
+@cached_njit()
 def _returns(b: int, n: int, first: np.ndarray, kinds: np.ndarray, ends: np.ndarray, visitors: np.ndarray,
                   into: np.ndarray, order: np.ndarray, seen: np.ndarray, back: np.ndarray, stamp: int,
                   queue: np.ndarray, bqueue: np.ndarray, scratch: np.ndarray) -> bool:
@@ -230,7 +259,7 @@ def _returns(b: int, n: int, first: np.ndarray, kinds: np.ndarray, ends: np.ndar
     return False
 
 
-@njit(cache=True)
+@cached_njit()
 def deadlock_cover(support: np.ndarray, above: np.ndarray, goal: np.ndarray, placed: np.ndarray,
                    stuck: np.ndarray, cover: np.ndarray) -> int:
     """Mark the cover of :mod:`csql_sim.core.state.deadlock_cover` in ``cover``; return its size.
