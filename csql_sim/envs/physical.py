@@ -143,6 +143,7 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
         self.physics_seed = int(self.np_random.integers(PHYSICS_SEED_BOUND))
         self.physical = PhysicalWorld(self.n, self.physics_seed, self.perception, camera_noise=self.camera_noise)
         self.physical.build(self.current)
+        self.physical.expect(self.target)  # the target state: the goal itself, or the one a partial goal aims at
         self.failure = ""
         self._sync()
         return self._obs(), self._info()

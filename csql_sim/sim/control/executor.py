@@ -198,6 +198,7 @@ class Episode:
                  seed: int, perturbation: Perturbation | None, fps: int | None,
                  on_action: Callable[[int], None] | None = None) -> None:
         self.task, self.world, self.policy, self.model, self.cap = task, world, policy, world_model, cap
+        world.expect(task.goal)
         self.messages = Messages(task.goal)
         self.goal_index = self.messages.goal_index or 0  # the world model's goal argument (unused past six)
         optimal = arm_optimal_length(task.start, task.goal)

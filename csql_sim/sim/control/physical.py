@@ -28,6 +28,7 @@ from csql_sim.sim.world.config import SimConfig, config_for
 from csql_sim.sim.world.layout import place_towers
 from csql_sim.sim.world.robot import Panda
 from csql_sim.sim.world.scene import Pose, Scene
+from csql_sim.sim.world.tower_height import tall_bases
 
 PERCEPTION_MODES = ("pose", "camera")
 
@@ -113,6 +114,10 @@ class PhysicalWorld:
             if not status.ok:
                 raise SimError(f"could not build {state.notation()}: {status.reason}")
             settle(self.scene, self.panda)
+
+    def expect(self, goal: ArmState) -> None:
+        """Tell putdowns the goal's tall towers: the places beside their bottoms are kept clear (``shun_housing``)."""
+        self.scene.tall_bases = tall_bases(goal)
 
     def observe(self) -> Observation:
         """An observation in the configured perception mode (one per simulation step: nothing moved since)."""

@@ -108,7 +108,8 @@ def free_spot(obs: Observation, held: int, scene: Scene, rng: np.random.Generato
     spots = [(x, y) for x, y in putdown_spots(scene.config)
              if all(math.hypot(x - p[0], y - p[1]) >= lay.free_clearance for p in others)]
     if lay.shun_housing:
-        spots = shun_housing(spots, others, obs.size)
+        bases = [b.position for i, b in enumerate(obs.blocks) if i in scene.tall_bases and i != held]
+        spots = shun_housing(spots, others, obs.size, held in scene.tall_bases, bases)
     if not spots:
         return None
     if lay.near_putdown:
@@ -150,18 +151,24 @@ def housing_clear(others: list[tuple[float, float, float]], size: float, x: floa
     return True
 
 
-def shun_housing(spots: list[tuple[float, float]], others: list[tuple[float, float, float]], size: float
+def shun_housing(spots: list[tuple[float, float]], others: list[tuple[float, float, float]], size: float,
+                 base: bool = False, bases: list[tuple[float, float, float]] | None = None
                  ) -> list[tuple[float, float]]:
-    """The putdown spots to draw from, best first available: a cube put on any of them is never in a housing's way.
+    """The putdown spots to draw from: the best kind there is, of three.
 
-    Best, the spots **apart**: no cube (of any height: a tower may grow) in the housing's way
-    at the spot, and the spot in no other cube's housing way (a tower grown there would
-    stand beside the hand going down to that cube); else the spots where no tall tower is in
-    the housing's way now (:func:`housing_clear`); else all of them.
+    Best, a spot where no tall tower is in the housing's way now (:func:`housing_clear`) and
+    none may grow there: for the bottom of a tall goal tower (``base``), a spot in no other
+    cube's housing way (its tower, grown, would stand beside the hand going down to that
+    cube); for any other cube, a spot with no such bottom (``bases``, of any height) in its own
+    housing way. Else a spot :func:`housing_clear` now; else all of them. Only the places
+    beside the goal's tall towers are given up, so putdowns stay near the hand.
     """
-    apart = [s for s in spots if housing_clear(others, size, *s, zone=ANY_HEIGHT)
-             and all(housing_clear([(*s, 1.0)], size, p[0], p[1]) for p in others)]
-    return apart or [s for s in spots if housing_clear(others, size, *s)] or spots
+    clear = [s for s in spots if housing_clear(others, size, *s)]
+    if base:
+        best = [s for s in clear if all(housing_clear([(*s, 1.0)], size, p[0], p[1]) for p in others)]
+    else:
+        best = [s for s in clear if housing_clear(bases or [], size, *s, zone=ANY_HEIGHT)]
+    return best or clear or spots
 
 
 @dataclass(frozen=True)

@@ -54,6 +54,7 @@ class Scene(PhysicsClient):
         if not self.opengl:  # the EGL plugin draws no mesh given by its vertices: painted boxes there (videos only)
             apply_markers(self, [self.bodies[default_name(i)] for i in range(n)], COLOURS)
         self.kinematics: PhysicsClient | None = None  # the arm's kinematic copy (ControlConfig.ik_model)
+        self.tall_bases: frozenset[int] = frozenset()  # bottoms of the goal's tall towers (PhysicalWorld.expect)
         if physics and config.control.ik_model:
             self.kinematics = PhysicsClient(config.physics)
             self.kinematics.load_fixed_urdf(PANDA_URDF)

@@ -36,6 +36,15 @@ def goal_height(goal: GoalSpec | State) -> int:
     return best
 
 
+TALL_TOWER = 5
+"""A tower of this many cubes or more reaches the forearm housing's height beside a hand at the table."""
+
+
+def tall_bases(goal: State, height: int = TALL_TOWER) -> frozenset[int]:
+    """The bottom cubes of the goal's towers of ``height`` cubes or more."""
+    return frozenset(t[0] for t in goal.towers() if len(t) >= height)
+
+
 def check_tower_heights(start: State, goal: GoalSpec | State, plan: Iterable[State] = (),
                         limit: int = MAX_TOWER_HEIGHT) -> None:
     """Refuse, with one line, a task whose start, goal or planned states need a tower taller than ``limit``."""

@@ -12,6 +12,7 @@ from csql_sim.sim.world.config import MAX_ARM_BLOCKS, MAX_TOWER_HEIGHT, RING_CON
 from csql_sim.sim.world.layout import arc_place, putdown_spots, start_layout
 from csql_sim.sim.world.robot import EE_LINK, KINEMATIC_BODY, LOWER, UPPER, Panda
 from csql_sim.sim.world.scene import Scene
+from csql_sim.sim.world.tower_height import tall_bases
 
 SIZE = RING_CONFIG.physics.cube_size
 
@@ -62,16 +63,18 @@ def test_putdowns_shun_places_where_a_tall_neighbour_stands_in_the_housings_way(
     assert housing_clear(tall[:4], SIZE, x0, y0)  # a tower of four is below the housing
 
 
-def test_putdowns_keep_apart_from_any_tower_that_may_grow_in_either_housings_way():
+def test_putdowns_keep_the_places_beside_a_tall_goal_towers_bottom_clear():
     spots = putdown_spots(RING_CONFIG)
-    (x1, y1) = spots[11]
-    short = [(x1, y1, SIZE / 2)]  # one cube on place 11: a tower may grow there
-    kept = shun_housing(spots, short, SIZE)
-    assert spots[10] not in kept  # going down at place 10, the housing would pass a grown tower on 11
-    assert spots[12] not in kept  # a tower grown on 12 would stand beside the hand going down to 11
-    assert spots[9] in kept and spots[13] in kept and len(kept) == len(spots) - 2
-    crowded = [(x, y, SIZE / 2) for x, y in spots[::2]]  # every other place taken: none apart
-    assert shun_housing(spots[1::2], crowded, SIZE) == spots[1::2]  # a cube of one is in no housing's way
+    base = [(*spots[11], SIZE / 2)]  # one cube on place 11, the bottom of a tall goal tower
+    kept = shun_housing(spots, base, SIZE, base=False, bases=base)
+    assert spots[10] not in kept and len(kept) == len(spots) - 1  # going down at 10, the housing passes 11
+    free = [(*spots[k], SIZE / 2) for k in (5, 20)]  # two cubes on the table; the bottom is held
+    kept = shun_housing(spots, free, SIZE, base=True, bases=[])
+    assert spots[6] not in kept and spots[21] not in kept and len(kept) == len(spots) - 2  # not beside them
+    assert shun_housing(spots, free, SIZE, base=False, bases=[]) == spots  # an ordinary cube: anywhere
+    assert tall_bases(parse_config("ABCDE,FG,HIJKL")) == {0, 7} and tall_bases(parse_config("ABCD,E")) == set()
+    crowded = [(*spots[k], SIZE / 2) for k in range(1, 30)]  # only place 2 offered, beside the cube on 1: the fallback
+    assert shun_housing(spots[2:3], crowded[:1], SIZE, base=True, bases=[]) == spots[2:3]  # beside the cube on 1
     tall = [(*spots[k], SIZE / 2 + h * SIZE) for k in range(0, 30, 2) for h in range(6)]  # towers of six
-    fallback = shun_housing(spots[1::2], tall, SIZE)
+    fallback = shun_housing(spots[1::2], tall, SIZE, base=True, bases=[])
     assert fallback == [s for s in spots[1::2] if housing_clear(tall, SIZE, *s)] and 0 < len(fallback) < 15
