@@ -158,9 +158,8 @@ class PhysicalBlocksEnv(BlocksWorldEnv):
             self._set_current(perceived.state)
 
     def _reached(self) -> bool:
-        """The perceived state satisfies the goal's atoms and every free cube is at rest (as the executor judges)."""
-        return (self.task is not None and self.physical is not None and self.task.satisfied(self.perceived.state)
-                and self.physical.is_settled())
+        """The perceived state satisfies the goal's atoms and every free cube is at rest (the executor's predicate)."""
+        return self.task is not None and self.physical is not None and self.physical.reached(self.perceived, self.task)
 
     def _info(self, illegal: bool = False) -> dict:
         info = super()._info(illegal)

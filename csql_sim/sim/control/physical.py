@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -45,6 +46,14 @@ def check_perception(perception: str, n: int | None = None) -> str:
     if perception not in PERCEPTION_MODES:
         raise SimError(f"perception must be one of {', '.join(PERCEPTION_MODES)}, got {perception!r}")
     return perception
+
+
+class GoalTest(Protocol):
+    """A partial goal: says whether a perceived state satisfies it (``None``: nothing perceived)."""
+
+    def satisfied(self, state: ArmState | None) -> bool:
+        """Whether ``state`` satisfies the goal."""
+        ...
 
 
 @dataclass
@@ -144,13 +153,15 @@ class PhysicalWorld:
         """Whether every free cube is at rest now."""
         return settled(self.scene, self.panda)
 
-    def reached(self, perceived: Perceived, goal: ArmState) -> bool:
+    def reached(self, perceived: Perceived, goal: ArmState | GoalTest) -> bool:
         """The success predicate of every physical episode: the task's, on what was perceived, once settled.
 
-        :meth:`csql_sim.core.model.task.Task.is_success` decides from the perceived state (never the
-        plan), and every free cube must be at rest.
+        The perceived state (never the plan) is the goal (:meth:`csql_sim.core.model.task.Task.is_success`)
+        or, for a partial goal (``goal`` a :class:`GoalTest`), satisfies it; and every free cube
+        must be at rest.
         """
-        return Task.is_success(perceived.state, goal) and self.is_settled()
+        met = Task.is_success(perceived.state, goal) if isinstance(goal, ArmState) else goal.satisfied(perceived.state)
+        return met and self.is_settled()
 
     def execute(self, action: Action, carry_hook: CarryHook | None = None, attempt: int = 0,
                 guarded: bool = False) -> Status:

@@ -140,7 +140,7 @@ class Panda:
         return np.array(self.scene.joint_positions(self.body, ARM_JOINTS))
 
     def move_to(self, position: Vec3, yaw: float, speed: float, max_steps: int, guard: Guard | None = None,
-                during: Callable[[float], None] | None = None) -> str:
+                during: Callable[[float], None] | None = None, rest: bool = True) -> str:
         """Drive the grasp point to ``position`` along a smooth joint-space path.
 
         Args:
@@ -150,6 +150,9 @@ class Panda:
             max_steps: step cap, including the final wait for arrival.
             guard: checked every ``check_every`` steps; True stops the motion.
             during: called with the fraction of the path done, at every check.
+            rest: wait until the hand is at rest at ``position`` (:meth:`arrived`); False: only
+                until it is within ``blend_tolerance`` of it (:meth:`near`), for a motion that
+                another one continues.
 
         Returns:
             ``"reached"``, ``"guard"`` or ``"timeout"``.
@@ -186,7 +189,7 @@ class Panda:
                 return "guard"
         self.command_arm(self.ik(position, yaw))
         while done < max_steps:
-            if self.arrived(target):
+            if self.arrived(target) if rest else self.near(target):
                 return "reached"
             self.scene.step(every)
             done += every
@@ -199,18 +202,20 @@ class Panda:
         """A descent or a lift to ``position``, returning as :meth:`move_to` does.
 
         At ``descend_speed``, or (``approach_gap`` > 0) at ``move_speed`` except for the last
-        ``approach_gap`` of a descent.
+        ``approach_gap`` of a descent. With ``blend_tolerance`` > 0 a lift and a descent's
+        fast part end without waiting for the hand to come to rest.
         """
         cc = self.cc
         gap = cc.approach_gap
         if gap <= 0:
             return self.move_to(position, yaw, cc.descend_speed, cc.descend_steps, guard)
         z = float(self.ee_position()[2])
+        rest = cc.blend_tolerance <= 0
         if position[2] > z:  # a lift
-            return self.move_to(position, yaw, cc.move_speed, cc.descend_steps, guard)
+            return self.move_to(position, yaw, cc.move_speed, cc.descend_steps, guard, rest=rest)
         if z - position[2] > 2 * gap:
             fast = self.move_to((position[0], position[1], position[2] + gap), yaw, cc.move_speed, cc.descend_steps,
-                                guard)
+                                guard, rest=rest)
             if fast == "guard":
                 return fast
         return self.move_to(position, yaw, cc.descend_speed, cc.descend_steps, guard)
@@ -220,6 +225,10 @@ class Panda:
         position, _, velocity = self.scene.link_state(self.body, EE_LINK, velocity=True)
         return bool(np.linalg.norm(np.subtract(position, target)) < self.cc.reach_tolerance
                     and np.linalg.norm(velocity) < self.cc.arrive_speed)
+
+    def near(self, target: np.ndarray) -> bool:
+        """Grasp point within ``blend_tolerance`` of ``target`` (moving or not)."""
+        return bool(np.linalg.norm(self.ee_position() - target) < self.cc.blend_tolerance)
 
     def hold_here(self, yaw: float) -> None:
         """Freeze the arm at its current grasp-point position."""
@@ -239,7 +248,7 @@ class Panda:
         for _ in range(0, self.cc.grip_steps, every):
             self.scene.step(every)
             width = self.finger_width()
-            if body is not None and self.grips(body) and abs(width - last) < 1e-4:
+            if body is not None and self.grips(body) and abs(width - last) < self.cc.grip_still:
                 return True
             last = width
         return body is not None and self.grips(body)

@@ -1,0 +1,111 @@
+"""Pick and place on the ring of 11..30 cubes: lifts that go only as high as the cubes near the
+hand, a grasp that ends once the fingers stop closing, a release that opens just wide enough,
+and moves that hand over to the next one without stopping."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+from csql_sim.core.state.notation import parse_config
+from csql_sim.core.state.world import Action, ActionKind
+from csql_sim.sim.control.physical import PhysicalWorld
+from csql_sim.sim.control.primitives import OFFSETS
+from csql_sim.sim.world.config import RING_CONFIG
+
+SIZE = RING_CONFIG.physics.cube_size
+START = parse_config("A,B,CDEFGHIJ,K,L")  # a tower of eight (C..J) in the middle of the ring, four single cubes
+TOWER, SINGLES = range(2, 10), (0, 1, 10, 11)
+
+
+def with_control(**changes: object):
+    return dataclasses.replace(RING_CONFIG, control=dataclasses.replace(RING_CONFIG.control, **changes))
+
+
+def angle(p) -> float:
+    return math.atan2(p[1], p[0])
+
+
+def far_single(world: PhysicalWorld) -> int:
+    """A single cube two places or more from the tower, with the tower between it and the hand's start angle."""
+    obs = world.observe()
+    tower, hand = angle(obs.blocks[TOWER[0]].position), angle(world.panda.ee_position())
+    at = {i: angle(obs.blocks[i].position) for i in SINGLES}
+    singles = [i for i in SINGLES
+               if abs(at[i] - tower) > 0.35 and min(hand, at[i]) - 0.2 <= tower <= max(hand, at[i]) + 0.2]
+    assert singles, "the layout puts a single cube beyond the tower"
+    return singles[0]
+
+
+def pick_and_put_down(config) -> dict:
+    with PhysicalWorld(12, 0, "pose", config) as world:
+        world.build(START)
+        block = far_single(world)
+        closing = {}
+        close = world.panda.close
+
+        def timed_close(body):
+            before = world.scene.steps
+            ok = close(body)
+            closing["steps"] = world.scene.steps - before
+            return ok
+
+        world.panda.close = timed_close
+        picked = world.execute(Action(ActionKind.PICKUP, block))
+        held = world.observe()
+        hand = world.panda.ee_position()
+        put = world.execute(Action(ActionKind.PUTDOWN, block))
+        return {"picked": picked, "put": put, "hand_z": float(hand[2]), "cube_z": held.blocks[block].position[2],
+                "tower_top": held.blocks[TOWER[-1]].position[2] + SIZE / 2, "width": world.panda.finger_width(),
+                "state": world.perceive().state, "close": closing["steps"]}
+
+
+@pytest.fixture(scope="module")
+def ring() -> dict:
+    return pick_and_put_down(RING_CONFIG)
+
+
+@pytest.fixture(scope="module")
+def plain() -> dict:
+    return pick_and_put_down(with_control(local_lift=False, blend_tolerance=0.0, grip_still=1e-4,
+                                          release_opening=0.0))
+
+
+def test_a_lift_goes_just_above_the_cubes_near_the_hand(ring, plain):
+    assert ring["picked"].ok and plain["picked"].ok and ring["put"].ok and plain["put"].ok
+    # the hand carries the cube in both: it hangs below the grasp point by the grasp offset
+    for run in (ring, plain):
+        assert abs(run["hand_z"] - run["cube_z"] - OFFSETS.grasp_above_centre) < 0.01
+    # the way to the cube passed over the tower of eight: the move there was above it ...
+    assert plain["hand_z"] > plain["tower_top"] + SIZE / 2
+    # ... and the lift from the single cube goes only above the cubes near it, far below the tower's top
+    assert ring["hand_z"] < ring["tower_top"] - 0.1
+    # no cube near it: the held cube's bottom goes the carry clearance above the table (the lift ends on its way)
+    assert ring["hand_z"] >= SIZE / 2 + OFFSETS.carry_clearance - RING_CONFIG.control.blend_tolerance
+
+
+def test_the_grasp_ends_once_the_fingers_stop_closing_and_still_holds(ring, plain):
+    # the fingers go on squeezing the cube by 0.1 mm at a time: waiting for less than that takes the whole cap
+    assert ring["close"] < RING_CONFIG.control.grip_steps <= plain["close"]
+    assert ring["state"] == plain["state"] == START  # the cube put down again: the same state, perceived
+
+
+def test_a_release_opens_just_wider_than_the_cube(ring, plain):
+    assert abs(ring["width"] - (SIZE + RING_CONFIG.control.release_opening)) < 0.006
+    assert plain["width"] > 2 * RING_CONFIG.control.finger_open - 0.006  # fully open without it
+
+
+def test_a_move_that_another_continues_ends_near_its_goal_without_waiting_to_stop():
+    steps, ends = {}, {}
+    for rest in (True, False):
+        with PhysicalWorld(12, 0, "pose", RING_CONFIG) as world:
+            world.build(START)
+            panda = world.panda
+            goal = panda.ee_position() + np.array([0.0, 0.0, -0.2])
+            before = world.scene.steps
+            assert panda.move_to(tuple(goal), panda.yaw, RING_CONFIG.control.move_speed, 300, rest=rest) == "reached"
+            steps[rest] = world.scene.steps - before
+            ends[rest] = float(np.linalg.norm(panda.ee_position() - goal))
+    assert ends[True] < RING_CONFIG.control.reach_tolerance and ends[False] < RING_CONFIG.control.blend_tolerance
+    assert steps[False] < steps[True]
