@@ -85,21 +85,6 @@ def carry_level(obs: Observation, exclude: int | None, panda: Panda, x: float, y
     return min(max(tops + [0.0]) + obs.size / 2 + offsets.carry_clearance, cc.carry_ceiling)
 
 
-def lift_level(obs: Observation, held: int, panda: Panda, high: float, top: float = 0.0,
-               offsets: ApproachOffsets = OFFSETS) -> float:
-    """The height a lift from the hand's place goes to: ``high``, or (``ControlConfig.local_lift``) less.
-
-    With ``local_lift``, just above the cubes near the hand (:func:`carry_level` of a move to
-    where it is) and ``top`` (the top of a cube just put down, not yet observed): the next
-    move rises further first if its way needs it (:func:`rise_to`).
-    """
-    if not panda.cc.local_lift:
-        return high
-    hand = panda.ee_position()
-    near = carry_level(obs, held, panda, float(hand[0]), float(hand[1]), offsets)
-    return min(high, max(near, top + obs.size / 2 + offsets.carry_clearance))
-
-
 def rise_to(panda: Panda, z: float) -> None:
     """With ``local_carry``: lift the hand straight up to height ``z`` first, if it is lower.
 
@@ -270,7 +255,7 @@ class Pick:
             panda.open()
             panda.vertical((x, y, high), yaw)
             return Status(False, f"grasp of {letter(self.block)} missed", scene.steps - start)
-        panda.vertical((x, y, lift_level(obs, self.block, panda, high, 0.0, self.offsets)), yaw)
+        panda.vertical((x, y, high), yaw)
         if not panda.grips(body):
             return Status(False, f"{letter(self.block)} slipped out while lifting", scene.steps - start)
         return Status(True, "", scene.steps - start)
@@ -327,7 +312,7 @@ class Place:
             panda.vertical((x, y, goal_z + cc.place_pause), yaw)
         panda.vertical((x, y, goal_z), yaw, guard=lambda: bool(scene.contact_bodies(body) & others))
         panda.open(size + cc.release_opening if cc.release_opening > 0 else None)
-        panda.vertical((x, y, lift_level(obs, self.block, panda, high, support_top + size, self.offsets)), yaw)
+        panda.vertical((x, y, high), yaw)
         settle(scene, panda)
         return Status(True, "", scene.steps - start)
 
