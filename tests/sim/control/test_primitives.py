@@ -1,5 +1,6 @@
-"""Pick and place on the ring of 11..30 cubes: a grasp that ends once the fingers stop closing,
-a release that opens just wide enough, and moves that hand over to the next one without stopping."""
+"""Pick and place on the ring of 11..30 cubes with the brisk settings (``BRISK_CONTROL``): a grasp
+that ends once the fingers stop closing, a release that opens just wide enough, and moves that
+hand over to the next one without stopping; against the ring's default settings."""
 
 import dataclasses
 import math
@@ -11,15 +12,14 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import Action, ActionKind
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.control.primitives import OFFSETS
-from csql_sim.sim.world.config import RING_CONFIG
+from csql_sim.sim.world.config import BRISK_CONTROL, RING_CONFIG
 
 SIZE = RING_CONFIG.physics.cube_size
 START = parse_config("A,B,CDEFGHIJ,K,L")  # a tower of eight (C..J) in the middle of the ring, four single cubes
 TOWER, SINGLES = range(2, 10), (0, 1, 10, 11)
 
 
-def with_control(**changes: object):
-    return dataclasses.replace(RING_CONFIG, control=dataclasses.replace(RING_CONFIG.control, **changes))
+BRISK = dataclasses.replace(RING_CONFIG, control=BRISK_CONTROL)
 
 
 def angle(p) -> float:
@@ -61,45 +61,44 @@ def pick_and_put_down(config) -> dict:
 
 
 @pytest.fixture(scope="module")
-def ring() -> dict:
-    return pick_and_put_down(RING_CONFIG)
+def brisk() -> dict:
+    return pick_and_put_down(BRISK)
 
 
 @pytest.fixture(scope="module")
 def plain() -> dict:
-    return pick_and_put_down(with_control(blend_tolerance=0.0, grip_still=1e-4,
-                                          release_opening=0.0))
+    return pick_and_put_down(RING_CONFIG)
 
 
-def test_a_pick_carries_the_cube_out_of_the_cameras_way_and_a_place_puts_it_back(ring, plain):
-    assert ring["picked"].ok and plain["picked"].ok and ring["put"].ok and plain["put"].ok
-    for run in (ring, plain):  # the cube hangs in the hand, its grasp point just above its centre
+def test_a_pick_carries_the_cube_out_of_the_cameras_way_and_a_place_puts_it_back(brisk, plain):
+    assert brisk["picked"].ok and plain["picked"].ok and brisk["put"].ok and plain["put"].ok
+    for run in (brisk, plain):  # the cube hangs in the hand, its grasp point just above its centre
         assert abs(run["hand_z"] - run["cube_z"] - OFFSETS.grasp_above_centre) < 0.01
         assert run["hand_z"] > run["tower_top"] + SIZE / 2  # carried above the tower of eight on its way
         assert run["state"] == START  # put down again: the same state, perceived
 
 
-def test_the_grasp_ends_once_the_fingers_stop_closing_and_still_holds(ring, plain):
+def test_the_grasp_ends_once_the_fingers_stop_closing_and_still_holds(brisk, plain):
     # the fingers go on squeezing the cube by 0.1 mm at a time: waiting for less than that takes the whole cap
-    assert ring["close"] < RING_CONFIG.control.grip_steps <= plain["close"]
-    assert ring["picked"].steps < plain["picked"].steps
+    assert brisk["close"] < BRISK_CONTROL.grip_steps <= plain["close"]
+    assert brisk["picked"].steps < plain["picked"].steps
 
 
-def test_a_release_opens_just_wider_than_the_cube(ring, plain):
-    assert abs(ring["width"] - (SIZE + RING_CONFIG.control.release_opening)) < 0.006
+def test_a_release_opens_just_wider_than_the_cube(brisk, plain):
+    assert abs(brisk["width"] - (SIZE + BRISK_CONTROL.release_opening)) < 0.006
     assert plain["width"] > 2 * RING_CONFIG.control.finger_open - 0.006  # fully open without it
 
 
 def test_a_move_that_another_continues_ends_near_its_goal_without_waiting_to_stop():
     steps, ends = {}, {}
     for rest in (True, False):
-        with PhysicalWorld(12, 0, "pose", RING_CONFIG) as world:
+        with PhysicalWorld(12, 0, "pose", BRISK) as world:
             world.build(START)
             panda = world.panda
             goal = panda.ee_position() + np.array([0.0, 0.0, -0.2])
             before = world.scene.steps
-            assert panda.move_to(tuple(goal), panda.yaw, RING_CONFIG.control.move_speed, 300, rest=rest) == "reached"
+            assert panda.move_to(tuple(goal), panda.yaw, BRISK_CONTROL.move_speed, 300, rest=rest) == "reached"
             steps[rest] = world.scene.steps - before
             ends[rest] = float(np.linalg.norm(panda.ee_position() - goal))
-    assert ends[True] < RING_CONFIG.control.reach_tolerance and ends[False] < RING_CONFIG.control.blend_tolerance
+    assert ends[True] < BRISK_CONTROL.reach_tolerance and ends[False] < BRISK_CONTROL.blend_tolerance
     assert steps[False] < steps[True]
