@@ -41,7 +41,7 @@ from csql_sim.sim.control.executor import Episode, run_physical_episode
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.perception.rgbd import NO_NOISE, CameraNoise
 from csql_sim.sim.world.arm_state import world_model_for
-from csql_sim.sim.world.config import BRISK_CONTROL, MAX_TOWER_HEIGHT, RING_CONFIG, SimConfig, config_for
+from csql_sim.sim.world.config import BRISK_CONFIG, MAX_TOWER_HEIGHT, RING_CONFIG, config_for
 
 PLANNERS = ("gn1", "rules")
 
@@ -82,8 +82,7 @@ def run_sizes(args: argparse.Namespace) -> list[Row]:
             row = Row(n, planner)
             for k, (start, goal) in enumerate(tasks):
                 t, c = time.perf_counter(), time.process_time()
-                config = SimConfig(RING_CONFIG.physics, RING_CONFIG.layout, BRISK_CONTROL) \
-                    if args.brisk and n > 10 else config_for(n)
+                config = BRISK_CONFIG if args.brisk and n > 10 else config_for(n)
                 result = run_physical_episode(start, goal, policy_of(planner, n), seed=args.seed + k, config=config,
                                               perception=args.perception, camera_noise=args.noise)
                 row.tasks += 1

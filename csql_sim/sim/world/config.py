@@ -188,20 +188,23 @@ Not on: :data:`BRISK_CONTROL`'s settings, which save simulated time (see there).
 
 BRISK_CONTROL = dataclasses.replace(RING_CONFIG.control, approach_gap=0.05, blend_tolerance=0.01, grip_still=5e-4,
                                     release_opening=0.025)
-"""Ring control that saves simulated time without faster motion; not the default (``SimConfig(control=BRISK_CONTROL)``).
+"""Ring control that saves simulated time without faster motion; not the default (:data:`BRISK_CONFIG` uses it).
 
 A lift, and a descent's fast part, hand over to the next motion 1 cm from their goal without
 waiting for the hand to stop (``blend_tolerance``); the fingers count as closed on a cube when
 they close by less than 0.5 mm in four steps (they go on squeezing it by 0.1 mm at a time for as
 long as one waits, so waiting for less takes the whole grip cap); a place opens them 25 mm wider
 than the cube, not fully; the slow part of a descent is its last 5 cm. With camera perception
-and sensor noise, the first tall-tower tasks of seed 0 took 1.43 simulated s per action at 30
-cubes (6 tasks; 1.61 on 20 tasks without), 1.21 at 20 (9 tasks; 1.37) and 1.03 at 12 (20 tasks;
+and sensor noise, the first tall-tower tasks of seed 0 took 1.46 simulated s per action at 30
+cubes (9 tasks; 1.61 on 20 tasks without), 1.22 at 20 (13 tasks; 1.37) and 1.03 at 12 (20 tasks;
 1.17), all reached. It is not the default because one 20-cube camera task (the slow test's,
 seed 2) fails with it: after a cube is stacked on a single cube on the table no camera reads
 the lower cube's marker. It is the blend together with the 5 cm slow part: the task reaches its
 goal with either alone (with the 10 cm slow part: 1.10 simulated s per action; without the
 blend: 1.18; the default: 1.22), and turning the grasp or the release setting off does not help."""
+
+BRISK_CONFIG = dataclasses.replace(RING_CONFIG, control=BRISK_CONTROL)
+""":data:`RING_CONFIG` with :data:`BRISK_CONTROL`: pass it as ``config`` to try the brisk control."""
 
 MAX_TOWER_HEIGHT = 15
 """The tallest tower a task may need on :data:`RING_LAYOUT`; a task whose start, goal or plan

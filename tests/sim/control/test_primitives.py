@@ -2,7 +2,6 @@
 that ends once the fingers stop closing, a release that opens just wide enough, and moves that
 hand over to the next one without stopping; against the ring's default settings."""
 
-import dataclasses
 import math
 
 import numpy as np
@@ -12,14 +11,13 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import Action, ActionKind
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.control.primitives import OFFSETS
-from csql_sim.sim.world.config import BRISK_CONTROL, RING_CONFIG
+from csql_sim.sim.world.config import BRISK_CONFIG, BRISK_CONTROL, RING_CONFIG
 
 SIZE = RING_CONFIG.physics.cube_size
 START = parse_config("A,B,CDEFGHIJ,K,L")  # a tower of eight (C..J) in the middle of the ring, four single cubes
 TOWER, SINGLES = range(2, 10), (0, 1, 10, 11)
 
 
-BRISK = dataclasses.replace(RING_CONFIG, control=BRISK_CONTROL)
 
 
 def angle(p) -> float:
@@ -62,7 +60,7 @@ def pick_and_put_down(config) -> dict:
 
 @pytest.fixture(scope="module")
 def brisk() -> dict:
-    return pick_and_put_down(BRISK)
+    return pick_and_put_down(BRISK_CONFIG)
 
 
 @pytest.fixture(scope="module")
@@ -92,7 +90,7 @@ def test_a_release_opens_just_wider_than_the_cube(brisk, plain):
 def test_a_move_that_another_continues_ends_near_its_goal_without_waiting_to_stop():
     steps, ends = {}, {}
     for rest in (True, False):
-        with PhysicalWorld(12, 0, "pose", BRISK) as world:
+        with PhysicalWorld(12, 0, "pose", BRISK_CONFIG) as world:
             world.build(START)
             panda = world.panda
             goal = panda.ee_position() + np.array([0.0, 0.0, -0.2])
