@@ -17,6 +17,7 @@ import numpy as np
 from csql_sim.sim.perception.camera import Camera, pixel_rays, unproject
 from csql_sim.sim.perception.fiducials import (
     READ_LIMITS,
+    ReadLimits,
     corner_pixels,
     face_pixels,
     marker_edge,
@@ -76,20 +77,23 @@ def fit_plane(points: np.ndarray, noise: float) -> tuple[np.ndarray, float, np.n
 
 
 def read_view(camera: Camera, rgb: np.ndarray, depth: np.ndarray, n: int, size: float,
-              noise: float = 0.0) -> list[FaceRead]:
-    """The plausible face reads of cubes 0..n-1 in one view (``noise``: the depth noise, m)."""
+              noise: float = 0.0, limits: ReadLimits = READ_LIMITS) -> list[FaceRead]:
+    """The plausible face reads of cubes 0..n-1 in one view (``noise``: the depth noise, m).
+
+    ``limits``: how markers are decoded and their reads checked (:mod:`.fiducials`).
+    """
     eye = np.asarray(camera.eye, dtype=float)
     out = []
-    for read in read_markers(rgb, n):
-        rows, cols = face_pixels(read, depth.shape)
-        if len(rows) < READ_LIMITS.min_pixels:
+    for read in read_markers(rgb, n, limits):
+        rows, cols = face_pixels(read, depth.shape, limits)
+        if len(rows) < limits.min_pixels:
             continue
-        if not plausible(unproject(camera, depth, *corner_pixels(read, depth.shape)), size):
+        if not plausible(unproject(camera, depth, *corner_pixels(read, depth.shape, limits)), size, limits):
             continue
         points = unproject(camera, depth, rows, cols)
-        near = np.linalg.norm(points - np.median(points, axis=0), axis=1) < READ_LIMITS.face_radius * size
+        near = np.linalg.norm(points - np.median(points, axis=0), axis=1) < limits.face_radius * size
         points = points[near]  # not the pixels past the face's edge (the table or the sky behind)
-        if len(points) < READ_LIMITS.min_pixels:
+        if len(points) < limits.min_pixels:
             continue
         normal, offset, keep = fit_plane(points, noise)
         if normal @ (eye - points[keep].mean(axis=0)) < 0:  # outward: towards the camera

@@ -6,6 +6,7 @@ marker read are back-projected with depth, and a plane fitted to them is that fa
 face's normal and the marker's edge in it give the cube's frame, merged over every read of
 the cube in every view (:mod:`.face_reads`). Its most upward axis gives the tilt, a side axis
 the yaw, and each read face pins the centre half a cube behind it. While some cube has no read,
+the images are decoded once more at another sampling of the markers' cells, then
 further views (:func:`~.camera.fallback_cameras`: higher, or from behind the arm) are rendered
 one at a time (not for a cube interpretation places in the hand by elimination); a cube with
 no read in any view is unseen (never guessed from its colour, which is cosmetic); so is one
@@ -25,6 +26,7 @@ import numpy as np
 from csql_sim.infra.errors import CsqlError
 from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, Camera, capture, fallback_cameras, perception_cameras
 from csql_sim.sim.perception.face_reads import FaceRead, cube_centre, cube_frame, read_view
+from csql_sim.sim.perception.fiducials import RETRY_LIMITS
 from csql_sim.sim.perception.poses import BlockObs, Observation, interpret, wrap_quarter
 from csql_sim.sim.world.robot import Panda
 from csql_sim.sim.world.scene import Scene
@@ -86,15 +88,31 @@ Render = Callable[[Camera], tuple[np.ndarray, np.ndarray]]
 """A camera's colour image (h, w, 3 uint8) and depth buffer (h, w) of the scene now."""
 
 
+View = tuple[Camera, np.ndarray, np.ndarray]
+"""A camera and the colour image and depth buffer it gave (sensor noise added)."""
+
+
 def read_faces(render: Render, cameras: tuple[Camera, ...], faces: list[list[FaceRead]], size: float,
-               noise: CameraNoise, rng: np.random.Generator) -> None:
-    """Add each view's marker reads to ``faces`` (one list per cube)."""
+               noise: CameraNoise, rng: np.random.Generator) -> list[View]:
+    """Add each view's marker reads to ``faces`` (one list per cube); the views, for :func:`reread_faces`."""
+    views = []
     for camera in cameras:
         rgb, depth = render(camera)
         if noise.active:
             rgb, depth = add_noise(rgb, depth, camera, noise, rng)
         for face in read_view(camera, rgb, depth, len(faces), size, noise.depth):
             faces[face.cube].append(face)
+        views.append((camera, rgb, depth))
+    return views
+
+
+def reread_faces(views: list[View], faces: list[list[FaceRead]], size: float, noise: CameraNoise) -> None:
+    """Decode the views' images again with :data:`~.fiducials.RETRY_LIMITS`, for the cubes with no read yet."""
+    unread = {cube for cube, reads in enumerate(faces) if not reads}
+    for camera, rgb, depth in views if unread else ():
+        for face in read_view(camera, rgb, depth, len(faces), size, noise.depth, RETRY_LIMITS):
+            if face.cube in unread:
+                faces[face.cube].append(face)
 
 
 def estimate_cubes(faces: list[list[FaceRead]], size: float) -> tuple[BlockObs, ...]:
@@ -127,16 +145,26 @@ def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: floa
         noise: sensor noise to add.
         rng: draws the noise (a fixed generator when None).
         fallback: further views, rendered in turn only while some cube has no read.
+
+    While some cube has no read, the images already taken are decoded again
+    (:func:`reread_faces`) before a fallback view is rendered, and each fallback view twice.
         explained: when it holds for the estimates, no further view is rendered though a cube is unread.
     """
     rng = rng if rng is not None else np.random.default_rng(0)
     faces: list[list[FaceRead]] = [[] for _ in range(n)]
-    read_faces(render, cameras, faces, size, noise, rng)
+
+    def done(blocks: tuple[BlockObs, ...]) -> bool:
+        return all(b.visible for b in blocks) or (explained is not None and explained(blocks))
+
+    views = read_faces(render, cameras, faces, size, noise, rng)
     blocks = estimate_cubes(faces, size)
+    if not done(blocks):
+        reread_faces(views, faces, size, noise)
+        blocks = estimate_cubes(faces, size)
     for camera in fallback:
-        if all(b.visible for b in blocks) or (explained is not None and explained(blocks)):
+        if done(blocks):
             break
-        read_faces(render, (camera,), faces, size, noise, rng)
+        reread_faces(read_faces(render, (camera,), faces, size, noise, rng), faces, size, noise)
         blocks = estimate_cubes(faces, size)
     return blocks
 

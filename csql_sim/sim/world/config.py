@@ -168,15 +168,16 @@ below a cube that tips or slides. The hand, a moving cube, a force or a teleport
 RING_CONFIG = SimConfig(physics=RING_PHYSICS, layout=RING_LAYOUT,
                         control=ControlConfig(ik_model=True, move_steps=700, descend_steps=300, place_pause=0.012,
                                               aim_column=True, polar_moves=True, carry_ceiling=0.69,
-                                              move_speed=1.2, approach_gap=0.1,
+                                              move_speed=1.2, approach_gap=0.05, blend_tolerance=0.01,
+                                              grip_still=5e-4, release_opening=0.025,
                                               start_joints=(0.0, -0.494, 0.0, -1.36, 0.0, 0.866, 0.785),
                                               local_carry=True))
 """The settings of a scene of 11..30 cubes (:func:`config_for`): :data:`WIDE_CONFIG`'s control,
 and free moves along arcs about the base (a straight line between two places across the ring
 would pass over the arm's base). A move may take 700 steps: from one end of the ring to the
 other the base turns by 5.2 radians. The hand is never carried higher than 0.69 m (the reach at
-0.5 m). Descents and lifts go at the free moves' speed (1.2 m/s) up to 10 cm above their goal,
-and only the last 10 cm at the guarded descent's speed: the hand goes up and down by as much as
+0.5 m). Descents and lifts go at the free moves' speed (1.2 m/s) up to 5 cm above their goal,
+and only the last 5 cm at the guarded descent's speed: the hand goes up and down by as much as
 0.65 m, and at 0.45 m/s all the way an action took over 2 s of simulated time. A descent may
 take 300 steps. The arm starts with the hand 0.75 m above the table, 0.25 m from its base
 (inside the ring, above a tower of fifteen): the home pose of fewer cubes holds the hand 0.4 m
@@ -184,27 +185,19 @@ high at 0.46 m, where a start tower of ten would stand. The hand is carried abov
 along its arc (``local_carry``), not above the tallest tower anywhere, and a putdown takes the
 free place nearest the hand: on a ring this large both halve the way the hand goes.
 
-Not on: :data:`BRISK_CONTROL`'s settings, which save simulated time (see there)."""
+Less waiting: a lift, and a descent's fast part, hand over to the next motion 1 cm from their
+goal without waiting for the hand to stop (``blend_tolerance``); the fingers count as closed on
+a cube when they close by less than 0.5 mm in four steps (they go on squeezing it by 0.1 mm at
+a time for as long as one waits, so waiting for less takes the whole grip cap); a place opens
+them 25 mm wider than the cube, not fully. With camera perception and sensor noise these cut the
+simulated time per action of the first tall-tower tasks of seed 0 from 1.61 s to 1.46 at 30
+cubes (the earlier settings: :data:`WAITING_CONTROL`; figures in ``docs/results/arm.md``)."""
 
-BRISK_CONTROL = dataclasses.replace(RING_CONFIG.control, approach_gap=0.05, blend_tolerance=0.01, grip_still=5e-4,
-                                    release_opening=0.025)
-"""Ring control that saves simulated time without faster motion; not the default (:data:`BRISK_CONFIG` uses it).
-
-A lift, and a descent's fast part, hand over to the next motion 1 cm from their goal without
-waiting for the hand to stop (``blend_tolerance``); the fingers count as closed on a cube when
-they close by less than 0.5 mm in four steps (they go on squeezing it by 0.1 mm at a time for as
-long as one waits, so waiting for less takes the whole grip cap); a place opens them 25 mm wider
-than the cube, not fully; the slow part of a descent is its last 5 cm. With camera perception
-and sensor noise, the first tall-tower tasks of seed 0 took 1.46 simulated s per action at 30
-cubes (9 tasks; 1.61 on 20 tasks without), 1.22 at 20 (13 tasks; 1.37) and 1.03 at 12 (20 tasks;
-1.17), all reached. It is not the default because one 20-cube camera task (the slow test's,
-seed 2) fails with it: after a cube is stacked on a single cube on the table no camera reads
-the lower cube's marker. It is the blend together with the 5 cm slow part: the task reaches its
-goal with either alone (with the 10 cm slow part: 1.10 simulated s per action; without the
-blend: 1.18; the default: 1.22), and turning the grasp or the release setting off does not help."""
-
-BRISK_CONFIG = dataclasses.replace(RING_CONFIG, control=BRISK_CONTROL)
-""":data:`RING_CONFIG` with :data:`BRISK_CONTROL`: pass it as ``config`` to try the brisk control."""
+WAITING_CONTROL = dataclasses.replace(RING_CONFIG.control, approach_gap=0.1, blend_tolerance=0.0, grip_still=1e-4,
+                                      release_opening=0.0)
+"""The ring's earlier control, to compare with: every lift and descent comes to rest, the slow
+part of a descent is its last 10 cm, a grasp waits the whole grip cap, and a place opens the
+fingers fully (``benchmarks/arm_thirty.py --waiting``)."""
 
 MAX_TOWER_HEIGHT = 15
 """The tallest tower a task may need on :data:`RING_LAYOUT`; a task whose start, goal or plan

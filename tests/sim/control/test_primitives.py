@@ -1,7 +1,8 @@
-"""Pick and place on the ring of 11..30 cubes with the brisk settings (``BRISK_CONTROL``): a grasp
-that ends once the fingers stop closing, a release that opens just wide enough, and moves that
-hand over to the next one without stopping; against the ring's default settings."""
+"""Pick and place on the ring of 11..30 cubes (``RING_CONFIG``): a grasp that ends once the fingers
+stop closing, a release that opens just wide enough, and moves that hand over to the next one
+without stopping; against the ring's earlier control, which waits (``WAITING_CONTROL``)."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -11,9 +12,11 @@ from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import Action, ActionKind
 from csql_sim.sim.control.physical import PhysicalWorld
 from csql_sim.sim.control.primitives import OFFSETS
-from csql_sim.sim.world.config import BRISK_CONFIG, BRISK_CONTROL, RING_CONFIG
+from csql_sim.sim.world.config import RING_CONFIG, WAITING_CONTROL
 
 SIZE = RING_CONFIG.physics.cube_size
+RING = RING_CONFIG.control
+WAITING_CONFIG = dataclasses.replace(RING_CONFIG, control=WAITING_CONTROL)
 START = parse_config("A,B,CDEFGHIJ,K,L")  # a tower of eight (C..J) in the middle of the ring, four single cubes
 TOWER, SINGLES = range(2, 10), (0, 1, 10, 11)
 
@@ -59,44 +62,44 @@ def pick_and_put_down(config) -> dict:
 
 
 @pytest.fixture(scope="module")
-def brisk() -> dict:
-    return pick_and_put_down(BRISK_CONFIG)
-
-
-@pytest.fixture(scope="module")
-def plain() -> dict:
+def ring() -> dict:
     return pick_and_put_down(RING_CONFIG)
 
 
-def test_a_pick_carries_the_cube_out_of_the_cameras_way_and_a_place_puts_it_back(brisk, plain):
-    assert brisk["picked"].ok and plain["picked"].ok and brisk["put"].ok and plain["put"].ok
-    for run in (brisk, plain):  # the cube hangs in the hand, its grasp point just above its centre
+@pytest.fixture(scope="module")
+def waiting() -> dict:
+    return pick_and_put_down(WAITING_CONFIG)
+
+
+def test_a_pick_carries_the_cube_out_of_the_cameras_way_and_a_place_puts_it_back(ring, waiting):
+    assert ring["picked"].ok and waiting["picked"].ok and ring["put"].ok and waiting["put"].ok
+    for run in (ring, waiting):  # the cube hangs in the hand, its grasp point just above its centre
         assert abs(run["hand_z"] - run["cube_z"] - OFFSETS.grasp_above_centre) < 0.01
         assert run["hand_z"] > run["tower_top"] + SIZE / 2  # carried above the tower of eight on its way
         assert run["state"] == START  # put down again: the same state, perceived
 
 
-def test_the_grasp_ends_once_the_fingers_stop_closing_and_still_holds(brisk, plain):
+def test_the_grasp_ends_once_the_fingers_stop_closing_and_still_holds(ring, waiting):
     # the fingers go on squeezing the cube by 0.1 mm at a time: waiting for less than that takes the whole cap
-    assert brisk["close"] < BRISK_CONTROL.grip_steps <= plain["close"]
-    assert brisk["picked"].steps < plain["picked"].steps
+    assert ring["close"] < RING.grip_steps <= waiting["close"]
+    assert ring["picked"].steps < waiting["picked"].steps
 
 
-def test_a_release_opens_just_wider_than_the_cube(brisk, plain):
-    assert abs(brisk["width"] - (SIZE + BRISK_CONTROL.release_opening)) < 0.006
-    assert plain["width"] > 2 * RING_CONFIG.control.finger_open - 0.006  # fully open without it
+def test_a_release_opens_just_wider_than_the_cube(ring, waiting):
+    assert abs(ring["width"] - (SIZE + RING.release_opening)) < 0.006
+    assert waiting["width"] > 2 * RING.finger_open - 0.006  # fully open without it
 
 
 def test_a_move_that_another_continues_ends_near_its_goal_without_waiting_to_stop():
     steps, ends = {}, {}
     for rest in (True, False):
-        with PhysicalWorld(12, 0, "pose", BRISK_CONFIG) as world:
+        with PhysicalWorld(12, 0, "pose", RING_CONFIG) as world:
             world.build(START)
             panda = world.panda
             goal = panda.ee_position() + np.array([0.0, 0.0, -0.2])
             before = world.scene.steps
-            assert panda.move_to(tuple(goal), panda.yaw, BRISK_CONTROL.move_speed, 300, rest=rest) == "reached"
+            assert panda.move_to(tuple(goal), panda.yaw, RING.move_speed, 300, rest=rest) == "reached"
             steps[rest] = world.scene.steps - before
             ends[rest] = float(np.linalg.norm(panda.ee_position() - goal))
-    assert ends[True] < BRISK_CONTROL.reach_tolerance and ends[False] < BRISK_CONTROL.blend_tolerance
+    assert ends[True] < RING.reach_tolerance and ends[False] < RING.blend_tolerance
     assert steps[False] < steps[True]

@@ -8,7 +8,10 @@ import pytest
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.state_count import sample_state
 from csql_sim.sim.control.physical import PhysicalWorld
+from csql_sim.sim.perception import rgbd
 from csql_sim.sim.perception.camera import CAMERA_TOLERANCES, capture, fallback_cameras, perception_cameras
+from csql_sim.sim.perception.face_reads import FaceRead
+from csql_sim.sim.perception.fiducials import READ_LIMITS, RETRY_LIMITS
 from csql_sim.sim.perception.poses import Observation, interpret
 from csql_sim.sim.perception.rgbd import CameraNoise, locate_cubes, observe_rgbd
 from csql_sim.sim.world.config import COLOURS
@@ -118,3 +121,43 @@ def test_further_views_are_rendered_only_while_a_cube_is_unread_and_unexplained(
     rendered.clear()
     locate_cubes(blank, usual, 3, 0.04, fallback=further, explained=lambda blocks: True)
     assert rendered == list(usual)  # nothing left to explain: no further view
+
+
+# a green cube (B) under another on the ring, as an episode left them: its marker, in plain view of
+# the front camera, decoded at 4, 6 and 10 pixels a cell and not at 8 (OpenCV 4.12)
+B_POSE = ((0.44984, -0.21839, 0.01999), (0.0, 0.0, -0.84398, 0.53638))
+G_ON_B = ((0.44925, -0.21782, 0.05998), (0.0, 0.0, -0.21276, 0.97710))
+
+
+def test_a_marker_the_first_decoding_misses_is_read_by_the_second():
+    with PhysicalWorld(12, seed=0) as world:
+        world.build(parse_config("A,B,C,D,E,F,G,H,I,J,K,L"))
+        scene = world.scene
+        for i in (0, 2, 3, 4, 5, 7, 8, 9, 10, 11):  # the others out of sight
+            pose = scene.block_pose(i)
+            scene.set_block_pose(i, (pose.position[0], pose.position[1] + 3.0, pose.position[2]), pose.orientation)
+        scene.set_block_pose(1, *B_POSE)
+        scene.set_block_pose(6, *G_ON_B)
+        front = perception_cameras(12)[0]
+        blocks = locate_cubes(lambda camera: capture(scene, camera, camera.width, camera.height)[:2], (front,), 12,
+                              0.04)
+    assert blocks[1].visible and blocks[6].visible  # B read from the front view alone
+    assert np.linalg.norm(np.subtract(blocks[1].position, B_POSE[0])) < 0.01
+    assert np.linalg.norm(np.subtract(blocks[6].position, G_ON_B[0])) < 0.01
+    assert not any(b.visible for i, b in enumerate(blocks) if i not in (1, 6))
+
+
+def test_the_second_decoding_only_adds_reads_of_cubes_the_first_did_not_read(monkeypatch):
+    calls = []
+
+    def read_view(camera, rgb, depth, n, size, noise=0.0, limits=READ_LIMITS):
+        calls.append(limits)
+        cubes = (0, 1) if limits is RETRY_LIMITS else (0,)  # the second decoding reads cube 1 too
+        return [FaceRead(c, np.full((12, 3), 0.1 * c) + np.eye(3)[np.arange(12) % 3] * 1e-3, np.array([1.0, 0, 0]),
+                         0.0, np.array([0, 1.0, 0])) for c in cubes]
+
+    monkeypatch.setattr(rgbd, "read_view", read_view)
+    cameras = perception_cameras(3)[:2]
+    blocks = locate_cubes(lambda camera: (None, None), cameras, 3, 0.04)
+    assert calls == [READ_LIMITS] * 2 + [RETRY_LIMITS] * 2  # cube 2 is never read: one more pass, no more
+    assert [b.reads for b in blocks] == [2, 2, 0]  # cube 0 read once a view, not twice; cube 1 by the second pass
