@@ -175,7 +175,8 @@ def main(argv: list[str] | None = None) -> int:
         else:
             rows = run_sizes(args)
             print(f"{t0}: tall-towers tasks, towers at most {args.max_height} high, seed {args.seed}, "
-                  f"{args.count} per size, {args.perception} perception, camera noise {args.camera_noise} (mm, levels)")
+                  f"{args.count} per size, {args.perception} perception, camera noise {args.camera_noise} "
+                  f"(mm, levels), ring control {'WAITING_CONTROL' if args.waiting else 'RING_CONFIG'}")
             print("| n | planner | reached | actions (optimal) | sim s / action | wall s / action | CPU s / action |")
             print("|---|---|---|---|---|---|---|")
             for row in rows:

@@ -280,6 +280,10 @@ class Place:
         held = obs.blocks[self.block]
         gp = np.asarray(obs.grasp_point)
         offset = np.asarray(held.position[:2]) - gp[:2]  # where the cube hangs relative to the grasp point
+        relative = wrap_quarter(held.yaw - panda.yaw)  # cube yaw in the gripper
+        hang = gp[2] - held.position[2]  # grasp point above the cube centre
+        if not held.visible:  # unread in the hand (known there by elimination): it hangs as it was grasped
+            offset, relative, hang = np.zeros(2), 0.0, self.offsets.grasp_above_centre
         if self.onto is None:
             spot = free_spot(obs, self.block, scene, rng)
             if spot is None:
@@ -293,8 +297,6 @@ class Place:
                 tx, ty = column_centre(obs, self.onto, self.block)
             support_top = below.position[2] + size / 2
             want = below.yaw
-        relative = wrap_quarter(held.yaw - panda.yaw)  # cube yaw in the gripper
-        hang = gp[2] - held.position[2]  # grasp point above the cube centre
         goal_z = support_top + size / 2 + self.offsets.place_gap + hang
         yaw = choose_yaw(obs, tx, ty, goal_z, want - relative, panda.yaw, {self.block, self.onto}, size,
                          fit=panda.wrist_fit(tx, ty))

@@ -11,7 +11,8 @@ import pytest
 from csql_sim.core.state.notation import parse_config
 from csql_sim.core.state.world import Action, ActionKind
 from csql_sim.sim.control.physical import PhysicalWorld
-from csql_sim.sim.control.primitives import OFFSETS
+from csql_sim.sim.control.primitives import OFFSETS, Place
+from csql_sim.sim.perception.poses import BlockObs
 from csql_sim.sim.world.config import RING_CONFIG, WAITING_CONTROL
 
 SIZE = RING_CONFIG.physics.cube_size
@@ -103,3 +104,22 @@ def test_a_move_that_another_continues_ends_near_its_goal_without_waiting_to_sto
             ends[rest] = float(np.linalg.norm(panda.ee_position() - goal))
     assert ends[True] < RING.reach_tolerance and ends[False] < RING.blend_tolerance
     assert steps[False] < steps[True]
+
+
+def unread(obs, block):
+    """``obs`` as camera perception gives it when no view reads ``block`` (held: known only by elimination)."""
+    blocks = list(obs.blocks)
+    blocks[block] = BlockObs((0.0, 0.0, -1.0), None, 0.0, visible=False)
+    return dataclasses.replace(obs, blocks=tuple(blocks))
+
+
+def test_a_cube_unread_in_the_hand_is_put_down_and_stacked_where_it_should_be():
+    with PhysicalWorld(12, 0, "pose", RING_CONFIG) as world:
+        world.build(parse_config("A,B,CDEFGHIJ,K+L"))
+        down = Place(11, None)(world.scene, world.panda, unread(world.observe(), 11), world.rng)
+        assert down.ok and world.perceive().state == parse_config("A,B,CDEFGHIJ,K,L")
+        on_ring = [math.hypot(*world.scene.block_pose(i).position[:2]) for i in (0, 1, 10, 11)]
+        assert max(on_ring) - min(on_ring) < 0.02  # on the ring's places, not by the arm's base
+        assert world.execute(Action(ActionKind.PICKUP, 11)).ok
+        onto = Place(11, 10)(world.scene, world.panda, unread(world.observe(), 11), world.rng)
+        assert onto.ok and world.perceive().state == parse_config("A,B,CDEFGHIJ,KL")
