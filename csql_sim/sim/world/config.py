@@ -190,7 +190,7 @@ goal without waiting for the hand to stop (``blend_tolerance``); the fingers cou
 a cube when they close by less than 0.5 mm in four steps (they go on squeezing it by 0.1 mm at
 a time for as long as one waits, so waiting for less takes the whole grip cap); a place opens
 them 25 mm wider than the cube, not fully. With camera perception and sensor noise these cut the
-simulated time per action of the first 20 tall-tower tasks of seed 0 from 1.61 s to 1.45 at 30
+simulated time per action of the first 20 tall-tower tasks of seed 0 from 1.61 s to 1.44 at 30
 cubes (the earlier settings: :data:`WAITING_CONTROL`; figures in ``docs/results/arm.md``)."""
 
 WAITING_CONTROL = dataclasses.replace(RING_CONFIG.control, approach_gap=0.1, blend_tolerance=0.0, grip_still=1e-4,
