@@ -148,5 +148,5 @@ def plausible(corners: np.ndarray, size: float, limits: ReadLimits = READ_LIMITS
     return bool(np.all(np.abs(sides - side) < limits.side_tolerance * side))
 
 
-__all__ = ["MarkerRead", "READ_LIMITS", "ReadLimits", "corner_pixels", "face_pixels", "marker_edge", "plausible",
-           "read_markers", "RETRY_LIMITS"]
+__all__ = ["MarkerRead", "READ_LIMITS", "RETRY_LIMITS", "ReadLimits", "corner_pixels", "face_pixels", "marker_edge",
+           "plausible", "read_markers"]

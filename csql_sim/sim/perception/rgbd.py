@@ -137,6 +137,10 @@ def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: floa
                  fallback: tuple[Camera, ...] = (), explained: Explained | None = None) -> tuple[BlockObs, ...]:
     """Every cube's estimate from the views' marker reads; a cube no view read (or read apart) is unseen.
 
+    While some cube has no read (and ``explained`` does not hold), the images already taken are
+    decoded again (:func:`reread_faces`) before a fallback view is rendered, and each fallback
+    view is decoded both ways.
+
     Args:
         render: the colour and depth images of a camera.
         cameras: the views.
@@ -145,9 +149,6 @@ def locate_cubes(render: Render, cameras: tuple[Camera, ...], n: int, size: floa
         noise: sensor noise to add.
         rng: draws the noise (a fixed generator when None).
         fallback: further views, rendered in turn only while some cube has no read.
-
-    While some cube has no read, the images already taken are decoded again
-    (:func:`reread_faces`) before a fallback view is rendered, and each fallback view twice.
         explained: when it holds for the estimates, no further view is rendered though a cube is unread.
     """
     rng = rng if rng is not None else np.random.default_rng(0)

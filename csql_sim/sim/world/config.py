@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
-import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 
 @dataclass(frozen=True)
@@ -193,8 +192,8 @@ them 25 mm wider than the cube, not fully. With camera perception and sensor noi
 simulated time per action of the first 20 tall-tower tasks of seed 0 from 1.61 s to 1.44 at 30
 cubes (the earlier settings: :data:`WAITING_CONTROL`; figures in ``docs/results/arm.md``)."""
 
-WAITING_CONTROL = dataclasses.replace(RING_CONFIG.control, approach_gap=0.1, blend_tolerance=0.0, grip_still=1e-4,
-                                      release_opening=0.0)
+WAITING_CONTROL = replace(RING_CONFIG.control, approach_gap=0.1, blend_tolerance=0.0, grip_still=1e-4,
+                          release_opening=0.0)
 """The ring's earlier control, to compare with: every lift and descent comes to rest, the slow
 part of a descent is its last 10 cm, a grasp waits the whole grip cap, and a place opens the
 fingers fully (``benchmarks/arm_thirty.py --waiting``)."""
